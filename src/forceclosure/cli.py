@@ -1,0 +1,137 @@
+"""The ``forceclosure`` command.
+
+``forceclosure analyze FILE`` reads a grasp file (one grasp or many; see
+``docs/grasp-file.schema.json``) and says, for each grasp, whether it is
+force-closure, what failed, and which motion nothing resists;
+``--json`` prints the same for machines. ``forceclosure demo`` analyses the
+bundled examples.
+
+Exit status: 0 when every grasp was analysed, 2 when the input (or one grasp
+of it) was bad — each problem reported in one line, the good grasps still
+analysed — and 1 on an internal error.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+from importlib import resources
+from typing import Any
+
+from . import __version__
+from .closure import TOLERANCE
+from .errors import InputError
+from .grasp_file import GraspFile, parse_grasp_file, result_record
+
+
+def _read(path: str) -> str:
+    if path == "-":
+        return sys.stdin.read()
+    try:
+        with open(path, encoding="utf-8") as f:
+            return f.read()
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such file") from None
+    except IsADirectoryError:
+        raise InputError(f"{path}: is a directory, not a grasp file") from None
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: not a text file (expected JSON)") from None
+    except OSError as e:
+        raise InputError(f"{path}: cannot read: {e.strerror}") from None
+
+
+def _human(record: dict[str, Any], label: str, explanation: str) -> str:
+    lines = [f"{label}: {explanation}"]
+    quality = []
+    if record.get("epsilon") is not None:
+        ref = ", ".join(f"{x:.3g}" for x in record["reference"])
+        quality.append(f"epsilon {record['epsilon']:.3g} (L1; torques about ({ref}) "
+                       f"per length {record['length_scale']:.3g})")
+    if "least_friction" in record and record["verdict"] is not None:
+        mu = record["least_friction"]
+        quality.append("no friction coefficient closes it" if mu is None
+                       else f"least friction {mu:.4g}")
+    if quality:
+        lines.append("  " + "; ".join(quality))
+    return "\n".join(lines)
+
+
+def _analyze_file(grasp_file: GraspFile, as_json: bool, quality: bool, out) -> int:
+    records, status = [], 0
+    for entry in grasp_file.grasps:
+        record, analysis = result_record(entry, grasp_file.cone, quality)
+        if analysis is None:
+            print(f"forceclosure: error: {record['error']}", file=sys.stderr)
+            status = 2
+        elif not as_json:
+            print(_human(record, entry.label, analysis.explain()), file=out)
+        records.append(record)
+    if as_json:
+        json.dump({"results": records}, out, indent=2)
+        out.write("\n")
+    return status
+
+
+def _cmd_analyze(args: argparse.Namespace) -> int:
+    grasp_file = parse_grasp_file(_read(args.file), args.file)
+    return _analyze_file(grasp_file, args.json, not args.no_quality, sys.stdout)
+
+
+def _cmd_demo(args: argparse.Namespace) -> int:
+    examples = resources.files("forceclosure") / "examples"
+    print(f"forceclosure {__version__}: Nguyen (1988) force-closure analysis on the bundled "
+          "examples\n")
+    status = 0
+    for name in ("planar.json", "spatial.json"):
+        print(f"== {name} ==")
+        grasp_file = parse_grasp_file((examples / name).read_text(encoding="utf-8"), name)
+        status = max(status, _analyze_file(grasp_file, False, True, sys.stdout))
+        print()
+    print("Analyse your own grasps with: forceclosure analyze GRASPS.json [--json]")
+    return status
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of the ``forceclosure`` command."""
+    parser = argparse.ArgumentParser(
+        prog="forceclosure",
+        description="Analyse force-closure grasps (V.-D. Nguyen, IJRR 1988).")
+    parser.add_argument("--version", action="version", version=f"forceclosure {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    p = sub.add_parser("analyze", help="is each grasp in a JSON grasp file force-closure?",
+                       description="Analyse the grasps of a JSON grasp file "
+                                   "(docs/grasp-file.schema.json); '-' reads standard input.")
+    p.add_argument("file", metavar="FILE")
+    p.add_argument("--json", action="store_true", help="print JSON results for machines")
+    p.add_argument("--no-quality", action="store_true",
+                   help="skip epsilon and least friction (faster)")
+    p.set_defaults(run=_cmd_analyze)
+    d = sub.add_parser("demo", help="analyse the bundled example grasps")
+    d.set_defaults(run=_cmd_demo)
+    parser.epilog = f"Verdicts within {TOLERANCE:g} of the boundary are 'marginal'."
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command; returns the exit status."""
+    args = build_parser().parse_args(argv)
+    try:
+        return args.run(args)
+    except InputError as e:
+        print(f"forceclosure: error: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("forceclosure: interrupted", file=sys.stderr)
+        return 130
+    except Exception as e:  # an internal error: one line unless debugging
+        if os.environ.get("FORCECLOSURE_DEBUG"):
+            raise
+        print(f"forceclosure: internal error: {type(e).__name__}: {e} "
+              "(set FORCECLOSURE_DEBUG=1 for the traceback)", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

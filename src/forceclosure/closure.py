@@ -1,0 +1,480 @@
+"""The force-closure test: Theorems 1–3 of Nguyen (1988), sound and explained.
+
+**Theorem 1 (vector closure).** Vectors ``W`` (``d x m``) positively span
+``R^d`` iff ``rank W = d`` and some strictly positive combination of them is
+zero. A grasp is force-closure iff its generating wrenches are vector closed
+(``d = 3`` planar, ``6`` spatial).
+
+:func:`vector_closure` decides both halves with one tolerance ``tol``:
+
+* the rank, from the singular values of the unit-normalised columns;
+* the margin, from one linear program: maximise ``s`` subject to
+  ``W lam = 0``, ``sum(lam) = 1``, ``lam_i >= s``; the margin is ``m s*``
+  (1 for perfectly balanced columns, ``<= 0`` when no strictly positive
+  combination exists).
+
+The verdict is three-way. ``closure`` needs the smallest singular value
+ratio and the margin both above ``tol`` *and* a certificate that survives a
+check independent of the LP solver: the solver's weights, corrected onto the
+exact null space of ``W``, stay strictly positive. ``none`` needs a proof too:
+a numerical rank below ``d`` (a twist reciprocal to every wrench), or a twist
+strictly repelling every wrench by more than ``tol``. Anything in between is
+``marginal``: within ``tol`` of the boundary, never called closure.
+
+Theorems 2 and 3 split the question: force-direction closure (the forces
+positively span all directions) and torque closure (positive combinations of
+the wrenches make every pure torque). A grasp is force-closure iff both hold,
+so when it is not, the result says which failed.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from enum import StrEnum
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.optimize import linprog
+
+from .contacts import Cone, Contact, WrenchSet, check_grasp, generating_wrenches
+from .errors import InputError
+from .motion import Motion, motion_of, shift_twist
+
+#: The one tolerance behind ``marginal``: margins, singular-value ratios and
+#: repelling work within it of zero are on the boundary.
+TOLERANCE = 1e-6
+
+#: Pyramid sizes tried, in turn, to bracket an exact circular friction cone.
+EXACT_CONE_EDGES = (8, 16, 32, 64, 128, 256)
+
+
+class Verdict(StrEnum):
+    """``closure``: force-closure with margin; ``none``: provably not;
+    ``marginal``: within the tolerance of the boundary."""
+
+    CLOSURE = "closure"
+    MARGINAL = "marginal"
+    NONE = "none"
+
+
+@dataclass(frozen=True, eq=False)
+class VectorClosure:
+    """Theorem 1 for one set of vectors, with its certificate.
+
+    Attributes
+    ----------
+    verdict : Verdict
+    rank : int
+        Numerical rank of the vectors.
+    sigma_ratio : float
+        Smallest over largest singular value of the unit-normalised vectors
+        (0 when fewer vectors than dimensions).
+    margin : float or None
+        ``m s*`` from the LP (see the module); None when no affine
+        combination of the vectors is zero at all.
+    weights : array or None
+        For ``closure``: strictly positive weights, summing to 1, that
+        combine the (original, unnormalised) vectors to zero.
+    twist : array or None
+        For ``none`` and ``marginal``: ``t`` with ``|t|_inf = 1`` and
+        ``W^T t >= 0`` (``none``), or as nearly so as possible (``marginal``),
+        laid out like the vectors (for wrenches: force slots hold a velocity,
+        torque slots an angular velocity; see :func:`motion.shift_twist`).
+    repelling : float
+        ``min_i w_i . t / |w_i|`` for that twist: > 0 strictly repelling,
+        0 reciprocal.
+    reason : str
+        One sentence: why this verdict.
+    """
+
+    verdict: Verdict
+    rank: int
+    sigma_ratio: float
+    margin: float | None
+    weights: NDArray[np.float64] | None
+    twist: NDArray[np.float64] | None
+    repelling: float
+    reason: str
+
+
+def _fmt(x: float | None) -> str:
+    """A margin for people: three significant digits, ``n/a`` when undefined."""
+    if x is None or not math.isfinite(x):
+        return "n/a"
+    return "0" if abs(x) < 5e-16 else f"{x:.3g}"
+
+
+def _lp(c, A_ub=None, b_ub=None, A_eq=None, b_eq=None, bounds=None):
+    res = linprog(c, A_ub=A_ub, b_ub=b_ub, A_eq=A_eq, b_eq=b_eq, bounds=bounds, method="highs")
+    return res if res.status == 0 else None
+
+
+def _balance(U: NDArray[np.float64]) -> tuple[float | None, NDArray[np.float64] | None]:
+    """max s s.t. U lam = 0, sum lam = 1, lam >= s; returns (s*, lam*)."""
+    d, m = U.shape
+    c = np.zeros(m + 1)
+    c[0] = -1.0
+    A_eq = np.zeros((d + 1, m + 1))
+    A_eq[:d, 0] = U.sum(axis=1)
+    A_eq[:d, 1:] = U
+    A_eq[d, 0] = m
+    A_eq[d, 1:] = 1.0
+    b_eq = np.zeros(d + 1)
+    b_eq[d] = 1.0
+    res = _lp(c, A_eq=A_eq, b_eq=b_eq, bounds=[(None, 1.0)] + [(0, None)] * m)
+    if res is None:
+        return None, None
+    s = float(res.x[0])
+    return s, s + res.x[1:]
+
+
+def _separate(U: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The twist that best repels every column: max z s.t. U^T t >= z, |t|_inf <= 1."""
+    d, m = U.shape
+    c = np.zeros(d + 1)
+    c[-1] = -1.0
+    A_ub = np.hstack([-U.T, np.ones((m, 1))])
+    res = _lp(c, A_ub=A_ub, b_ub=np.zeros(m), bounds=[(-1, 1)] * d + [(None, None)])
+    return np.zeros(d) if res is None else res.x[:d]
+
+
+def _certify(U: NDArray[np.float64], lam: NDArray[np.float64]) -> NDArray[np.float64] | None:
+    """Weights ``lam' > 0`` with ``U lam' = 0`` up to rounding, or None.
+
+    ``lam`` solves ``U lam = r`` with a small residual ``r``. For full-rank
+    ``U`` the minimum-norm correction ``delta = -U^+ r`` puts ``lam + delta``
+    in the exact null space; if ``|delta|`` is below ``min(lam)`` the
+    corrected weights are still strictly positive, a certificate that does
+    not depend on the LP solver's tolerances.
+    """
+    lam_c = lam - np.linalg.lstsq(U, U @ lam, rcond=None)[0]
+    if lam_c.min() <= 0.5 * lam.min():
+        return None
+    return lam_c
+
+
+def _null_twist(U: NDArray[np.float64]) -> NDArray[np.float64]:
+    u = np.linalg.svd(U, full_matrices=True)[0][:, -1]
+    return u / np.max(np.abs(u))
+
+
+def vector_closure(W: ArrayLike, tol: float = TOLERANCE) -> VectorClosure:
+    """Decide whether vectors positively span their space (Theorem 1).
+
+    Parameters
+    ----------
+    W : (d, m) array
+        The vectors, as columns (for a grasp, its generating wrenches).
+    tol : float
+        The tolerance of the ``marginal`` band (see the module).
+
+    Returns
+    -------
+    VectorClosure
+
+    Examples
+    --------
+    The vertices of a triangle around the origin positively span the plane;
+    three vectors in the upper half-plane do not:
+
+    >>> r = vector_closure([[1, -1, 0], [-1, -1, 2]])
+    >>> r.verdict.value, r.rank
+    ('closure', 2)
+    >>> vector_closure([[1, -1, 0], [1, 1, 2]]).verdict.value
+    'none'
+    """
+    W = np.asarray(W, dtype=float)
+    if W.ndim != 2:
+        raise InputError(f"wrench matrix must be 2-D (d x m), got shape {W.shape}")
+    if not np.all(np.isfinite(W)):
+        raise InputError("wrench matrix has a non-finite entry")
+    d = W.shape[0]
+    norms = np.linalg.norm(W, axis=0)
+    keep = norms > 1e-12 * max(1.0, float(norms.max(initial=0.0)))
+    U = W[:, keep] / norms[keep]
+    m = U.shape[1]
+    if m == 0:
+        t = np.zeros(d)
+        t[0] = 1.0
+        return VectorClosure(Verdict.NONE, 0, 0.0, None, None, t, 0.0,
+                             "no nonzero vectors: nothing resists any motion")
+    sv = np.linalg.svd(U, compute_uv=False)
+    rank = int(np.sum(sv > max(d, m) * np.finfo(float).eps * sv[0]))
+    ratio = float(sv[d - 1] / sv[0]) if m >= d else 0.0
+    s, lam = _balance(U)
+    margin = None if s is None else m * s
+
+    if rank < d:
+        t = _null_twist(U)
+        why = (f"rank {rank} < {d}: the vectors span only a {rank}-dimensional subspace"
+               + (f" ({m} vectors; at least {d + 1} are needed)" if m < d + 1 else ""))
+        return VectorClosure(Verdict.NONE, rank, ratio, margin, None, t,
+                             float(np.min(U.T @ t)), why)
+
+    if ratio > tol and margin is not None and margin > tol:
+        lam_c = _certify(U, lam)
+        if lam_c is not None:
+            weights = np.zeros(W.shape[1])
+            weights[keep] = lam_c / norms[keep]
+            weights /= weights.sum()
+            return VectorClosure(Verdict.CLOSURE, rank, ratio, margin, weights, None, -1.0,
+                                 f"rank {d} and a strictly positive combination is zero "
+                                 f"(margin {_fmt(margin)})")
+
+    t = _separate(U)
+    z = float(np.min(U.T @ t)) if np.any(t) else 0.0
+    if z > tol:
+        why = (f"only {m} vectors; at least {d + 1} are needed" if m < d + 1 else
+               "no strictly positive combination is zero: a twist repels every wrench")
+        return VectorClosure(Verdict.NONE, rank, ratio, margin, None, t, z, why)
+    if ratio <= tol:
+        t = _null_twist(U)
+        z = float(np.min(U.T @ t))
+        why = f"nearly rank-deficient (singular value ratio {ratio:.3g} <= tolerance {tol:g})"
+    else:
+        why = f"on the boundary: margin {_fmt(margin)} within tolerance {tol:g} of zero"
+    return VectorClosure(Verdict.MARGINAL, rank, ratio, margin, None,
+                         t if np.any(t) else None, z, why)
+
+
+def _contains(U: NDArray[np.float64], target: NDArray[np.float64]) -> bool:
+    """Whether ``target`` is a non-negative combination of the columns of ``U``."""
+    m = U.shape[1]
+    res = linprog(np.zeros(m), A_eq=U, b_eq=target, bounds=[(0, None)] * m, method="highs")
+    return res.status == 0
+
+
+def force_direction_closure(W: ArrayLike, tol: float = TOLERANCE) -> bool:
+    """Theorem 2 / Corollary 1: can the grasp push the object in every direction?
+
+    True iff the force parts of the wrenches positively span the force space
+    (with margin ``tol``). Pure torques (zero force part) do not count.
+
+    Examples
+    --------
+    >>> W = [[1, -1, 0, 0], [0, 0, 1, -1], [0, 0, 0, 0]]   # (fx, fy, tau) columns
+    >>> force_direction_closure(W)
+    True
+    """
+    W = np.asarray(W, dtype=float)
+    k = 2 if W.shape[0] == 3 else 3
+    F = W[:k]
+    F = F[:, np.linalg.norm(F, axis=0) > 1e-12]
+    return F.shape[1] > 0 and vector_closure(F, tol).verdict is Verdict.CLOSURE
+
+
+def torque_closure(W: ArrayLike) -> bool:
+    """Theorem 3 / Corollary 2: do positive combinations make every pure torque?
+
+    True iff ``(0, +e_j)`` and ``(0, -e_j)`` lie in the cone of the wrenches
+    for every torque axis ``e_j``.
+
+    Examples
+    --------
+    Two forces along one line make no torque at all:
+
+    >>> torque_closure([[1, -1], [0, 0], [0, 0]])
+    False
+    """
+    W = np.asarray(W, dtype=float)
+    d = W.shape[0]
+    k = 2 if d == 3 else 3
+    U = W / np.maximum(np.linalg.norm(W, axis=0), 1e-300)
+    for j in range(k, d):
+        for sign in (1.0, -1.0):
+            target = np.zeros(d)
+            target[j] = sign
+            if not _contains(U, target):
+                return False
+    return True
+
+
+@dataclass(frozen=True, eq=False)
+class Analysis:
+    """The answer to "is this grasp force-closure?", with its reasons.
+
+    Attributes
+    ----------
+    verdict : Verdict
+        ``closure`` / ``marginal`` / ``none``.
+    rank : int
+        Rank of the generating wrenches (3 planar, 6 spatial when full).
+    margin : float or None
+        The LP margin of Theorem 1 (see :func:`vector_closure`).
+    sigma_ratio : float
+        Smallest over largest singular value of the normalised wrenches.
+    force_direction_closure, torque_closure : bool
+        Theorems 2 and 3; both True iff the verdict is ``closure``.
+    contact_forces : (k, d) array or None
+        For ``closure``: forces, one per contact, in strict equilibrium (the
+        certificate; summing to zero force and torque). Contacts with pure
+        torques (soft fingers) may also contribute torque.
+    twist : array or None
+        The unresisted motion (``none``) or the least-resisted one
+        (``marginal``), as a twist about the origin in object coordinates.
+    motion : Motion or None
+        That twist decoded (see :meth:`Motion.describe`).
+    reason : str
+        Why, in one sentence.
+    cone : str
+        Which friction cones decided the verdict.
+    reference, length_scale :
+        The torque reference point and length scale used for the margin.
+    """
+
+    verdict: Verdict
+    rank: int
+    margin: float | None
+    sigma_ratio: float
+    force_direction_closure: bool
+    torque_closure: bool
+    contact_forces: NDArray[np.float64] | None
+    twist: NDArray[np.float64] | None
+    motion: Motion | None
+    reason: str
+    cone: str
+    reference: NDArray[np.float64] = field(repr=False)
+    length_scale: float = field(repr=False)
+
+    @property
+    def force_closure(self) -> bool:
+        """True iff the verdict is ``closure``."""
+        return self.verdict is Verdict.CLOSURE
+
+    def explain(self) -> str:
+        """A few lines a person can read: the verdict, what failed, what moves.
+
+        Examples
+        --------
+        >>> from forceclosure import point_contact
+        >>> grasp = [point_contact([x, 0.3, 0.2], [x, 0, 0], "hard", 0.5) for x in (-1, 1)]
+        >>> print(analyze(grasp).explain())   # doctest: +NORMALIZE_WHITESPACE
+        none: rank 5 < 6: the wrenches span only a 5-dimensional subspace
+          torque closure fails (Theorem 3)
+          unresisted: rotation in either direction about the axis through (0, 0.3, 0.2)
+          with direction (1, 0, 0)
+        """
+        lines = [f"{self.verdict.value}: {self.reason}"]
+        if self.verdict is Verdict.CLOSURE:
+            lines.append(f"  margin {_fmt(self.margin)}, rank {self.rank}; {self.cone}")
+            return "\n".join(lines)
+        failed = [name for ok, name in (
+            (self.force_direction_closure, "force-direction closure fails (Theorem 2)"),
+            (self.torque_closure, "torque closure fails (Theorem 3)")) if not ok]
+        lines.extend(f"  {f}" for f in failed)
+        if self.motion is not None:
+            label = "unresisted" if self.verdict is Verdict.NONE else "least resisted"
+            lines.append(f"  {label}: {self.motion.describe()}")
+        return "\n".join(lines)
+
+
+def _spatial_friction(contacts: Sequence[Contact]) -> bool:
+    return contacts[0].dim == 3 and any(c.frictional and c.mu > 0 for c in contacts)
+
+
+def _parse_cone(cone: str | Cone) -> Cone | None:
+    if cone == "exact":
+        return None
+    if isinstance(cone, Cone):
+        return cone
+    raise InputError(f"cone must be 'exact' or a Cone(edges, fit), got {cone!r}")
+
+
+def decide(contacts: Sequence[Contact], cone: str | Cone = "exact", tol: float = TOLERANCE,
+           reference: ArrayLike | None = None, length_scale: float | None = None,
+           ) -> tuple[VectorClosure, WrenchSet, str]:
+    """Theorem 1 for a grasp's contacts, bracketing exact spatial cones.
+
+    With ``cone="exact"`` a spatial grasp with friction is tested with an
+    inscribed ``k``-edge pyramid (inside the true cone: its ``closure`` is
+    the true cone's) and a circumscribed one (around it: its ``none`` is the
+    true cone's), for ``k`` in :data:`EXACT_CONE_EDGES` until one of them
+    decides; if none does, the grasp is ``marginal`` (within the friction
+    ratio ``cos(pi/256)`` of the boundary).
+
+    Returns the deciding :class:`VectorClosure`, its wrench set, and a
+    description of the cones used.
+    """
+    contacts = check_grasp(contacts)
+    fixed = _parse_cone(cone)
+    if fixed is not None or not _spatial_friction(contacts):
+        use = fixed or Cone()
+        ws = generating_wrenches(contacts, use, reference, length_scale)
+        label = "exact planar cones" if contacts[0].dim == 2 else (
+            f"{use}s" if _spatial_friction(contacts) else "no friction cones")
+        return vector_closure(ws.wrenches, tol), ws, label
+    for k in EXACT_CONE_EDGES:
+        inner_ws = generating_wrenches(contacts, Cone(k, "inscribed"), reference, length_scale)
+        inner = vector_closure(inner_ws.wrenches, tol)
+        if inner.verdict is Verdict.CLOSURE:
+            return inner, inner_ws, f"exact cones (proved with {k}-edge inscribed pyramids)"
+        outer_ws = generating_wrenches(contacts, Cone(k, "circumscribed"), reference,
+                                       length_scale)
+        outer = vector_closure(outer_ws.wrenches, tol)
+        if outer.verdict is Verdict.NONE:
+            return outer, outer_ws, f"exact cones (refuted with {k}-edge circumscribed pyramids)"
+    why = (f"within the friction ratio cos(pi/{k}) of the boundary: {k}-edge inscribed "
+           f"pyramids do not close the grasp and circumscribed ones do not refute it")
+    marginal = VectorClosure(Verdict.MARGINAL, inner.rank, inner.sigma_ratio, inner.margin,
+                             None, inner.twist, inner.repelling, why)
+    return marginal, inner_ws, f"exact cones (undecided at {k} edges)"
+
+
+def analyze(contacts: Sequence[Contact], *, cone: str | Cone = "exact", tol: float = TOLERANCE,
+            reference: ArrayLike | None = None, length_scale: float | None = None) -> Analysis:
+    """Is the grasp force-closure? Theorem 1, explained by Theorems 2 and 3.
+
+    Parameters
+    ----------
+    contacts : sequence of Contact
+        The grasp: all planar or all spatial.
+    cone : "exact" or Cone
+        ``"exact"`` (default) decides spatial friction for true circular
+        cones by bracketing (see :func:`decide`); a :class:`Cone` uses that
+        fixed pyramid, as other tools do. Planar cones are always exact.
+    tol : float
+        Width of the ``marginal`` band.
+    reference, length_scale :
+        Torque reference point and length scale (default: the contacts'
+        centroid and their largest distance from it). They change the
+        margin, not the verdict.
+
+    Returns
+    -------
+    Analysis
+
+    Examples
+    --------
+    Two planar hard fingers squeezing a unit square across its middle
+    (Corollary 3 holds: the segment lies inside both friction cones):
+
+    >>> from forceclosure import point_contact
+    >>> grasp = [point_contact([-1, 0], [-1, 0], "hard", 0.3),
+    ...          point_contact([1, 0.2], [1, 0], "hard", 0.3)]
+    >>> analyze(grasp).verdict
+    <Verdict.CLOSURE: 'closure'>
+    """
+    contacts = check_grasp(contacts)
+    vc, ws, label = decide(contacts, cone, tol, reference, length_scale)
+    forces = None
+    twist = motion = None
+    if vc.verdict is Verdict.CLOSURE:
+        fd = tc = True
+        d = contacts[0].dim
+        forces = np.zeros((len(contacts), d))
+        np.add.at(forces, ws.contact_index, (ws.wrenches[:d] * vc.weights).T)
+    else:
+        fd = force_direction_closure(ws.wrenches, tol)
+        tc = torque_closure(ws.wrenches)
+        if vc.twist is not None:
+            twist = shift_twist(vc.twist, ws.reference, ws.length_scale)
+            motion = motion_of(twist, both_ways=vc.repelling <= tol,
+                               length_scale=ws.length_scale)
+            twist = motion.twist
+    return Analysis(vc.verdict, vc.rank, vc.margin, vc.sigma_ratio, fd, tc, forces, twist,
+                    motion, vc.reason.replace("vectors", "wrenches"), label, ws.reference,
+                    ws.length_scale)
+
+

@@ -1,0 +1,141 @@
+"""Twists, and the motion they describe in words (§2.2: dual representation).
+
+A twist ``t`` is an infinitesimal motion of the object: planar ``(omega, vx,
+vy)``, spatial ``(omega, v)``, with ``v`` the velocity of the point at the
+origin. A wrench ``w = (f, tau)`` does work ``f . v + tau . omega`` against
+it; ``t`` is *repelling* to ``w`` when that is positive (the contact breaks)
+and *reciprocal* when it is zero (the contact slides). A grasp that is not
+force-closure leaves some twist ``t != 0`` with ``W^T t >= 0``: a motion
+that no contact resists.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+
+def _fmt(values: ArrayLike) -> str:
+    v = np.atleast_1d(np.asarray(values, dtype=float))
+    v = np.where(np.abs(v) < 1e-12 * max(1.0, float(np.max(np.abs(v)))), 0.0, v)
+    out = []
+    for x in v:
+        s = f"{x:.3g}"
+        out.append("0" if s in ("-0", "0") else s)
+    return "(" + ", ".join(out) + ")"
+
+
+@dataclass(frozen=True)
+class Motion:
+    """A rigid motion of the object, decoded from a twist.
+
+    Attributes
+    ----------
+    kind : {"translation", "rotation", "screw"}
+    twist : array
+        The twist about the origin, normalised (``|omega| = 1`` for a
+        rotation or screw, ``|v| = 1`` for a translation).
+    point : array or None
+        Planar: the centre of rotation; spatial: the point of the axis
+        nearest the origin.
+    direction : array or None
+        Translation direction, or spatial axis direction.
+    pitch : float
+        Screw pitch (translation per radian); 0 for a pure rotation.
+    both_ways : bool
+        True when the opposite motion is unresisted too (a reciprocal twist).
+    """
+
+    kind: Literal["translation", "rotation", "screw"]
+    twist: NDArray[np.float64]
+    point: NDArray[np.float64] | None
+    direction: NDArray[np.float64] | None
+    pitch: float
+    both_ways: bool
+
+    def describe(self) -> str:
+        """The motion in words, e.g. ``rotation about the axis through (0, 0.3, 0.2) ...``.
+
+        Examples
+        --------
+        >>> motion_of([1.0, 0.0, 0.0]).describe()
+        'counter-clockwise rotation about the point (0, 0)'
+        """
+        either = " in either direction" if self.both_ways else ""
+        if self.kind == "translation":
+            return f"translation{either} along {_fmt(self.direction)}"
+        if self.direction is None:  # planar rotation
+            sense = "counter-clockwise " if self.twist[0] > 0 else "clockwise "
+            if self.both_ways:
+                sense = ""
+            return f"{sense}rotation{either} about the point {_fmt(self.point)}"
+        axis = f"the axis through {_fmt(self.point)} with direction {_fmt(self.direction)}"
+        if self.kind == "rotation":
+            return f"rotation{either} about {axis}"
+        return f"screw motion{either} about {axis}, pitch {self.pitch:.3g}"
+
+
+def motion_of(twist: ArrayLike, *, both_ways: bool = False, length_scale: float = 1.0,
+              rtol: float = 1e-9) -> Motion:
+    """Decode a twist about the origin into a translation, rotation or screw.
+
+    Parameters
+    ----------
+    twist : array
+        Planar ``(omega, vx, vy)`` or spatial ``(wx, wy, wz, vx, vy, vz)``.
+    both_ways : bool
+        Whether ``-twist`` is unresisted too.
+    length_scale : float
+        Size of the object; a rotation whose centre is farther than
+        ``length_scale / rtol`` away counts as a translation.
+
+    Examples
+    --------
+    >>> m = motion_of([1, 0, 0, 0, 0.2, -0.3])   # spin about x through (0, 0.3, 0.2)
+    >>> m.describe()
+    'rotation about the axis through (0, 0.3, 0.2) with direction (1, 0, 0)'
+    """
+    t = np.asarray(twist, dtype=float)
+    k = 1 if t.shape[0] == 3 else 3
+    omega, v = t[:k], t[k:]
+    w_norm, v_norm = float(np.linalg.norm(omega)), float(np.linalg.norm(v))
+    if w_norm * length_scale <= rtol * v_norm or w_norm == 0.0:
+        return Motion("translation", t / v_norm, None, v / v_norm, 0.0, both_ways)
+    t = t / w_norm
+    omega, v = t[:k], t[k:]
+    if k == 1:
+        # v_origin + omega x (c - 0) = 0  =>  c = (-vy, vx) / omega
+        centre = np.array([-v[1], v[0]]) / omega[0]
+        return Motion("rotation", t, centre, None, 0.0, both_ways)
+    pitch = float(omega @ v)
+    point = np.cross(omega, v)
+    kind = "rotation" if abs(pitch) <= rtol * length_scale else "screw"
+    return Motion(kind, t, point, omega.copy(), pitch if kind == "screw" else 0.0, both_ways)
+
+
+def shift_twist(dual: NDArray[np.float64], reference: NDArray[np.float64],
+                length_scale: float) -> NDArray[np.float64]:
+    """A twist found in wrench space as a physical twist ``(omega, v)`` about the origin.
+
+    The closure test finds a vector ``y`` laid out like the scaled wrenches
+    ``(f, tau / length_scale)`` about ``reference``, with ``w . y`` the work
+    done: its force slots hold the velocity ``v_ref`` of the reference point,
+    its torque slots ``omega * length_scale``. The velocity then moves to the
+    origin: ``v_0 = v_ref + omega x (0 - reference)``.
+
+    Examples
+    --------
+    >>> shift_twist(np.array([0.0, 0.0, 2.0]), np.array([1.0, 0.0]), 2.0).tolist()
+    [1.0, 0.0, -1.0]
+    """
+    y = np.asarray(dual, dtype=float)
+    if y.shape[0] == 3:
+        omega = y[2] / length_scale
+        v = y[:2] + omega * np.array([reference[1], -reference[0]])
+        return np.concatenate([[omega], v])
+    omega = y[3:] / length_scale
+    v = y[:3] - np.cross(omega, reference)
+    return np.concatenate([omega, v])

@@ -1,0 +1,135 @@
+"""Two fingers with friction in closed form (Nguyen 1988, Corollary 3).
+
+Two contacts with friction at ``P`` and ``Q`` are force-closure — planar
+hard fingers, or spatial soft fingers — iff the segment ``PQ`` points
+strictly out of the friction cone at ``P`` and into the one at ``Q``:
+
+    angle(Q - P, -n_P) < atan(mu_P)   and   angle(P - Q, -n_Q) < atan(mu_Q).
+
+That is exact for circular cones and costs O(1). It also gives the least
+friction that closes the pair, ``mu* = tan(max(angle_P, angle_Q))``. Two
+*hard* fingers in space are never force-closure: nothing resists rotation
+about the line ``PQ`` (the wrenches have rank 5).
+
+Everything here is vectorised over any number of pairs.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .closure import TOLERANCE, Verdict
+from .errors import InputError
+
+_VERDICTS = np.array([Verdict.NONE.value, Verdict.MARGINAL.value, Verdict.CLOSURE.value])
+
+
+@dataclass(frozen=True, eq=False)
+class PairClosure:
+    """Corollary 3 for ``N`` pairs.
+
+    Attributes
+    ----------
+    verdict : (N,) array of str
+        ``"closure"``, ``"marginal"`` or ``"none"``.
+    angle_p, angle_q : (N,) arrays
+        Angles (radians) between ``PQ`` and ``-n_P``, and ``QP`` and ``-n_Q``.
+    least_friction : (N,) array
+        ``tan(max(angle_p, angle_q))``: the pair closes for any larger
+        friction coefficient at both fingers; ``inf`` when no friction can
+        close it (an angle of 90 degrees or more, coincident points, or hard
+        fingers in space).
+    """
+
+    verdict: NDArray[np.str_]
+    angle_p: NDArray[np.float64]
+    angle_q: NDArray[np.float64]
+    least_friction: NDArray[np.float64]
+
+    @property
+    def force_closure(self) -> NDArray[np.bool_]:
+        """True where the verdict is ``closure``."""
+        return self.verdict == Verdict.CLOSURE.value
+
+
+def _angle(u: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Angle between vectors along the last axis, stable near 0 and pi."""
+    dot = np.sum(u * v, axis=-1)
+    if u.shape[-1] == 2:
+        cross = np.abs(u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0])
+    else:
+        cross = np.linalg.norm(np.cross(u, v), axis=-1)
+    return np.arctan2(cross, dot)
+
+
+def _array(value: ArrayLike, name: str) -> NDArray[np.float64]:
+    a = np.asarray(value, dtype=float)
+    if not np.all(np.isfinite(a)):
+        raise InputError(f"'{name}' has a non-finite entry")
+    return a
+
+
+def two_finger_closure(p: ArrayLike, n_p: ArrayLike, q: ArrayLike, n_q: ArrayLike,
+                       mu_p: ArrayLike, mu_q: ArrayLike | None = None, *,
+                       model: str = "soft", tol: float = TOLERANCE) -> PairClosure:
+    """Corollary 3: are two frictional contacts force-closure? Vectorised.
+
+    Parameters
+    ----------
+    p, q : (..., d) arrays
+        Contact points, ``d`` = 2 or 3.
+    n_p, n_q : (..., d) arrays
+        Outward normals there (normalised here; zero normals are refused).
+    mu_p, mu_q : arrays broadcastable to ``(...)``
+        Friction coefficients (``mu_q`` defaults to ``mu_p``).
+    model : {"soft", "hard"}
+        In the plane both mean the same. In space the corollary needs soft
+        fingers; ``"hard"`` pairs are never force-closure (rank 5).
+    tol : float
+        Angles within ``tol`` radians of the cone's half-angle are
+        ``marginal``.
+
+    Returns
+    -------
+    PairClosure
+
+    Examples
+    --------
+    >>> r = two_finger_closure([-1, 0], [-1, 0], [1, 0.2], [1, 0], 0.3)
+    >>> str(r.verdict), round(float(r.least_friction), 3)
+    ('closure', 0.1)
+    """
+    p, q, n_p, n_q = (_array(v, name) for v, name in
+                      ((p, "p"), (q, "q"), (n_p, "n_p"), (n_q, "n_q")))
+    d = p.shape[-1]
+    if d not in (2, 3) or any(a.shape[-1] != d for a in (q, n_p, n_q)):
+        raise InputError("p, n_p, q, n_q must all have 2 or all have 3 coordinates")
+    mu_p = _array(mu_p, "mu_p")
+    mu_q = mu_p if mu_q is None else _array(mu_q, "mu_q")
+    if np.any(mu_p < 0) or np.any(mu_q < 0):
+        raise InputError("friction coefficients must be >= 0")
+    if model not in ("soft", "hard"):
+        raise InputError(f"model must be 'soft' or 'hard' for Corollary 3, got {model!r}")
+    norm_p = np.linalg.norm(n_p, axis=-1, keepdims=True)
+    norm_q = np.linalg.norm(n_q, axis=-1, keepdims=True)
+    if np.any(norm_p <= 1e-12) or np.any(norm_q <= 1e-12):
+        raise InputError("a normal is a zero vector")
+    pq = q - p
+    angle_p = _angle(pq, -n_p / norm_p)
+    angle_q = _angle(-pq, -n_q / norm_q)
+    worst_p = angle_p - np.arctan(mu_p)
+    worst_q = angle_q - np.arctan(mu_q)
+    gap = np.maximum(worst_p, worst_q)
+    scale = np.maximum(np.max(np.abs(p), axis=-1), np.max(np.abs(q), axis=-1))
+    apart = np.linalg.norm(pq, axis=-1) > 1e-12 * np.maximum(scale, 1.0)
+    code = np.where(gap < -tol, 2, np.where(gap > tol, 0, 1))
+    code = np.where(apart, code, 0)
+    worst = np.maximum(angle_p, angle_q)
+    least = np.where(apart & (worst < np.pi / 2), np.tan(np.minimum(worst, np.pi / 2)), np.inf)
+    if d == 3 and model == "hard":
+        code = np.zeros_like(code)
+        least = np.full_like(least, np.inf)
+    return PairClosure(_VERDICTS[code], angle_p, angle_q, least)
