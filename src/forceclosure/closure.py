@@ -213,6 +213,10 @@ def vector_closure(W: ArrayLike, tol: float = TOLERANCE) -> VectorClosure:
         return VectorClosure(Verdict.NONE, rank, ratio, margin, None, t,
                              float(np.min(U.T @ t)), why)
 
+    two_sided = _two_sided(U)
+    if two_sided.any():
+        return _modulo_lineality(W, U, keep, norms, two_sided, ratio, tol)
+
     if ratio > tol and margin is not None and margin > tol:
         lam_c = _certify(U, lam)
         if lam_c is not None:
@@ -237,6 +241,58 @@ def vector_closure(W: ArrayLike, tol: float = TOLERANCE) -> VectorClosure:
         why = f"on the boundary: margin {_fmt(margin)} within tolerance {tol:g} of zero"
     return VectorClosure(Verdict.MARGINAL, rank, ratio, margin, None,
                          t if np.any(t) else None, z, why)
+
+
+def _two_sided(U: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Columns whose opposite is a column too (a soft finger's pure torques ``(0, ±n)``)."""
+    return np.any(U.T @ U < -1 + 1e-12, axis=1)
+
+
+def _modulo_lineality(W: NDArray[np.float64], U: NDArray[np.float64],
+                      keep: NDArray[np.bool_], norms: NDArray[np.float64],
+                      two_sided: NDArray[np.bool_], ratio: float, tol: float) -> VectorClosure:
+    """Theorem 1 for a cone with a lineality space ``L`` (two-sided generators).
+
+    ``cone(U) = cone(R) + L`` with ``R`` the one-sided columns, so it is the
+    whole space iff the projections of ``R`` onto ``L``'s orthogonal
+    complement positively span it. Deciding that reduced problem gives
+    robust certificates: twists orthogonal to ``L`` (reciprocal to every
+    two-sided generator by construction) and weights lifted back with the
+    two-sided pairs absorbing what lies in ``L``.
+    """
+    d = U.shape[0]
+    P, R = U[:, two_sided], U[:, ~two_sided]
+    basis, sv, _ = np.linalg.svd(P, full_matrices=True)
+    dim_l = int(np.sum(sv > max(P.shape) * np.finfo(float).eps * sv[0]))
+    Q = basis[:, dim_l:]
+    if Q.shape[1] > 0 and R.shape[1] > 0:
+        sub = vector_closure(Q.T @ R, tol)
+    else:  # L is everything (rank is full, checked before): one-sided columns are absorbed
+        sub = VectorClosure(Verdict.CLOSURE, 0, 1.0, 1.0,
+                            np.full(R.shape[1], 1.0 / max(R.shape[1], 1)), None, -1.0, "")
+    if sub.verdict is Verdict.CLOSURE:
+        w_r = sub.weights
+        c = np.linalg.lstsq(P, -(R @ w_r), rcond=None)[0]
+        w_p = c + max(0.0, -float(c.min())) + 1.0 / P.shape[1]
+        lam = np.zeros(U.shape[1])
+        lam[~two_sided], lam[two_sided] = w_r, w_p
+        lam /= lam.sum()
+        lam_c = _certify(U, lam)
+        if lam_c is not None:
+            weights = np.zeros(W.shape[1])
+            weights[keep] = lam_c / norms[keep]
+            weights /= weights.sum()
+            return VectorClosure(Verdict.CLOSURE, d, min(ratio, sub.sigma_ratio), sub.margin,
+                                 weights, None, -1.0,
+                                 f"rank {d} and a strictly positive combination is zero "
+                                 f"(margin {_fmt(sub.margin)})")
+        sub = VectorClosure(Verdict.MARGINAL, d, sub.sigma_ratio, sub.margin, None, None, 0.0,
+                            "the equilibrium weights could not be certified")
+    twist = None if sub.twist is None else Q @ sub.twist
+    if twist is not None:
+        twist = twist / np.max(np.abs(twist))
+    return VectorClosure(sub.verdict, d, min(ratio, sub.sigma_ratio), sub.margin, None, twist,
+                         sub.repelling, sub.reason)
 
 
 def _contains(U: NDArray[np.float64], target: NDArray[np.float64]) -> bool:

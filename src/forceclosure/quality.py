@@ -14,8 +14,8 @@ reference point and length scale.
   lower bound for circular cones.
 * **Least friction**: the smallest friction coefficient, the same at every
   finger, for which the grasp is force-closure (frictionless contacts taken
-  as hard fingers). Two-finger grasps use Corollary 3 in closed form; others
-  bisect on the cone angle, a monotone question.
+  as hard fingers). Planar two-finger grasps use Corollary 3 in closed form;
+  others bisect on the cone angle, a monotone question.
 """
 
 from __future__ import annotations
@@ -159,11 +159,10 @@ def least_friction(contacts: Sequence[Contact], *, cone: str | Cone = "exact",
     pair = (len(contacts) == 2 and all(len(c.points) == 1 and len(c.normals) == 1
                                        for c in contacts)
             and all(c.model != "soft" or c.torsion is None for c in contacts))
-    spatial_soft = contacts[0].dim == 3 and all(c.model == "soft" for c in contacts)
-    if pair and (contacts[0].dim == 2 or spatial_soft):
+    if pair and contacts[0].dim == 2:  # Corollary 3 is exact in the plane
         a, b = contacts
-        r = two_finger_closure(a.point, a.normal, b.point, b.normal, 1.0, model="soft")
-        return float(r.least_friction)
+        return float(two_finger_closure(a.point, a.normal, b.point, b.normal, 1.0)
+                     .least_friction)
     if _closes(list(contacts), 0.0, cone, tol):
         return 0.0
     hi = math.atan(MU_MAX)

@@ -6,10 +6,19 @@ strictly out of the friction cone at ``P`` and into the one at ``Q``:
 
     angle(Q - P, -n_P) < atan(mu_P)   and   angle(P - Q, -n_Q) < atan(mu_Q).
 
-That is exact for circular cones and costs O(1). It also gives the least
-friction that closes the pair, ``mu* = tan(max(angle_P, angle_Q))``. Two
-*hard* fingers in space are never force-closure: nothing resists rotation
-about the line ``PQ`` (the wrenches have rank 5).
+In the plane that is exact (iff) for any friction, costs O(1), and gives
+the least friction that closes the pair, ``mu* = tan(max(angle_P,
+angle_Q))``. Two *hard* fingers in space are never force-closure: nothing
+resists rotation about the line ``PQ`` (the wrenches have rank 5).
+
+**In space the condition is sufficient, and necessary only when the two
+normals are antiparallel.** The paper states it as iff, but a soft finger's
+torques about two non-parallel normals span a plane of torques on their
+own, so a squeeze whose direction lies in both cones but off ``PQ`` can
+complete torque closure (docs/analysis.md works an example). Here such pairs
+that fail the condition are decided by the general test (Theorem 1), so
+every verdict returned is right; ``least_friction`` is then the friction at
+which the condition holds, an upper bound on the least friction.
 
 Everything here is vectorised over any number of pairs.
 """
@@ -21,10 +30,12 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .closure import TOLERANCE, Verdict
+from .closure import TOLERANCE, Verdict, analyze
+from .contacts import point_contact
 from .errors import InputError
 
 _VERDICTS = np.array([Verdict.NONE.value, Verdict.MARGINAL.value, Verdict.CLOSURE.value])
+_CODES = {Verdict.NONE: 0, Verdict.MARGINAL: 1, Verdict.CLOSURE: 2}
 
 
 @dataclass(frozen=True, eq=False)
@@ -39,7 +50,8 @@ class PairClosure:
         Angles (radians) between ``PQ`` and ``-n_P``, and ``QP`` and ``-n_Q``.
     least_friction : (N,) array
         ``tan(max(angle_p, angle_q))``: the pair closes for any larger
-        friction coefficient at both fingers; ``inf`` when no friction can
+        friction coefficient at both fingers (in space an upper bound unless
+        the normals are antiparallel); ``inf`` when no friction can
         close it (an angle of 90 degrees or more, coincident points, or hard
         fingers in space).
     """
@@ -87,7 +99,8 @@ def two_finger_closure(p: ArrayLike, n_p: ArrayLike, q: ArrayLike, n_q: ArrayLik
         Friction coefficients (``mu_q`` defaults to ``mu_p``).
     model : {"soft", "hard"}
         In the plane both mean the same. In space the corollary needs soft
-        fingers; ``"hard"`` pairs are never force-closure (rank 5).
+        fingers (the paper's uncoupled torque); ``"hard"`` pairs are never
+        force-closure (rank 5).
     tol : float
         Angles within ``tol`` radians of the cone's half-angle are
         ``marginal``.
@@ -132,4 +145,17 @@ def two_finger_closure(p: ArrayLike, n_p: ArrayLike, q: ArrayLike, n_q: ArrayLik
     if d == 3 and model == "hard":
         code = np.zeros_like(code)
         least = np.full_like(least, np.inf)
+    elif d == 3:
+        unit_p, unit_q = n_p / norm_p, n_q / norm_q
+        antiparallel = np.linalg.norm(unit_p + unit_q, axis=-1) <= 1e-9
+        code = np.array(code)
+        open_ = np.argwhere((code != 2) & apart & ~antiparallel)
+        if len(open_):
+            shape = code.shape
+            P, Q, NP, NQ = (np.broadcast_to(a, (*shape, 3)) for a in (p, q, unit_p, unit_q))
+            MP, MQ = np.broadcast_to(mu_p, shape), np.broadcast_to(mu_q, shape)
+            for idx in map(tuple, open_):
+                grasp = [point_contact(P[idx], NP[idx], "soft", float(MP[idx])),
+                         point_contact(Q[idx], NQ[idx], "soft", float(MQ[idx]))]
+                code[idx] = _CODES[analyze(grasp, tol=tol).verdict]
     return PairClosure(_VERDICTS[code], angle_p, angle_q, least)

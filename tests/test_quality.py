@@ -1,0 +1,96 @@
+import math
+
+import numpy as np
+import pytest
+
+from forceclosure import Verdict, analyze, point_contact
+from forceclosure.batch import analyze_batch
+from forceclosure.quality import epsilon, least_friction
+from forceclosure.two_finger import two_finger_closure
+
+
+@pytest.mark.parametrize("mu", [0.2, 0.5, 1.0])
+def test_epsilon_of_a_symmetric_pinch_has_a_closed_form(mu):
+    # The four wrenches (±1, ±mu, ∓mu) are a tetrahedron about the origin; by
+    # symmetry every face is as near, so epsilon is the distance to one face.
+    a, b, c = np.array([1, mu, -mu]), np.array([1, -mu, mu]), np.array([-1, mu, mu])
+    n = np.cross(b - a, c - a)
+    want = abs(n @ a) / np.linalg.norm(n)
+    grasp = [point_contact([-1, 0], [-1, 0], "hard", mu), point_contact([1, 0], [1, 0], "hard", mu)]
+    assert epsilon(grasp).value == pytest.approx(want, rel=1e-9)
+    assert epsilon(grasp, "Linf").value >= epsilon(grasp).value
+    if mu == 0.5:
+        assert want == pytest.approx(1 / 3)
+
+
+def test_epsilon_is_zero_without_closure_and_grows_with_friction():
+    off = [point_contact([-1, 0], [-1, 0], "hard", 0.3), point_contact([1, 1], [1, 0], "hard", 0.3)]
+    assert epsilon(off).value == 0.0
+    values = [epsilon([point_contact([-1, 0], [-1, 0], "hard", m),
+                       point_contact([1, 0], [1, 0], "hard", m)]).value for m in (0.1, 0.3, 0.6)]
+    assert values == sorted(values) and values[0] > 0
+
+
+def test_least_friction_planar_pairs_match_the_angle():
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        y = rng.uniform(-1.5, 1.5)
+        grasp = [point_contact([-1, 0], [-1, 0]), point_contact([1, y], [1, 0])]
+        assert least_friction(grasp) == pytest.approx(abs(y) / 2, abs=1e-12)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_least_friction_is_the_closure_threshold(dim):
+    """Just above mu*, closure; just below, not: checked with the general test."""
+    if dim == 2:
+        pts = [[-1, 0], [1, 0.4], [0.2, 1]]
+        nrm = [[-1, 0.2], [1, 0.1], [0.3, 1]]
+    else:
+        pts = [[1, 0, 0.1], [-0.5, 0.8, 0], [-0.5, -0.8, 0.2]]
+        nrm = [[1, 0.1, 0], [-0.5, 0.8, 0.3], [-0.5, -0.8, 0]]
+    grasp = [point_contact(p, n, "hard") for p, n in zip(pts, nrm, strict=True)]
+    mu = least_friction(grasp)
+    assert 0 < mu < math.inf
+    above = [c.with_friction(mu * 1.01) for c in grasp]
+    below = [c.with_friction(mu * 0.99) for c in grasp]
+    assert analyze(above).verdict is Verdict.CLOSURE
+    assert analyze(below).verdict is not Verdict.CLOSURE
+
+
+def test_least_friction_extremes():
+    cube_like = [point_contact([1, 0.5], [1, 0], "frictionless"),
+                 point_contact([-1, -0.5], [-1, 0], "frictionless"),
+                 point_contact([0.5, 1], [0, 1], "frictionless"),
+                 point_contact([-0.5, -1], [0, -1], "frictionless")]
+    assert least_friction(cube_like) == 0.0
+    same_side = [point_contact([0, 0], [0, 1]), point_contact([1, 0], [0, 1])]
+    assert least_friction(same_side) == math.inf
+    hard_pair = [point_contact([x, 0, 0], [x, 0, 0], "hard") for x in (-1, 1)]
+    assert least_friction(hard_pair) == math.inf
+
+
+def test_batch_matches_single_analysis():
+    rng = np.random.default_rng(9)
+    for dim in (2, 3):
+        n, k = 30, 3
+        P = rng.uniform(-1, 1, (n, k, dim))
+        N = -P + rng.normal(0, 0.5, (n, k, dim))
+        mu = rng.uniform(0, 0.8, (n, k))
+        batch = analyze_batch(P, N, mu=mu, model="hard", explain=True)
+        for g in range(n):
+            single = analyze([point_contact(P[g, i], N[g, i], "hard", mu[g, i])
+                              for i in range(k)])
+            assert batch.verdict[g] == single.verdict.value
+            assert batch.rank[g] == single.rank
+            assert batch.force_direction_closure[g] == single.force_direction_closure
+            assert batch.torque_closure[g] == single.torque_closure
+            if single.twist is not None:
+                np.testing.assert_allclose(batch.twist[g], single.twist, atol=1e-9)
+        assert len(set(batch.verdict)) >= 2
+
+
+def test_vectorised_pairs_shape():
+    p = np.zeros((4, 5, 2))
+    q = np.ones((4, 5, 2))
+    r = two_finger_closure(p, -np.ones(2), q, np.ones(2), 0.1)
+    assert r.verdict.shape == (4, 5) and np.all(r.force_closure)
