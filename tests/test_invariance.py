@@ -47,7 +47,8 @@ def _same(a, b):
                 for x in (a, b))
     if clear or Verdict.MARGINAL not in (a.verdict, b.verdict):
         assert a.verdict is b.verdict
-    assert a.rank == b.rank or Verdict.MARGINAL in (a.verdict, b.verdict)
+    if min(a.sigma_ratio, b.sigma_ratio) > CLEAR:  # numerical rank is clear-cut
+        assert a.rank == b.rank
 
 
 @given(st.integers(2, 3).flatmap(lambda d: st.tuples(st.just(d), grasps(d))),

@@ -127,5 +127,5 @@ def analyze_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
         if explain:
             closed = vc.verdict is Verdict.CLOSURE
             fd[g] = closed or force_direction_closure(ws.wrenches, tol)
-            tc[g] = closed or torque_closure(ws.wrenches)
+            tc[g] = closed or (not fd[g] and torque_closure(ws.wrenches))
     return BatchAnalysis(verdict, rank, margin, twist, fd, tc)

@@ -160,7 +160,8 @@ def _null_twist(U: NDArray[np.float64]) -> NDArray[np.float64]:
     return u / np.max(np.abs(u))
 
 
-def vector_closure(W: ArrayLike, tol: float = TOLERANCE) -> VectorClosure:
+def vector_closure(W: ArrayLike, tol: float = TOLERANCE,
+                   two_sided: ArrayLike | None = None) -> VectorClosure:
     """Decide whether vectors positively span their space (Theorem 1).
 
     Parameters
@@ -169,6 +170,13 @@ def vector_closure(W: ArrayLike, tol: float = TOLERANCE) -> VectorClosure:
         The vectors, as columns (for a grasp, its generating wrenches).
     tol : float
         The tolerance of the ``marginal`` band (see the module).
+    two_sided : (m,) bool array, optional
+        Columns that come in opposite pairs by construction (a soft finger's
+        pure torques). Every twist is at best reciprocal to them, so they are
+        quotiented out: Theorem 1 is decided for the other columns projected
+        onto the orthogonal complement of their span, and the certificates
+        lifted back. Without this a grasp they are part of could never be
+        proved ``none``.
 
     Returns
     -------
@@ -194,6 +202,8 @@ def vector_closure(W: ArrayLike, tol: float = TOLERANCE) -> VectorClosure:
     norms = np.linalg.norm(W, axis=0)
     keep = norms > 1e-12 * max(1.0, float(norms.max(initial=0.0)))
     U = W[:, keep] / norms[keep]
+    pairs = (np.zeros(W.shape[1], bool) if two_sided is None
+             else np.asarray(two_sided, bool))[keep]
     m = U.shape[1]
     if m == 0:
         t = np.zeros(d)
@@ -213,9 +223,8 @@ def vector_closure(W: ArrayLike, tol: float = TOLERANCE) -> VectorClosure:
         return VectorClosure(Verdict.NONE, rank, ratio, margin, None, t,
                              float(np.min(U.T @ t)), why)
 
-    two_sided = _two_sided(U)
-    if two_sided.any():
-        return _modulo_lineality(W, U, keep, norms, two_sided, ratio, tol)
+    if pairs.any():
+        return _modulo_lineality(W, U, keep, norms, pairs, ratio, tol)
 
     if ratio > tol and margin is not None and margin > tol:
         lam_c = _certify(U, lam)
@@ -241,11 +250,6 @@ def vector_closure(W: ArrayLike, tol: float = TOLERANCE) -> VectorClosure:
         why = f"on the boundary: margin {_fmt(margin)} within tolerance {tol:g} of zero"
     return VectorClosure(Verdict.MARGINAL, rank, ratio, margin, None,
                          t if np.any(t) else None, z, why)
-
-
-def _two_sided(U: NDArray[np.float64]) -> NDArray[np.bool_]:
-    """Columns whose opposite is a column too (a soft finger's pure torques ``(0, ±n)``)."""
-    return np.any(U.T @ U < -1 + 1e-12, axis=1)
 
 
 def _modulo_lineality(W: NDArray[np.float64], U: NDArray[np.float64],
@@ -460,15 +464,15 @@ def decide(contacts: Sequence[Contact], cone: str | Cone = "exact", tol: float =
         ws = generating_wrenches(contacts, use, reference, length_scale)
         label = "exact planar cones" if contacts[0].dim == 2 else (
             f"{use}s" if _spatial_friction(contacts) else "no friction cones")
-        return vector_closure(ws.wrenches, tol), ws, label
+        return vector_closure(ws.wrenches, tol, ws.two_sided), ws, label
     for k in EXACT_CONE_EDGES:
         inner_ws = generating_wrenches(contacts, Cone(k, "inscribed"), reference, length_scale)
-        inner = vector_closure(inner_ws.wrenches, tol)
+        inner = vector_closure(inner_ws.wrenches, tol, inner_ws.two_sided)
         if inner.verdict is Verdict.CLOSURE:
             return inner, inner_ws, f"exact cones (proved with {k}-edge inscribed pyramids)"
         outer_ws = generating_wrenches(contacts, Cone(k, "circumscribed"), reference,
                                        length_scale)
-        outer = vector_closure(outer_ws.wrenches, tol)
+        outer = vector_closure(outer_ws.wrenches, tol, outer_ws.two_sided)
         if outer.verdict is Verdict.NONE:
             return outer, outer_ws, f"exact cones (refuted with {k}-edge circumscribed pyramids)"
     why = (f"within the friction ratio cos(pi/{k}) of the boundary: {k}-edge inscribed "
@@ -523,7 +527,8 @@ def analyze(contacts: Sequence[Contact], *, cone: str | Cone = "exact", tol: flo
         np.add.at(forces, ws.contact_index, (ws.wrenches[:d] * vc.weights).T)
     else:
         fd = force_direction_closure(ws.wrenches, tol)
-        tc = torque_closure(ws.wrenches)
+        # closure <=> both; so with force-direction closure, torque closure failed
+        tc = not fd and torque_closure(ws.wrenches)
         if vc.twist is not None:
             twist = shift_twist(vc.twist, ws.reference, ws.length_scale)
             motion = motion_of(twist, both_ways=vc.repelling <= tol,

@@ -389,12 +389,17 @@ class WrenchSet:
         Which contact each column belongs to.
     reference : (d,) array, length_scale : float
         The frame in which torques are measured.
+    two_sided : (m,) bool array
+        Columns that come in opposite pairs by construction: the pure
+        torques ``(0, ±n)`` of the paper's soft finger. They span the cone's
+        lineality space (see :func:`forceclosure.vector_closure`).
     """
 
     wrenches: NDArray[np.float64]
     contact_index: NDArray[np.int64]
     reference: NDArray[np.float64]
     length_scale: float
+    two_sided: NDArray[np.bool_]
 
     @property
     def dim(self) -> int:
@@ -434,8 +439,9 @@ def generating_wrenches(contacts: Sequence[Contact], cone: Cone = Cone(),
     """
     contacts = check_grasp(contacts)
     ref, scale = frame(contacts, reference, length_scale)
-    columns, owner = [], []
+    columns, owner, two_sided = [], [], []
     for i, c in enumerate(contacts):
+        pure = c.model == "soft" and c.dim == 3 and c.torsion is None
         for p in c.points:
             for n in c.normals:
                 tors = None if c.torsion is None else np.array([c.torsion])
@@ -443,4 +449,9 @@ def generating_wrenches(contacts: Sequence[Contact], cone: Cone = Cone(),
                                        ref[None], np.array([scale]), cone)[0]
                 columns.append(w)
                 owner.extend([i] * w.shape[1])
-    return WrenchSet(np.concatenate(columns, axis=1), np.array(owner), ref, scale)
+                flags = [False] * w.shape[1]
+                if pure:  # primitive_wrenches puts the pure torques last
+                    flags[-2:] = [True, True]
+                two_sided.extend(flags)
+    return WrenchSet(np.concatenate(columns, axis=1), np.array(owner), ref, scale,
+                     np.array(two_sided))

@@ -101,7 +101,7 @@ def epsilon(contacts: Sequence[Contact], norm: Literal["L1", "Linf"] = "L1", *, 
     label = "exact planar cones" if contacts[0].dim == 2 else f"{cone}s"
     result = Epsilon(0.0, norm, tuple(ws.reference.tolist()), ws.length_scale, label)
     if decide(contacts, "exact", tol, reference, length_scale)[0].verdict is not Verdict.CLOSURE \
-            or vector_closure(ws.wrenches, tol).verdict is not Verdict.CLOSURE:
+            or vector_closure(ws.wrenches, tol, ws.two_sided).verdict is not Verdict.CLOSURE:
         return result
     W = ws.wrenches
     if norm == "L1":

@@ -1,0 +1,79 @@
+"""Per-grasp cost of forceclosure's analysis against the textbook baseline.
+
+The baseline is what a user writes by hand: one ``scipy.optimize.linprog``
+per grasp asking for a combination of the wrenches with every weight >= 1
+summing to zero (the second half of Theorem 1 only; no rank check, no
+certificate, no exact cones). Both run in the same process, on the same
+grasps; ratios, not absolute times, are the result on a shared machine.
+
+    uv run python benchmarks/bench_analysis.py [--grasps 200]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+from scipy.optimize import linprog
+
+from forceclosure import Cone, analyze, generating_wrenches, point_contact
+from forceclosure.two_finger import two_finger_closure
+
+
+def baseline(W: np.ndarray) -> bool:
+    m = W.shape[1]
+    res = linprog(np.zeros(m), A_eq=W, b_eq=np.zeros(W.shape[0]), bounds=[(1, None)] * m,
+                  method="highs")
+    return res.status == 0
+
+
+def grasps(rng, n, k, d, model, mu):
+    out = []
+    for _ in range(n):
+        p = rng.normal(size=(k, d))
+        p /= np.linalg.norm(p, axis=1, keepdims=True)
+        normals = p + rng.normal(0, 0.2, (k, d))
+        out.append([point_contact(p[i], normals[i], model, mu) for i in range(k)])
+    return out
+
+
+def timed(fn, items):
+    t = time.perf_counter()
+    for item in items:
+        fn(item)
+    return (time.perf_counter() - t) / len(items)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--grasps", type=int, default=200)
+    n = ap.parse_args().grasps
+    rng = np.random.default_rng(0)
+    cases = [
+        ("planar, 2 hard fingers", grasps(rng, n, 2, 2, "hard", 0.3), "exact"),
+        ("planar, 4 frictionless", grasps(rng, n, 4, 2, "frictionless", 0.0), "exact"),
+        ("spatial, 3 hard, 8-edge pyramid", grasps(rng, n, 3, 3, "hard", 0.5), Cone(8)),
+        ("spatial, 3 hard, exact cones", grasps(rng, n, 3, 3, "hard", 0.5), "exact"),
+        ("spatial, 7 frictionless", grasps(rng, n, 7, 3, "frictionless", 0.0), "exact"),
+    ]
+    print(f"{'case':34} {'analyze':>12} {'linprog':>12} {'ratio':>7}")
+    for name, gs, cone in cases:
+        ws = [generating_wrenches(g, cone if isinstance(cone, Cone) else Cone(8)).wrenches
+              for g in gs]
+        ours = timed(lambda g, cone=cone: analyze(g, cone=cone), gs)
+        base = timed(baseline, ws)
+        print(f"{name:34} {ours * 1e3:9.2f} ms {base * 1e3:9.2f} ms {ours / base:6.1f}x")
+    m = 100_000
+    p, q = rng.normal(size=(m, 2)), rng.normal(size=(m, 2))
+    t = time.perf_counter()
+    two_finger_closure(p, p, q, q, 0.3)
+    vec = (time.perf_counter() - t) / m
+    loop = timed(lambda i: analyze([point_contact(p[i], p[i], "hard", 0.3),
+                                    point_contact(q[i], q[i], "hard", 0.3)]), range(200))
+    print(f"Corollary 3, vectorised: {1 / vec / 1e6:.1f} M pairs/s; "
+          f"{loop / vec:.0f}x the per-pair general test")
+
+
+if __name__ == "__main__":
+    main()
