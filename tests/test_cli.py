@@ -109,3 +109,11 @@ def test_missing_file_and_usage_errors(capsys):
     with pytest.raises(SystemExit) as e:
         main(["analyze"])
     assert e.value.code == 2
+
+
+@pytest.mark.parametrize("script", sorted((Path(__file__).parents[1] / "examples").glob("*.py")))
+def test_examples_run(script):
+    proc = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
+                          timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert "force-closure" in proc.stdout or "closure" in proc.stdout

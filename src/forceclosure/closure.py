@@ -150,7 +150,10 @@ def _certify(U: NDArray[np.float64], lam: NDArray[np.float64]) -> NDArray[np.flo
     not depend on the LP solver's tolerances.
     """
     lam_c = lam - np.linalg.lstsq(U, U @ lam, rcond=None)[0]
-    if lam_c.min() <= 0.5 * lam.min():
+    sigma_min = np.linalg.svd(U, compute_uv=False)[-1]
+    # what rounding leaves, and the further correction it would need, stays small
+    leftover = np.linalg.norm(U @ lam_c) / sigma_min
+    if lam_c.min() <= max(0.5 * lam.min(), 2 * leftover):
         return None
     return lam_c
 
@@ -213,7 +216,12 @@ def vector_closure(W: ArrayLike, tol: float = TOLERANCE,
     sv = np.linalg.svd(U, compute_uv=False)
     rank = int(np.sum(sv > max(d, m) * np.finfo(float).eps * sv[0]))
     ratio = float(sv[d - 1] / sv[0]) if m >= d else 0.0
-    s, lam = _balance(U)
+    if m == d and rank == d:  # the counting fact, answered before any LP
+        t = np.linalg.solve(U.T, np.ones(d))  # every vector does work 1 on t
+        t /= np.max(np.abs(t))
+        return VectorClosure(Verdict.NONE, rank, ratio, None, None, t, float(np.min(U.T @ t)),
+                             f"only {m} vectors; at least {d + 1} are needed")
+    s, lam = _balance(U) if m > d else (None, None)
     margin = None if s is None else m * s
 
     if rank < d:
