@@ -20,6 +20,8 @@ import sys
 from importlib import resources
 from typing import Any
 
+import numpy as np
+
 from . import __version__
 from .closure import TOLERANCE
 from .errors import InputError
@@ -93,6 +95,51 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     return status
 
 
+def _cmd_objects(args: argparse.Namespace) -> int:
+    from .objects import POLYGONS, POLYHEDRA
+
+    print("Bundled objects (use the name wherever a file is expected):\n")
+    for kind, table in (("polygons", POLYGONS), ("polyhedra", POLYHEDRA)):
+        print(f"{kind}:")
+        for name, (description, _) in table.items():
+            print(f"  {name:18} {description}")
+    return 0
+
+
+def _cmd_inspect(args: argparse.Namespace) -> int:
+    from .objects.io import load_object
+
+    obj = load_object(args.object, allow_open=args.allow_open)
+    info = obj.summary()
+    if args.json:
+        json.dump(info, sys.stdout, indent=2)
+        sys.stdout.write("\n")
+    else:
+        for warning in info.get("warnings", []):
+            print(f"forceclosure: warning: {obj.name}: {warning}", file=sys.stderr)
+        lo, hi = np.asarray(info["bounds"])
+        print(f"{obj.name}: {info['kind']}")
+        if obj.dim == 2:
+            print(f"  {info['vertices']} vertices, {info['edges']} edges, {info['holes']} holes;"
+                  f" {'convex' if info['convex'] else 'non-convex'}")
+            print(f"  area {info['area']:.6g}, perimeter {info['perimeter']:.6g}")
+        else:
+            print(f"  {info['vertices']} vertices, {info['triangles']} triangles -> "
+                  f"{info['faces']} planar faces ({info['merged_faces']} merged from several "
+                  "triangles)")
+            tight = "watertight" if info["watertight"] else "open (not watertight)"
+            volume = f", volume {info['volume']:.6g}" if info["volume"] is not None else ""
+            print(f"  {tight}{volume}, area {info['area']:.6g}")
+        print(f"  size {info['size']:.6g} (bounding-box diagonal), bounds "
+              f"{np.round(lo, 6).tolist()} to {np.round(hi, 6).tolist()}")
+    if args.plot:
+        from .plot import plot_object
+
+        plot_object(obj, args.plot)
+        print(f"  picture: {args.plot}", file=sys.stderr if args.json else sys.stdout)
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``forceclosure`` command."""
     parser = argparse.ArgumentParser(
@@ -110,6 +157,19 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(run=_cmd_analyze)
     d = sub.add_parser("demo", help="analyse the bundled example grasps")
     d.set_defaults(run=_cmd_demo)
+    o = sub.add_parser("objects", help="list the bundled example objects")
+    o.set_defaults(run=_cmd_objects)
+    i = sub.add_parser("inspect", help="summarise an object: polygon or polyhedron",
+                       description="Load an object (a file or a bundled name), check it, and "
+                                   "summarise it: edges, or planar faces found in a mesh.")
+    i.add_argument("object", metavar="OBJECT",
+                   help="a file (.json .geojson .svg .csv .stl .obj .ply .off .glb .gltf) "
+                        "or a bundled name")
+    i.add_argument("--plot", metavar="OUT", help="save a picture (.png or .svg)")
+    i.add_argument("--json", action="store_true", help="print the summary as JSON")
+    i.add_argument("--allow-open", action="store_true",
+                   help="accept open or non-manifold meshes instead of refusing them")
+    i.set_defaults(run=_cmd_inspect)
     parser.epilog = f"Verdicts within {TOLERANCE:g} of the boundary are 'marginal'."
     return parser
 

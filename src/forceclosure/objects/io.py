@@ -1,0 +1,281 @@
+"""Loading objects from what users have: files, shapely, trimesh, arrays.
+
+:func:`load_object` dispatches on the file's extension:
+
+* polygons: ``.json`` / ``.geojson`` (``{"outer": [...], "holes": [...]}``,
+  a list of points, or a GeoJSON Polygon, Feature or FeatureCollection of
+  one polygon), ``.svg`` (the first ``<polygon>``, ``<polyline>`` or
+  ``<path>`` of straight segments; several subpaths make holes), ``.csv``
+  (``x,y`` per line; an empty line starts a hole);
+* polyhedra: ``.stl``, ``.obj``, ``.ply``, ``.off``, ``.glb``, ``.gltf``
+  (through trimesh, scenes flattened into one mesh).
+
+A bundled example's name (``forceclosure objects``) works in place of a
+path. Every failure is an :class:`~forceclosure.errors.InputError` with one
+line naming the file and the problem.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import re
+import xml.etree.ElementTree as ET
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import shapely
+
+from ..errors import InputError
+from .examples import POLYGONS, POLYHEDRA, bundled
+from .polygon import Polygon
+from .polyhedron import Polyhedron
+
+POLYGON_SUFFIXES = (".json", ".geojson", ".svg", ".csv")
+MESH_SUFFIXES = (".stl", ".obj", ".ply", ".off", ".glb", ".gltf")
+
+
+def _first_line(error: BaseException) -> str:
+    text = str(error).strip().splitlines()
+    return (text[0] if text else type(error).__name__)[:200]
+
+
+def polygon_from_json(data: Any, name: str = "polygon") -> Polygon:
+    """A polygon from parsed JSON: our format, a point list, or GeoJSON.
+
+    Examples
+    --------
+    >>> gj = {"type": "Polygon", "coordinates": [[[0, 0], [2, 0], [2, 2], [0, 2], [0, 0]]]}
+    >>> polygon_from_json(gj).area
+    4.0
+    """
+    if isinstance(data, list):
+        return Polygon.from_points(data, name=name)
+    if not isinstance(data, dict):
+        raise InputError(f"{name}: expected an object or a list of points")
+    kind = data.get("type")
+    if kind == "FeatureCollection":
+        features = data.get("features") or []
+        polys = [f for f in features if isinstance(f, dict) and isinstance(f.get("geometry"), dict)
+                 and f["geometry"].get("type") in ("Polygon", "MultiPolygon")]
+        if len(polys) != 1:
+            raise InputError(f"{name}: the FeatureCollection has {len(polys)} polygon features; "
+                             "give exactly one")
+        return polygon_from_json(polys[0]["geometry"], name)
+    if kind == "Feature":
+        return polygon_from_json(data.get("geometry"), name)
+    if kind in ("Polygon", "MultiPolygon"):
+        try:
+            geometry = shapely.geometry.shape(data)
+        except Exception as e:  # shapely raises several types for bad GeoJSON
+            raise InputError(f"{name}: bad GeoJSON {kind}: {_first_line(e)}") from None
+        return Polygon.from_shapely(geometry, name)
+    if kind is not None:
+        raise InputError(f"{name}: GeoJSON type '{kind}' is not a polygon")
+    if "outer" not in data:
+        raise InputError(f"{name}: missing field 'outer' (or a GeoJSON 'type')")
+    holes = data.get("holes", [])
+    if not isinstance(holes, list):
+        raise InputError(f"{name}: field 'holes' must be a list of rings")
+    return Polygon.from_points(data["outer"], holes, name=data.get("name", name)
+                               if isinstance(data.get("name"), str) else name)
+
+
+_PATH_TOKEN = re.compile(r"([A-Za-z])|([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)")
+
+
+def _path_rings(d: str, name: str) -> list[list[tuple[float, float]]]:
+    tokens = _PATH_TOKEN.findall(d)
+    rings: list[list[tuple[float, float]]] = []
+    ring: list[tuple[float, float]] = []
+    x = y = 0.0
+    cmd = None
+    i = 0
+
+    def number() -> float:
+        nonlocal i
+        if i >= len(tokens) or not tokens[i][1]:
+            raise InputError(f"{name}: path command '{cmd}' is missing a number")
+        i += 1
+        return float(tokens[i - 1][1])
+
+    while i < len(tokens):
+        letter, _ = tokens[i]
+        if letter:
+            cmd = letter
+            i += 1
+            if cmd in "Zz":
+                if ring:
+                    rings.append(ring)
+                ring = []
+                continue
+            if cmd not in "MmLlHhVv":
+                raise InputError(f"{name}: path command '{cmd}' draws a curve; only straight "
+                                 "segments (M, L, H, V, Z) are supported")
+        elif cmd is None:
+            raise InputError(f"{name}: path data must start with a command")
+        if cmd in "Mm":
+            if ring:
+                rings.append(ring)
+            dx, dy = number(), number()
+            x, y = (x + dx, y + dy) if cmd == "m" and (rings or ring) else (dx, dy)
+            ring = [(x, y)]
+            cmd = "l" if cmd == "m" else "L"
+        elif cmd in "Ll":
+            dx, dy = number(), number()
+            x, y = (x + dx, y + dy) if cmd == "l" else (dx, dy)
+            ring.append((x, y))
+        elif cmd in "Hh":
+            v = number()
+            x = x + v if cmd == "h" else v
+            ring.append((x, y))
+        elif cmd in "Vv":
+            v = number()
+            y = y + v if cmd == "v" else v
+            ring.append((x, y))
+    if ring:
+        rings.append(ring)
+    return rings
+
+
+def polygon_from_svg(text: str, name: str = "polygon") -> Polygon:
+    """A polygon from SVG text (coordinates as in the file, y pointing down).
+
+    Examples
+    --------
+    >>> svg = '<svg><path d="M0 0 H4 V4 H0 Z M1 1 V3 H3 V1 Z"/></svg>'
+    >>> p = polygon_from_svg(svg)
+    >>> p.area, len(p.holes)
+    (12.0, 1)
+    """
+    try:
+        root = ET.fromstring(text)
+    except ET.ParseError as e:
+        raise InputError(f"{name}: not valid SVG/XML: {_first_line(e)}") from None
+    for element in root.iter():
+        tag = element.tag.rsplit("}", 1)[-1]
+        if tag in ("polygon", "polyline"):
+            values = [float(v) for v in re.findall(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?",
+                                                   element.get("points", ""))]
+            if len(values) % 2:
+                raise InputError(f"{name}: <{tag}> has an odd number of coordinates")
+            return Polygon.from_points(np.reshape(values, (-1, 2)), name=name)
+        if tag == "path":
+            rings = _path_rings(element.get("d", ""), name)
+            if not rings:
+                raise InputError(f"{name}: <path> has no points")
+            areas = [abs(shapely.Polygon(r).area) if len(r) >= 3 else 0.0 for r in rings]
+            outer = int(np.argmax(areas))
+            return Polygon.from_points(rings[outer], [r for i, r in enumerate(rings)
+                                                      if i != outer], name=name)
+    raise InputError(f"{name}: no <polygon>, <polyline> or <path> element in the SVG")
+
+
+def polygon_from_csv(text: str, name: str = "polygon") -> Polygon:
+    """A polygon from CSV: ``x,y`` per line, an empty line before each hole.
+
+    Examples
+    --------
+    >>> polygon_from_csv("x,y\\n0,0\\n3,0\\n0,3\\n").area
+    4.5
+    """
+    rings: list[list[list[float]]] = [[]]
+    for lineno, row in enumerate(csv.reader(io.StringIO(text)), start=1):
+        cells = [c.strip() for c in row if c.strip()]
+        if len(cells) == 1:
+            cells = cells[0].split()
+        if not cells:
+            if rings[-1]:
+                rings.append([])
+            continue
+        try:
+            values = [float(c) for c in cells]
+        except ValueError:
+            if lineno == 1:
+                continue  # a header
+            raise InputError(f"{name}: line {lineno}: expected two numbers, got "
+                             f"{','.join(cells)[:60]!r}") from None
+        if len(values) != 2:
+            raise InputError(f"{name}: line {lineno}: expected two numbers, got {len(values)}")
+        rings[-1].append(values)
+    rings = [r for r in rings if r]
+    if not rings:
+        raise InputError(f"{name}: no coordinates")
+    return Polygon.from_points(rings[0], rings[1:], name=name)
+
+
+def polyhedron_from_mesh_file(path: Path, allow_open: bool = False) -> Polyhedron:
+    """A polyhedron from a mesh file, read by trimesh without its own processing."""
+    import trimesh
+
+    suffix = path.suffix.lower()
+    try:
+        loaded = trimesh.load(str(path), file_type=suffix[1:], force="mesh", process=False)
+    except Exception as e:  # trimesh raises many types on malformed files
+        raise InputError(f"{path.name}: cannot read the {suffix[1:].upper()} file: "
+                         f"{_first_line(e)}") from None
+    if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
+        raise InputError(f"{path.name}: the file holds no triangles")
+    return Polyhedron.from_arrays(loaded.vertices, loaded.faces, path.stem, allow_open)
+
+
+def load_object(source: str | Path | Any, allow_open: bool = False) -> Polygon | Polyhedron:
+    """Load a polygon or polyhedron from a file, a bundled name, or a library object.
+
+    Parameters
+    ----------
+    source : path, str, shapely geometry, trimesh.Trimesh, Polygon or Polyhedron
+    allow_open : bool
+        Accept open and non-manifold meshes (with a warning) instead of
+        refusing them.
+
+    Examples
+    --------
+    >>> load_object("l-prism").summary()["faces"]
+    8
+    """
+    if isinstance(source, Polygon | Polyhedron):
+        return source
+    if isinstance(source, shapely.Polygon | shapely.MultiPolygon):
+        return Polygon.from_shapely(source)
+    if type(source).__name__ == "Trimesh":
+        return Polyhedron.from_trimesh(source, allow_open=allow_open)
+    if not isinstance(source, str | Path):
+        raise InputError(f"cannot make an object from a {type(source).__name__}")
+    path = Path(source)
+    if not path.exists():
+        if str(source) in POLYGONS or str(source) in POLYHEDRA:
+            return bundled(str(source))
+        raise InputError(f"{source}: no such file, and no bundled object of that name "
+                         "(see 'forceclosure objects')")
+    if path.is_dir():
+        raise InputError(f"{source}: is a directory")
+    suffix = path.suffix.lower()
+    if suffix in MESH_SUFFIXES:
+        if path.stat().st_size == 0:
+            raise InputError(f"{path.name}: the file is empty")
+        return polyhedron_from_mesh_file(path, allow_open)
+    if suffix not in POLYGON_SUFFIXES:
+        raise InputError(f"{path.name}: unknown file type '{suffix}'; expected one of "
+                         f"{', '.join(POLYGON_SUFFIXES + MESH_SUFFIXES)}")
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise InputError(f"{path.name}: not a text file") from None
+    if not text.strip():
+        raise InputError(f"{path.name}: the file is empty")
+    name = path.stem
+    if suffix == ".svg":
+        return polygon_from_svg(text, name)
+    if suffix == ".csv":
+        return polygon_from_csv(text, name)
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as e:
+        raise InputError(f"{path.name}: not valid JSON: {e.msg} at line {e.lineno}, "
+                         f"column {e.colno}") from None
+    except RecursionError:
+        raise InputError(f"{path.name}: not valid JSON: nested too deeply") from None
+    return polygon_from_json(data, name)

@@ -1,0 +1,304 @@
+"""Polygons: the planar objects whose edges fingers touch (Nguyen 1988, §5.1, §5.4).
+
+A :class:`Polygon` is validated and normalised on construction. The outer
+boundary runs counter-clockwise and holes clockwise, so the material is
+always on the left of an edge and its outward normal on the right.
+Consecutive collinear edges are merged into one physical edge, which keeps
+the indices of the input edges it came from. Each :class:`Edge` maps a
+parameter ``t`` in ``[0, length]`` to a point and back.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from numpy.typing import ArrayLike, NDArray
+
+from ..errors import InputError
+
+#: Relative tolerance (of the polygon's size) for repeated vertices and collinearity.
+RTOL = 1e-9
+
+
+@dataclass(frozen=True, eq=False)
+class Edge:
+    """One physical edge of a polygon.
+
+    Attributes
+    ----------
+    index : int
+        Position among the polygon's edges (outer ring first, then holes).
+    ring : int
+        0 for the outer boundary, ``h + 1`` for hole ``h``.
+    start, end : (2,) arrays
+        Endpoints, in the ring's direction (material on the left).
+    normal : (2,) array
+        Outward unit normal (pointing out of the material).
+    length : float
+    source : tuple of int
+        Indices of the input edges merged into this one (input edges are
+        numbered ring by ring, edge ``i`` from input vertex ``i`` to ``i+1``).
+    """
+
+    index: int
+    ring: int
+    start: NDArray[np.float64]
+    end: NDArray[np.float64]
+    normal: NDArray[np.float64]
+    length: float
+    source: tuple[int, ...]
+
+    @property
+    def direction(self) -> NDArray[np.float64]:
+        """Unit vector from ``start`` to ``end``."""
+        return (self.end - self.start) / self.length
+
+    def point(self, t: ArrayLike) -> NDArray[np.float64]:
+        """The point at distance ``t`` from ``start`` along the edge.
+
+        Examples
+        --------
+        >>> e = Polygon.from_points([[0, 0], [1, 0], [1, 1], [0, 1]]).edges[0]
+        >>> e.point(e.length / 2).tolist()
+        [0.5, 0.0]
+        """
+        t = np.asarray(t, dtype=float)
+        return self.start + t[..., None] * self.direction
+
+    def parameter(self, p: ArrayLike) -> NDArray[np.float64]:
+        """The parameter ``t`` of the projection of ``p`` onto the edge's line."""
+        return (np.asarray(p, dtype=float) - self.start) @ self.direction
+
+
+def _ring_array(points: ArrayLike, what: str) -> NDArray[np.float64]:
+    try:
+        ring = np.asarray(points, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{what}: vertices must be numbers") from None
+    if ring.ndim != 2 or ring.shape[1] != 2:
+        raise InputError(f"{what}: vertices must be (x, y) pairs, got shape {ring.shape}")
+    bad = np.flatnonzero(~np.all(np.isfinite(ring), axis=1))
+    if len(bad):
+        raise InputError(f"{what}: vertex {bad[0] + 1} is not finite: {ring[bad[0]].tolist()}")
+    if len(ring) > 1 and np.array_equal(ring[0], ring[-1]):
+        ring = ring[:-1]  # an explicitly closed ring (GeoJSON, SVG 'Z' after a return)
+    return ring
+
+
+def _check_ring(ring: NDArray[np.float64], what: str, tol: float) -> None:
+    if len(ring) < 3 or len(np.unique(ring, axis=0)) < 3:
+        raise InputError(f"{what}: fewer than 3 distinct vertices")
+    step = np.linalg.norm(np.roll(ring, -1, axis=0) - ring, axis=1)
+    short = np.flatnonzero(step <= tol)
+    if len(short):
+        i = short[0]
+        j = (i + 1) % len(ring)
+        raise InputError(f"{what}: vertex {j + 1} repeats vertex {i + 1} at "
+                         f"{ring[i].round(9).tolist()} (a zero-length edge)")
+
+
+def _signed_area(ring: NDArray[np.float64]) -> float:
+    x, y = ring[:, 0], ring[:, 1]
+    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+def _validity(outer: NDArray, holes: Sequence[NDArray], name: str) -> None:
+    poly = shapely.Polygon(outer, holes)
+    if not poly.is_valid:
+        reason = shapely.is_valid_reason(poly)  # e.g. "Self-intersection[1 1]"
+        kind, _, where = reason.partition("[")
+        coords = where.rstrip("]").split()
+        at = f" at ({', '.join(f'{float(c):.6g}' for c in coords)})" if coords else ""
+        raise InputError(f"{name}: invalid polygon: {kind.strip().lower()}{at}")
+    if poly.area <= 0:
+        raise InputError(f"{name}: the polygon has zero area")
+
+
+@dataclass(frozen=True, eq=False)
+class Polygon:
+    """A simple polygon, possibly with holes, ready for grasping.
+
+    Build one with :meth:`from_points`, :meth:`from_shapely`,
+    :meth:`regular`, or the loaders in :mod:`forceclosure.objects.io`.
+
+    Attributes
+    ----------
+    outer : (n, 2) array
+        Outer boundary, counter-clockwise, collinear vertices removed.
+    holes : tuple of (k, 2) arrays
+        Holes, clockwise.
+    edges : tuple of Edge
+        The physical edges: the outer ring's, then each hole's.
+    name : str
+    """
+
+    outer: NDArray[np.float64]
+    holes: tuple[NDArray[np.float64], ...]
+    edges: tuple[Edge, ...]
+    name: str = "polygon"
+
+    @classmethod
+    def from_points(cls, outer: ArrayLike, holes: Sequence[ArrayLike] = (),
+                    name: str = "polygon") -> Polygon:
+        """Validate and normalise a polygon given by its vertices.
+
+        Refuses, in one line naming the vertex or the place: non-finite
+        coordinates, fewer than three distinct vertices, repeated vertices
+        (zero-length edges), self-intersections (bow-ties), self-touching
+        rings, holes outside the boundary, and zero area.
+
+        Examples
+        --------
+        >>> p = Polygon.from_points([[0, 0], [0, 1], [1, 1], [2, 1], [2, 0]])  # clockwise
+        >>> len(p.edges), p.edges[1].source  # (1, 1)-(2, 1) merged into the top edge
+        (4, (1, 2))
+        >>> Polygon.from_points([[0, 0], [1, 1], [1, 0], [0, 1]])
+        Traceback (most recent call last):
+        ...
+        forceclosure.errors.InputError: polygon: invalid polygon: self-intersection at (0.5, 0.5)
+        """
+        rings = [_ring_array(outer, f"{name}: outer boundary")]
+        rings += [_ring_array(h, f"{name}: hole {i + 1}") for i, h in enumerate(holes)]
+        size = max(float(np.ptp(np.vstack(rings), axis=0).max()), 1e-300)
+        tol = RTOL * size
+        for i, ring in enumerate(rings):
+            _check_ring(ring, f"{name}: " + ("outer boundary" if i == 0 else f"hole {i}"), tol)
+        _validity(rings[0], rings[1:], name)
+        oriented = []
+        for i, ring in enumerate(rings):
+            ccw = _signed_area(ring) > 0
+            oriented.append(ring if ccw == (i == 0) else ring[::-1].copy())
+        # input edge numbering follows the input order of each ring
+        offsets = np.cumsum([0] + [len(r) for r in rings])
+        edges, kept = [], []
+        for i, (ring, original) in enumerate(zip(oriented, rings, strict=True)):
+            flipped = ring is not original
+            n = len(ring)
+            ids = [(n - 2 - k) % n if flipped else k for k in range(n)]  # edge k -> input id
+            d = np.roll(ring, -1, axis=0) - ring
+            prev = np.roll(d, 1, axis=0)
+            cross = prev[:, 0] * d[:, 1] - prev[:, 1] * d[:, 0]
+            straight = (np.abs(cross) <= RTOL * np.linalg.norm(prev, axis=1)
+                        * np.linalg.norm(d, axis=1) * 1e3) & (np.sum(prev * d, axis=1) > 0)
+            corners = np.flatnonzero(~straight)
+            kept.append(ring[corners])
+            for a, b in zip(corners, np.roll(corners, -1), strict=True):
+                span = [(a + k) % n for k in range((b - a) % n or n)]
+                start, end = ring[a], ring[b]
+                vec = end - start
+                length = float(np.linalg.norm(vec))
+                normal = np.array([vec[1], -vec[0]]) / length
+                source = tuple(sorted(int(offsets[i] + ids[k]) for k in span))
+                edges.append(Edge(len(edges), i, start, end, normal, length, source))
+        for e in edges:
+            for arr in (e.start, e.end, e.normal):
+                arr.setflags(write=False)
+        return cls(kept[0], tuple(kept[1:]), tuple(edges), name)
+
+    @classmethod
+    def from_shapely(cls, geometry: shapely.Polygon | shapely.MultiPolygon,
+                     name: str = "polygon") -> Polygon:
+        """A polygon from a shapely ``Polygon`` (or a one-part ``MultiPolygon``).
+
+        Examples
+        --------
+        >>> import shapely
+        >>> ring = shapely.Point(0, 0).buffer(1, quad_segs=2).difference(shapely.box(-.2, -.2, .2, .2))
+        >>> p = Polygon.from_shapely(ring)
+        >>> len(p.holes), len(p.edges)
+        (1, 12)
+        """
+        if isinstance(geometry, shapely.MultiPolygon):
+            parts = list(geometry.geoms)
+            if len(parts) != 1:
+                raise InputError(f"{name}: a MultiPolygon of {len(parts)} parts; give one polygon")
+            geometry = parts[0]
+        if not isinstance(geometry, shapely.Polygon):
+            raise InputError(f"{name}: expected a shapely Polygon, got {geometry.geom_type}")
+        if geometry.is_empty:
+            raise InputError(f"{name}: the polygon is empty")
+        return cls.from_points(np.asarray(geometry.exterior.coords)[:, :2],
+                               [np.asarray(h.coords)[:, :2] for h in geometry.interiors], name)
+
+    @classmethod
+    def regular(cls, n: int, radius: float = 1.0, name: str | None = None) -> Polygon:
+        """The regular ``n``-gon inscribed in a circle of ``radius`` about the origin."""
+        theta = 2 * np.pi * np.arange(n) / n + np.pi / n
+        pts = radius * np.stack([np.cos(theta), np.sin(theta)], axis=1)
+        return cls.from_points(pts, name=name or f"regular {n}-gon")
+
+    @property
+    def dim(self) -> int:
+        """2: polygons are planar objects."""
+        return 2
+
+    @property
+    def rings(self) -> tuple[NDArray[np.float64], ...]:
+        """The outer boundary and the holes."""
+        return (self.outer, *self.holes)
+
+    @property
+    def area(self) -> float:
+        """Area of the material (holes excluded)."""
+        return _signed_area(self.outer) + sum(_signed_area(h) for h in self.holes)
+
+    @property
+    def perimeter(self) -> float:
+        """Total length of all edges."""
+        return float(sum(e.length for e in self.edges))
+
+    @property
+    def bounds(self) -> NDArray[np.float64]:
+        """``[[xmin, ymin], [xmax, ymax]]``."""
+        return np.array([self.outer.min(axis=0), self.outer.max(axis=0)])
+
+    @property
+    def size(self) -> float:
+        """Length of the bounding box's diagonal: the object's length scale."""
+        return float(np.linalg.norm(np.ptp(self.outer, axis=0)))
+
+    @property
+    def centroid(self) -> NDArray[np.float64]:
+        """Centre of area."""
+        return np.asarray(self.to_shapely().centroid.coords[0])
+
+    @property
+    def convex(self) -> bool:
+        """Whether the polygon is convex (and has no holes)."""
+        if self.holes:
+            return False
+        d = np.roll(self.outer, -1, axis=0) - self.outer
+        prev = np.roll(d, 1, axis=0)
+        return bool(np.all(prev[:, 0] * d[:, 1] - prev[:, 1] * d[:, 0] > 0))
+
+    def to_shapely(self) -> shapely.Polygon:
+        """The polygon as a shapely ``Polygon``."""
+        return shapely.Polygon(self.outer, self.holes)
+
+    def locate(self, p: ArrayLike) -> tuple[int, float, float]:
+        """The edge nearest to point ``p``: ``(edge index, t, distance)``.
+
+        Examples
+        --------
+        >>> Polygon.from_points([[0, 0], [2, 0], [2, 1], [0, 1]]).locate([1, -0.1])
+        (0, 1.0, 0.1)
+        """
+        p = np.asarray(p, dtype=float)
+        best = (0, 0.0, np.inf)
+        for e in self.edges:
+            t = float(np.clip(e.parameter(p), 0.0, e.length))
+            dist = float(np.linalg.norm(e.point(t) - p))
+            if dist < best[2]:
+                best = (e.index, round(t, 12), round(dist, 12))
+        return best
+
+    def summary(self) -> dict[str, object]:
+        """Counts and sizes, for people and JSON."""
+        return {"name": self.name, "kind": "polygon", "vertices": int(sum(len(r) for r in
+                                                                          self.rings)),
+                "edges": len(self.edges), "holes": len(self.holes), "convex": self.convex,
+                "area": self.area, "perimeter": self.perimeter, "size": self.size,
+                "bounds": self.bounds.tolist()}

@@ -1,0 +1,450 @@
+"""Polyhedra: the spatial objects whose planar faces fingers touch (§5.2–§5.5).
+
+A :class:`Polyhedron` is built from a triangle mesh. Construction checks
+and cleans the mesh:
+
+* **safe repairs, each with a warning**: duplicate vertices merged (OBJ
+  files split vertices along texture seams), triangles that collapse
+  when they are merged dropped, winding made consistent, and an
+  inward-facing mesh flipped to face out (signed volume > 0);
+* **refusals, each in one line naming where**: non-finite vertices, indices
+  out of range, degenerate triangles (distinct but collinear vertices),
+  non-manifold edges, and open meshes (unless ``allow_open=True``).
+
+Coplanar adjacent triangles are merged into :class:`PlanarFace` objects.
+Flatness is re-checked against the whole face, with a tolerance relative to
+the object's size, so gently curved surfaces are not flattened. Each face is
+a :class:`~forceclosure.objects.polygon.Polygon` (with holes) in a frame of
+its own ``(origin, u, v)``, with outward normal ``n = u x v``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+import shapely
+from numpy.typing import ArrayLike, NDArray
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+
+from ..contacts import tangent_basis
+from ..errors import InputError
+from .polygon import Polygon
+
+#: Relative tolerance (of the object's size) for merging vertices.
+MERGE_RTOL = 1e-9
+#: Relative tolerance (of the object's size) for calling triangles coplanar.
+FLAT_RTOL = 1e-6
+
+
+@dataclass(frozen=True, eq=False)
+class PlanarFace:
+    """A planar face: coplanar triangles merged, as a polygon in its own frame.
+
+    Attributes
+    ----------
+    index : int
+    normal : (3,) array
+        Outward unit normal.
+    origin : (3,) array
+        A point of the face; ``(u, v) = (0, 0)``.
+    axes : (2, 3) array
+        Unit in-plane axes ``u`` and ``v``, with ``u x v = normal``.
+    loops : tuple of (k,) int arrays
+        Vertex indices of the boundary loops, the outer one first.
+    triangles : (t,) int array
+        The mesh triangles making up the face.
+    area : float
+    """
+
+    index: int
+    normal: NDArray[np.float64]
+    origin: NDArray[np.float64]
+    axes: NDArray[np.float64]
+    loops: tuple[NDArray[np.int64], ...]
+    triangles: NDArray[np.int64]
+    area: float
+    _vertices: NDArray[np.float64] = field(repr=False)
+
+    def to_plane(self, points: ArrayLike) -> NDArray[np.float64]:
+        """Coordinates ``(u, v)`` of points projected onto the face's plane."""
+        return (np.asarray(points, dtype=float) - self.origin) @ self.axes.T
+
+    def to_world(self, uv: ArrayLike) -> NDArray[np.float64]:
+        """Object coordinates of plane coordinates ``(u, v)``."""
+        return self.origin + np.asarray(uv, dtype=float) @ self.axes
+
+    @cached_property
+    def polygon(self) -> Polygon:
+        """The face as a polygon in ``(u, v)``: outer boundary CCW seen from outside."""
+        rings = [self.to_plane(self._vertices[loop]) for loop in self.loops]
+        try:
+            return Polygon.from_points(rings[0], rings[1:], name=f"face {self.index}")
+        except InputError:
+            # touching loops: let shapely resolve the union of the face's triangles
+            tris = self._vertices[self._mesh_triangles]
+            union = shapely.union_all([shapely.Polygon(self.to_plane(t)) for t in tris])
+            return Polygon.from_shapely(union, name=f"face {self.index}")
+
+    @property
+    def _mesh_triangles(self) -> NDArray[np.int64]:
+        return self._triangles_of[self.triangles]
+
+    _triangles_of: NDArray[np.int64] = field(default=None, repr=False)
+
+    @property
+    def boundary(self) -> NDArray[np.float64]:
+        """The outer boundary in object coordinates (for plotting)."""
+        return self._vertices[self.loops[0]]
+
+
+def _fail(message: str, allow: bool, warnings: list[str]) -> None:
+    if not allow:
+        raise InputError(message)
+    warnings.append(message)
+
+
+def _merge_vertices(vertices: NDArray, triangles: NDArray, size: float,
+                    warnings: list[str]) -> tuple[NDArray, NDArray]:
+    key = np.round(vertices / (MERGE_RTOL * size)).astype(np.int64)
+    _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    merged = len(vertices) - len(first)
+    if merged:
+        warnings.append(f"merged {merged} duplicate vertices")
+    triangles = inverse[triangles]
+    collapsed = ((triangles[:, 0] == triangles[:, 1]) | (triangles[:, 1] == triangles[:, 2])
+                 | (triangles[:, 0] == triangles[:, 2]))
+    if collapsed.any():
+        warnings.append(f"dropped {int(collapsed.sum())} triangles with a repeated vertex")
+        triangles = triangles[~collapsed]
+    used = np.unique(triangles)
+    remap = np.full(len(first), -1)
+    remap[used] = np.arange(len(used))
+    return vertices[first][used], remap[triangles]
+
+
+def _edge_table(triangles: NDArray) -> tuple[NDArray, NDArray, NDArray]:
+    """Directed edges (3m, 2), their undirected ids, and the count of each id."""
+    directed = triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+    undirected = np.sort(directed, axis=1)
+    _, ids, counts = np.unique(undirected, axis=0, return_inverse=True, return_counts=True)
+    return directed, ids.reshape(-1), counts
+
+
+def _fix_winding(vertices: NDArray, triangles: NDArray, warnings: list[str]) -> NDArray:
+    directed, _, _ = _edge_table(triangles)
+    _, counts = np.unique(directed, axis=0, return_counts=True)
+    if np.all(counts == 1):
+        return triangles
+    import trimesh
+
+    mesh = trimesh.Trimesh(vertices, triangles, process=False)
+    trimesh.repair.fix_winding(mesh)
+    changed = int(np.sum(np.any(mesh.faces != triangles, axis=1)))
+    warnings.append(f"re-oriented {changed} triangles for consistent winding")
+    return np.asarray(mesh.faces)
+
+
+@dataclass(frozen=True, eq=False)
+class Polyhedron:
+    """A triangle mesh with its planar faces, validated and oriented outward.
+
+    Build one with :meth:`from_arrays`, :meth:`from_trimesh`, or
+    :func:`forceclosure.objects.load_object`.
+
+    Attributes
+    ----------
+    vertices : (n, 3) array
+    triangles : (m, 3) int array
+        Counter-clockwise seen from outside.
+    faces : tuple of PlanarFace
+    face_of_triangle : (m,) int array
+    name : str
+    watertight : bool
+    warnings : tuple of str
+        What the safe repairs changed.
+    """
+
+    vertices: NDArray[np.float64]
+    triangles: NDArray[np.int64]
+    faces: tuple[PlanarFace, ...]
+    face_of_triangle: NDArray[np.int64]
+    name: str
+    watertight: bool
+    warnings: tuple[str, ...]
+
+    @classmethod
+    def from_arrays(cls, vertices: ArrayLike, triangles: ArrayLike, name: str = "polyhedron",
+                    allow_open: bool = False) -> Polyhedron:
+        """Validate, repair and face-merge a triangle mesh.
+
+        Examples
+        --------
+        >>> v = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]
+        >>> t = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]]
+        >>> tet = Polyhedron.from_arrays(v, t, name="tetrahedron")
+        >>> len(tet.faces), round(tet.volume, 6)
+        (4, 0.166667)
+        """
+        warnings: list[str] = []
+        try:
+            V = np.asarray(vertices, dtype=float)
+            T = np.asarray(triangles)
+        except (TypeError, ValueError):
+            raise InputError(f"{name}: vertices and triangles must be numeric arrays") from None
+        if V.ndim != 2 or V.shape[1] != 3 or len(V) == 0:
+            raise InputError(f"{name}: vertices must be (n, 3), got shape {V.shape}")
+        if T.ndim != 2 or T.shape[1] != 3 or len(T) == 0:
+            raise InputError(f"{name}: triangles must be (m, 3), got shape {T.shape}")
+        if not np.issubdtype(T.dtype, np.integer):
+            if not np.all(np.isfinite(T)) or np.any(T != np.round(T)):
+                raise InputError(f"{name}: triangle vertex indices must be integers")
+            T = T.astype(np.int64)
+        bad = np.flatnonzero(~np.all(np.isfinite(V), axis=1))
+        if len(bad):
+            raise InputError(f"{name}: vertex {bad[0]} is not finite: {V[bad[0]].tolist()}")
+        out = np.argwhere((T < 0) | (T >= len(V)))
+        if len(out):
+            i, j = out[0]
+            raise InputError(f"{name}: triangle {i} refers to vertex {T[i, j]}, but there are "
+                             f"{len(V)} vertices")
+        size = float(np.linalg.norm(np.ptp(V[np.unique(T)], axis=0)))
+        if size == 0.0:
+            raise InputError(f"{name}: all vertices coincide")
+        V, T = _merge_vertices(V, T.astype(np.int64), size, warnings)
+        if len(T) < 4:
+            raise InputError(f"{name}: {len(T)} triangles cannot enclose a volume")
+        cross = np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]])
+        double_area = np.linalg.norm(cross, axis=1)
+        flat = np.flatnonzero(double_area <= 1e-12 * size * size)
+        if len(flat):
+            i = flat[0]
+            raise InputError(f"{name}: triangle {i} is degenerate (its vertices "
+                             f"{T[i].tolist()} are collinear)")
+        directed, ids, counts = _edge_table(T)
+        many = np.flatnonzero(counts > 2)
+        if len(many):
+            a, b = directed[np.flatnonzero(ids == many[0])[0]]
+            _fail(f"{name}: non-manifold edge between vertices {a} and {b} (shared by "
+                  f"{counts[many[0]]} triangles)", allow_open, warnings)
+        open_edges = np.flatnonzero(counts == 1)
+        watertight = len(open_edges) == 0 and len(many) == 0
+        if len(open_edges):
+            a, b = directed[np.flatnonzero(ids == open_edges[0])[0]]
+            _fail(f"{name}: open mesh, {len(open_edges)} boundary edges (e.g. between vertices "
+                  f"{a} and {b}); pass allow_open to accept it", allow_open, warnings)
+        if watertight:
+            T = _fix_winding(V, T, warnings)
+            cross = np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]])
+            volume = float(np.sum(np.einsum("ij,ij->i", V[T[:, 0]], cross))) / 6
+            if abs(volume) <= 1e-12 * size**3:
+                raise InputError(f"{name}: the mesh encloses no volume")
+            if volume < 0:
+                warnings.append("the triangles faced inward; flipped them to face outward")
+                T = T[:, ::-1].copy()
+                cross = -cross
+            directed, ids, counts = _edge_table(T)
+        normals = cross / np.linalg.norm(cross, axis=1, keepdims=True)
+        faces, face_of = _planar_faces(V, T, normals, np.linalg.norm(cross, axis=1) / 2,
+                                       directed, ids, counts, size)
+        for arr in (V, T, face_of):
+            arr.setflags(write=False)
+        return cls(V, T, faces, face_of, name, watertight, tuple(warnings))
+
+    @classmethod
+    def from_trimesh(cls, mesh, name: str | None = None, allow_open: bool = False) -> Polyhedron:
+        """A polyhedron from a ``trimesh.Trimesh`` (its vertices and faces as given)."""
+        return cls.from_arrays(mesh.vertices, mesh.faces,
+                               name or mesh.metadata.get("name") or "mesh", allow_open)
+
+    @property
+    def dim(self) -> int:
+        """3: polyhedra are spatial objects."""
+        return 3
+
+    @property
+    def area(self) -> float:
+        """Surface area."""
+        return float(sum(f.area for f in self.faces))
+
+    @property
+    def volume(self) -> float:
+        """Enclosed volume (positive: triangles face outward)."""
+        V, T = self.vertices, self.triangles
+        return float(np.einsum("ij,ij->", V[T[:, 0]],
+                               np.cross(V[T[:, 1]], V[T[:, 2]]))) / 6
+
+    @property
+    def bounds(self) -> NDArray[np.float64]:
+        """``[[xmin, ymin, zmin], [xmax, ymax, zmax]]``."""
+        return np.array([self.vertices.min(axis=0), self.vertices.max(axis=0)])
+
+    @property
+    def size(self) -> float:
+        """Length of the bounding box's diagonal: the object's length scale."""
+        return float(np.linalg.norm(np.ptp(self.vertices, axis=0)))
+
+    @property
+    def centroid(self) -> NDArray[np.float64]:
+        """Centre of volume (of the surface's vertices for an open mesh)."""
+        V, T = self.vertices, self.triangles
+        if not self.watertight:
+            return V.mean(axis=0)
+        a, b, c = V[T[:, 0]], V[T[:, 1]], V[T[:, 2]]
+        w = np.einsum("ij,ij->i", a, np.cross(b, c))
+        return ((a + b + c) * w[:, None]).sum(axis=0) / (4 * w.sum())
+
+    def locate(self, p: ArrayLike) -> tuple[int, NDArray[np.float64], float]:
+        """The face nearest to point ``p``: ``(face index, (u, v), distance)``.
+
+        Examples
+        --------
+        >>> from forceclosure.objects import bundled
+        >>> cube = bundled("cube")
+        >>> face, uv, dist = cube.locate([1.1, 0.2, 0.3])
+        >>> cube.faces[face].normal.round(6).tolist(), round(dist, 6)
+        ([1.0, 0.0, 0.0], 0.1)
+        """
+        p = np.asarray(p, dtype=float)
+        best = (0, np.zeros(2), np.inf)
+        for f in self.faces:
+            uv = f.to_plane(p)
+            along = float((p - f.origin) @ f.normal)
+            poly = f.polygon.to_shapely()
+            gap = 0.0 if shapely.contains_xy(poly, *uv) else float(
+                shapely.distance(poly, shapely.Point(uv)))
+            dist = float(np.hypot(along, gap))
+            if dist < best[2]:
+                best = (f.index, uv, dist)
+        return best
+
+    def summary(self) -> dict[str, object]:
+        """Counts and sizes, for people and JSON."""
+        merged = sum(len(f.triangles) > 1 for f in self.faces)
+        return {"name": self.name, "kind": "polyhedron", "vertices": len(self.vertices),
+                "triangles": len(self.triangles), "faces": len(self.faces),
+                "merged_faces": merged, "watertight": self.watertight,
+                "volume": self.volume if self.watertight else None, "area": self.area,
+                "size": self.size, "bounds": self.bounds.tolist(),
+                "warnings": list(self.warnings)}
+
+
+def _planar_faces(V, T, normals, areas, directed, ids, counts, size):
+    """Group coplanar adjacent triangles; return the faces and each triangle's face."""
+    m = len(T)
+    tri_of_edge = np.repeat(np.arange(m), 3)
+    tol = FLAT_RTOL * size
+    # pairs of triangles sharing an (undirected) edge
+    order = np.argsort(ids, kind="stable")
+    sid = ids[order]
+    same = np.flatnonzero(sid[1:] == sid[:-1])
+    a, b = tri_of_edge[order[same]], tri_of_edge[order[same + 1]]
+    # each triangle's vertices against the other's plane
+    dist_b = np.max(np.abs(np.einsum("ikj,ij->ik", V[T[b]] - V[T[a, 0]][:, None, :],
+                                     normals[a])), axis=1)
+    dist_a = np.max(np.abs(np.einsum("ikj,ij->ik", V[T[a]] - V[T[b, 0]][:, None, :],
+                                     normals[b])), axis=1)
+    coplanar = ((np.einsum("ij,ij->i", normals[a], normals[b]) > 0.999)
+                & (dist_a <= tol) & (dist_b <= tol))
+    graph = coo_matrix((np.ones(int(coplanar.sum())), (a[coplanar], b[coplanar])), shape=(m, m))
+    _, label = connected_components(graph, directed=False)
+    label = _split_curved(V, T, normals, areas, label, a[coplanar], b[coplanar], tol)
+    faces = []
+    order = np.argsort(label, kind="stable")
+    bounds = np.flatnonzero(np.diff(label[order])) + 1
+    groups = np.split(order, bounds)
+    face_of = np.empty(m, dtype=np.int64)
+    for k, tris in enumerate(groups):
+        face_of[tris] = k
+        faces.append(_face(k, V, T, normals, areas, tris, directed))
+    return tuple(faces), face_of
+
+
+def _split_curved(V, T, normals, areas, label, a, b, tol):
+    """Re-check flatness per group; regrow groups that drift off one plane from a seed."""
+    n_groups = label.max() + 1
+    w = normals * areas[:, None]
+    n_sum = np.zeros((n_groups, 3))
+    np.add.at(n_sum, label, w)
+    n_mean = n_sum / np.linalg.norm(n_sum, axis=1, keepdims=True)
+    centre = np.zeros((n_groups, 3))
+    np.add.at(centre, label, V[T].mean(axis=1) * areas[:, None])
+    area_sum = np.bincount(label, weights=areas, minlength=n_groups)
+    centre /= area_sum[:, None]
+    dev = np.abs(np.einsum("ikj,ij->ik", V[T] - centre[label][:, None, :], n_mean[label]))
+    bad_groups = np.unique(label[dev.max(axis=1) > tol])
+    if len(bad_groups) == 0:
+        return label
+    neighbours: dict[int, list[int]] = {}
+    for i, j in zip(a.tolist(), b.tolist(), strict=True):
+        neighbours.setdefault(i, []).append(j)
+        neighbours.setdefault(j, []).append(i)
+    label = label.copy()
+    next_label = n_groups
+    for g in bad_groups:
+        todo = set(np.flatnonzero(label == g).tolist())
+        while todo:
+            seed = todo.pop()
+            n0, p0 = normals[seed], V[T[seed, 0]]
+            label[seed] = next_label
+            stack = [seed]
+            while stack:
+                t = stack.pop()
+                for u in neighbours.get(t, ()):
+                    if u in todo and np.max(np.abs((V[T[u]] - p0) @ n0)) <= tol:
+                        todo.discard(u)
+                        label[u] = next_label
+                        stack.append(u)
+            next_label += 1
+    return np.unique(label, return_inverse=True)[1].reshape(-1)
+
+
+def _face(k, V, T, normals, areas, tris, directed):
+    n = (normals[tris] * areas[tris, None]).sum(axis=0)
+    n /= np.linalg.norm(n)
+    u, v = tangent_basis(n[None])
+    axes = np.vstack([u, v])
+    if len(tris) == 1:
+        loops = (T[tris[0]].copy(),)
+    else:
+        edges = directed.reshape(-1, 3, 2)[tris].reshape(-1, 2)
+        keys = set(map(tuple, edges.tolist()))
+        boundary = [e for e in map(tuple, edges.tolist()) if (e[1], e[0]) not in keys]
+        loops = _walk(boundary)
+        signed = [_area2d((V[loop] - V[loop[0]]) @ axes.T) for loop in loops]
+        first = int(np.argmax(signed))  # the outer boundary runs counter-clockwise
+        loops = (loops[first], *(lp for i, lp in enumerate(loops) if i != first))
+    return PlanarFace(k, n, V[loops[0][0]].copy(), axes, loops, tris,
+                      float(areas[tris].sum()), V, T)
+
+
+def _area2d(ring):
+    x, y = ring[:, 0], ring[:, 1]
+    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+def _walk(boundary):
+    """Boundary edges into closed loops."""
+    nxt: dict[int, list[int]] = {}
+    for s, e in boundary:
+        nxt.setdefault(s, []).append(e)
+    loops = []
+    while nxt:
+        start = next(iter(nxt))
+        loop, cur = [start], start
+        while True:
+            outs = nxt[cur]
+            step = outs.pop()
+            if not outs:
+                del nxt[cur]
+            if step == start:
+                break
+            loop.append(step)
+            cur = step
+            if cur not in nxt:
+                break
+        loops.append(np.array(loop))
+    return tuple(loops)

@@ -1,0 +1,114 @@
+"""Figures: objects as a person would sketch them (matplotlib, no screen needed).
+
+``plot_object`` draws a polygon with numbered edges and outward normals, or a
+polyhedron with each planar face of several triangles in its own colour and
+numbered (one-triangle faces, the curved parts, in grey). Figures save as PNG or SVG by the file's extension.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.patches import PathPatch  # noqa: E402
+from matplotlib.path import Path as MplPath  # noqa: E402
+from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
+
+from .errors import InputError  # noqa: E402
+from .objects import Polygon, Polyhedron  # noqa: E402
+
+
+def _polygon_axes(ax, polygon: Polygon, label_edges: bool = True) -> None:
+    verts, codes = [], []
+    for ring in polygon.rings:
+        verts += [*ring.tolist(), ring[0].tolist()]
+        codes += [MplPath.MOVETO] + [MplPath.LINETO] * (len(ring) - 1) + [MplPath.CLOSEPOLY]
+    ax.add_patch(PathPatch(MplPath(verts, codes), facecolor="#dfe7f2", edgecolor="#1f3b63",
+                           linewidth=1.5))
+    scale = polygon.size * 0.06
+    for e in polygon.edges:
+        mid = (e.start + e.end) / 2
+        if label_edges:
+            ax.annotate("", mid + e.normal * scale, mid,
+                        arrowprops={"arrowstyle": "->", "color": "#b5533c", "lw": 1})
+            ax.text(*(mid + e.normal * scale * 1.8), str(e.index), ha="center", va="center",
+                    fontsize=8, color="#b5533c")
+    lo, hi = polygon.bounds
+    pad = polygon.size * 0.12
+    ax.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax.set_ylim(lo[1] - pad, hi[1] + pad)
+    ax.set_aspect("equal")
+
+
+def _polyhedron_axes(ax, poly: Polyhedron, label_faces: bool) -> None:
+    cmap = plt.get_cmap("tab20")
+    merged = np.array([len(f.triangles) > 1 for f in poly.faces])
+    palette = np.array([cmap(i % 20) if merged[i] else (0.72, 0.72, 0.72, 1.0)
+                        for i in range(len(poly.faces))])
+    colours = palette[poly.face_of_triangle]  # one-triangle faces (curved parts) in grey
+    light = np.array([0.4, 0.3, 0.85]) / np.linalg.norm([0.4, 0.3, 0.85])
+    V, T = poly.vertices, poly.triangles
+    normals = np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]])
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    shade = 0.55 + 0.45 * np.clip(normals @ light, 0, 1)
+    colours[:, :3] *= shade[:, None]
+    ax.add_collection3d(Poly3DCollection(V[T], facecolors=colours, edgecolors="none",
+                                         linewidths=0))
+    outline = [f.boundary for f in poly.faces if len(f.triangles) > 1]
+    if outline:
+        ax.add_collection3d(Poly3DCollection(outline, facecolors="none",
+                                             edgecolors="#1b1b1b", linewidths=0.6))
+    if label_faces:
+        for f in poly.faces:
+            centre = f.to_world(np.asarray(f.polygon.centroid))
+            ax.text(*(centre + f.normal * poly.size * 0.04), str(f.index), fontsize=7)
+    lo, hi = poly.bounds
+    centre, half = (lo + hi) / 2, (hi - lo).max() / 2
+    for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre, strict=True):
+        setter(c - half, c + half)
+    ax.set_box_aspect((1, 1, 1))
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.set_zlabel("z")
+
+
+def plot_object(obj: Polygon | Polyhedron, path: str | Path | None = None,
+                title: str | None = None):
+    """Draw an object; save it to ``path`` (``.png`` or ``.svg``) when given.
+
+    Returns the matplotlib figure.
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> fig = plot_object(bundled("frame"))
+    >>> len(fig.axes)
+    1
+    """
+    if isinstance(obj, Polygon):
+        fig, ax = plt.subplots(figsize=(5.5, 5.5))
+        _polygon_axes(ax, obj)
+    else:
+        fig = plt.figure(figsize=(6, 6))
+        ax = fig.add_subplot(projection="3d")
+        ax.view_init(elev=24, azim=-58)
+        _polyhedron_axes(ax, obj, label_faces=len(obj.faces) <= 60)
+    summary = obj.summary()
+    counts = (f"{summary['edges']} edges" if obj.dim == 2
+              else f"{summary['faces']} planar faces from {summary['triangles']} triangles")
+    ax.set_title(title or f"{obj.name}: {counts}", fontsize=10)
+    if path is not None:
+        path = Path(path)
+        if path.suffix.lower() not in (".png", ".svg"):
+            plt.close(fig)
+            raise InputError(f"{path}: plots are saved as .png or .svg")
+        try:
+            fig.savefig(path, dpi=130, bbox_inches="tight")
+        except OSError as e:
+            plt.close(fig)
+            raise InputError(f"{path}: cannot write the plot: {e.strerror}") from None
+    return fig
