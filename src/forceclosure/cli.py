@@ -91,8 +91,35 @@ def _cmd_demo(args: argparse.Namespace) -> int:
         grasp_file = parse_grasp_file((examples / name).read_text(encoding="utf-8"), name)
         status = max(status, _analyze_file(grasp_file, False, True, sys.stdout))
         print()
-    print("Analyse your own grasps with: forceclosure analyze GRASPS.json [--json]")
+    _demo_objects()
+    print("\nAnalyse your own grasps with: forceclosure analyze GRASPS.json [--json]")
+    print("Inspect an object (a file or a bundled name): "
+          "forceclosure inspect OBJECT --plot out.png")
     return status
+
+
+def _demo_objects() -> None:
+    """Two fingers on the most opposed edges or faces of each bundled object."""
+    from .closure import analyze
+    from .contacts import point_contact
+    from .objects import POLYGONS, POLYHEDRA, bundled
+
+    print("== bundled objects: two fingers, mu 0.3, at the middles of the most opposed "
+          "edges (hard) or faces (soft) ==")
+    for name in [*POLYGONS, *POLYHEDRA]:
+        obj = bundled(name)
+        if obj.dim == 2:
+            sites = [((e.start + e.end) / 2, e.normal, f"edge {e.index}") for e in obj.edges]
+            model = "hard"
+        else:
+            sites = [(f.to_world(np.asarray(f.polygon.centroid)), f.normal, f"face {f.index}")
+                     for f in obj.faces]
+            model = "soft"
+        normals = np.array([n for _, n, _ in sites])
+        i, j = np.unravel_index(np.argmin(normals @ normals.T), (len(sites),) * 2)
+        grasp = [point_contact(sites[k][0], sites[k][1], model, 0.3) for k in (i, j)]
+        result = analyze(grasp)
+        print(f"  {name:17} {sites[i][2]:>8} + {sites[j][2]:<8} -> {result.verdict.value}")
 
 
 def _cmd_objects(args: argparse.Namespace) -> int:

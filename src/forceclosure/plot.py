@@ -2,7 +2,8 @@
 
 ``plot_object`` draws a polygon with numbered edges and outward normals, or a
 polyhedron with each planar face of several triangles in its own colour and
-numbered (one-triangle faces, the curved parts, in grey). Figures save as PNG or SVG by the file's extension.
+numbered (one-triangle faces, the curved parts, in grey). Figures save as PNG or
+SVG by the file's extension.
 """
 
 from __future__ import annotations
@@ -12,14 +13,14 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.patches import PathPatch  # noqa: E402
-from matplotlib.path import Path as MplPath  # noqa: E402
-from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.patches import PathPatch
+from matplotlib.path import Path as MplPath
+from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-from .errors import InputError  # noqa: E402
-from .objects import Polygon, Polyhedron  # noqa: E402
+from .errors import InputError
+from .objects import Polygon, Polyhedron
 
 
 def _polygon_axes(ax, polygon: Polygon, label_edges: bool = True) -> None:

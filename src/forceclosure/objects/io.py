@@ -91,6 +91,7 @@ def _path_rings(d: str, name: str) -> list[list[tuple[float, float]]]:
     rings: list[list[tuple[float, float]]] = []
     ring: list[tuple[float, float]] = []
     x = y = 0.0
+    start = (0.0, 0.0)
     cmd = None
     i = 0
 
@@ -110,6 +111,7 @@ def _path_rings(d: str, name: str) -> list[list[tuple[float, float]]]:
                 if ring:
                     rings.append(ring)
                 ring = []
+                x, y = start  # closing returns to the subpath's first point
                 continue
             if cmd not in "MmLlHhVv":
                 raise InputError(f"{name}: path command '{cmd}' draws a curve; only straight "
@@ -122,6 +124,7 @@ def _path_rings(d: str, name: str) -> list[list[tuple[float, float]]]:
             dx, dy = number(), number()
             x, y = (x + dx, y + dy) if cmd == "m" and (rings or ring) else (dx, dy)
             ring = [(x, y)]
+            start = (x, y)
             cmd = "l" if cmd == "m" else "L"
         elif cmd in "Ll":
             dx, dy = number(), number()

@@ -106,6 +106,9 @@ def _signed_area(ring: NDArray[np.float64]) -> float:
 
 
 def _validity(outer: NDArray, holes: Sequence[NDArray], name: str) -> None:
+    spread = np.linalg.svd(outer - outer.mean(axis=0), compute_uv=False)
+    if spread[1] <= RTOL * spread[0]:
+        raise InputError(f"{name}: the polygon has zero area (its vertices are collinear)")
     poly = shapely.Polygon(outer, holes)
     if not poly.is_valid:
         reason = shapely.is_valid_reason(poly)  # e.g. "Self-intersection[1 1]"
@@ -206,7 +209,8 @@ class Polygon:
         Examples
         --------
         >>> import shapely
-        >>> ring = shapely.Point(0, 0).buffer(1, quad_segs=2).difference(shapely.box(-.2, -.2, .2, .2))
+        >>> disk = shapely.Point(0, 0).buffer(1, quad_segs=2)
+        >>> ring = disk.difference(shapely.box(-0.2, -0.2, 0.2, 0.2))
         >>> p = Polygon.from_shapely(ring)
         >>> len(p.holes), len(p.edges)
         (1, 12)

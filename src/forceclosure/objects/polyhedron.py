@@ -9,7 +9,9 @@ and cleans the mesh:
   inward-facing mesh flipped to face out (signed volume > 0);
 * **refusals, each in one line naming where**: non-finite vertices, indices
   out of range, degenerate triangles (distinct but collinear vertices),
-  non-manifold edges, and open meshes (unless ``allow_open=True``).
+  non-manifold edges, and open meshes (unless ``allow_open=True``). Vertices
+  and triangles are counted from 1 in the input's order, as in OBJ files;
+  edges are named by their endpoints.
 
 Coplanar adjacent triangles are merged into :class:`PlanarFace` objects.
 Flatness is re-checked against the whole face, with a tolerance relative to
@@ -27,7 +29,7 @@ import numpy as np
 import shapely
 from numpy.typing import ArrayLike, NDArray
 from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
+from scipy.sparse.csgraph import breadth_first_order, connected_components
 
 from ..contacts import tangent_basis
 from ..errors import InputError
@@ -100,17 +102,31 @@ class PlanarFace:
         return self._vertices[self.loops[0]]
 
 
+def _point(p: NDArray) -> str:
+    return "(" + ", ".join(f"{x:.6g}" for x in p) + ")"
+
+
 def _fail(message: str, allow: bool, warnings: list[str]) -> None:
     if not allow:
         raise InputError(message)
     warnings.append(message)
 
 
+def _unique_rows(key: NDArray[np.int64]) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """First index of each distinct row, and each row's group (like ``np.unique(axis=0)``)."""
+    order = np.lexsort(key.T[::-1])
+    step = np.any(np.diff(key[order], axis=0) != 0, axis=1)
+    group_sorted = np.concatenate([[0], np.cumsum(step)])
+    inverse = np.empty(len(key), dtype=np.int64)
+    inverse[order] = group_sorted
+    first = order[np.concatenate([[0], np.flatnonzero(step) + 1])]
+    return first, inverse
+
+
 def _merge_vertices(vertices: NDArray, triangles: NDArray, size: float,
                     warnings: list[str]) -> tuple[NDArray, NDArray]:
     key = np.round(vertices / (MERGE_RTOL * size)).astype(np.int64)
-    _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
-    inverse = inverse.reshape(-1)
+    first, inverse = _unique_rows(key)
     merged = len(vertices) - len(first)
     if merged:
         warnings.append(f"merged {merged} duplicate vertices")
@@ -119,33 +135,59 @@ def _merge_vertices(vertices: NDArray, triangles: NDArray, size: float,
                  | (triangles[:, 0] == triangles[:, 2]))
     if collapsed.any():
         warnings.append(f"dropped {int(collapsed.sum())} triangles with a repeated vertex")
-        triangles = triangles[~collapsed]
+    source = np.flatnonzero(~collapsed)
+    triangles = triangles[source]
     used = np.unique(triangles)
     remap = np.full(len(first), -1)
     remap[used] = np.arange(len(used))
-    return vertices[first][used], remap[triangles]
+    return vertices[first][used], remap[triangles], source
 
 
 def _edge_table(triangles: NDArray) -> tuple[NDArray, NDArray, NDArray]:
     """Directed edges (3m, 2), their undirected ids, and the count of each id."""
     directed = triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
-    undirected = np.sort(directed, axis=1)
-    _, ids, counts = np.unique(undirected, axis=0, return_inverse=True, return_counts=True)
+    n = int(triangles.max()) + 1
+    key = np.minimum(directed[:, 0], directed[:, 1]) * n + np.maximum(directed[:, 0],
+                                                                      directed[:, 1])
+    _, ids, counts = np.unique(key, return_inverse=True, return_counts=True)
     return directed, ids.reshape(-1), counts
 
 
-def _fix_winding(vertices: NDArray, triangles: NDArray, warnings: list[str]) -> NDArray:
-    directed, _, _ = _edge_table(triangles)
-    _, counts = np.unique(directed, axis=0, return_counts=True)
-    if np.all(counts == 1):
-        return triangles
-    import trimesh
-
-    mesh = trimesh.Trimesh(vertices, triangles, process=False)
-    trimesh.repair.fix_winding(mesh)
-    changed = int(np.sum(np.any(mesh.faces != triangles, axis=1)))
-    warnings.append(f"re-oriented {changed} triangles for consistent winding")
-    return np.asarray(mesh.faces)
+def _fix_winding(T: NDArray, name: str, warnings: list[str]) -> NDArray:
+    """Orient every triangle like its neighbours: adjacent triangles must run through
+    their shared edge in opposite directions (a 2-colouring of the adjacency graph)."""
+    directed, ids, _ = _edge_table(T)
+    n = int(T.max()) + 1
+    if len(np.unique(directed[:, 0] * n + directed[:, 1])) == len(directed):
+        return T  # every directed edge once: consistent already
+    m = len(T)
+    order = np.argsort(ids, kind="stable")
+    same = np.flatnonzero(ids[order][1:] == ids[order][:-1])
+    first, second = order[same], order[same + 1]
+    a, b = first // 3, second // 3
+    parity = directed[first, 0] == directed[second, 0]  # same direction: one must flip
+    graph = coo_matrix((np.ones(len(a)), (a, b)), shape=(m, m)).tocsr()
+    lookup = dict(zip(zip(np.minimum(a, b).tolist(), np.maximum(a, b).tolist(), strict=True),
+                      parity.tolist(), strict=True))
+    flip = np.zeros(m, dtype=bool)
+    seen = np.zeros(m, dtype=bool)
+    for root in range(m):
+        if seen[root]:
+            continue
+        nodes, parent = breadth_first_order(graph, root, directed=False,
+                                            return_predecessors=True)
+        seen[nodes] = True
+        for node in nodes[1:].tolist():
+            up = int(parent[node])
+            flip[node] = flip[up] ^ lookup[(min(node, up), max(node, up))]
+    fixed = np.where(flip[:, None], T[:, ::-1], T)
+    directed, _, _ = _edge_table(fixed)
+    if len(np.unique(directed[:, 0] * n + directed[:, 1])) != len(directed):
+        raise InputError(f"{name}: the surface is not orientable (it has no consistent "
+                         "outside, like a Moebius strip)")
+    warnings.append(f"re-oriented {int(min(flip.sum(), m - flip.sum()))} triangles for "
+                    "consistent winding")
+    return fixed
 
 
 @dataclass(frozen=True, eq=False)
@@ -200,21 +242,21 @@ class Polyhedron:
         if T.ndim != 2 or T.shape[1] != 3 or len(T) == 0:
             raise InputError(f"{name}: triangles must be (m, 3), got shape {T.shape}")
         if not np.issubdtype(T.dtype, np.integer):
-            if not np.all(np.isfinite(T)) or np.any(T != np.round(T)):
+            if not np.all(np.isfinite(T)) or np.any(np.round(T) != T):
                 raise InputError(f"{name}: triangle vertex indices must be integers")
             T = T.astype(np.int64)
         bad = np.flatnonzero(~np.all(np.isfinite(V), axis=1))
         if len(bad):
-            raise InputError(f"{name}: vertex {bad[0]} is not finite: {V[bad[0]].tolist()}")
-        out = np.argwhere((T < 0) | (T >= len(V)))
+            raise InputError(f"{name}: vertex {bad[0] + 1} is not finite: {V[bad[0]].tolist()}")
+        out = np.argwhere((T < 0) | (len(V) <= T))
         if len(out):
             i, j = out[0]
-            raise InputError(f"{name}: triangle {i} refers to vertex {T[i, j]}, but there are "
-                             f"{len(V)} vertices")
+            raise InputError(f"{name}: triangle {i + 1} refers to vertex {T[i, j] + 1}, but "
+                             f"there are {len(V)} vertices")
         size = float(np.linalg.norm(np.ptp(V[np.unique(T)], axis=0)))
         if size == 0.0:
             raise InputError(f"{name}: all vertices coincide")
-        V, T = _merge_vertices(V, T.astype(np.int64), size, warnings)
+        V, T, source = _merge_vertices(V, T.astype(np.int64), size, warnings)
         if len(T) < 4:
             raise InputError(f"{name}: {len(T)} triangles cannot enclose a volume")
         cross = np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]])
@@ -222,22 +264,23 @@ class Polyhedron:
         flat = np.flatnonzero(double_area <= 1e-12 * size * size)
         if len(flat):
             i = flat[0]
-            raise InputError(f"{name}: triangle {i} is degenerate (its vertices "
-                             f"{T[i].tolist()} are collinear)")
+            corners = ", ".join(_point(V[k]) for k in T[i])
+            raise InputError(f"{name}: triangle {source[i] + 1} is degenerate: its vertices "
+                             f"{corners} are collinear")
         directed, ids, counts = _edge_table(T)
         many = np.flatnonzero(counts > 2)
         if len(many):
             a, b = directed[np.flatnonzero(ids == many[0])[0]]
-            _fail(f"{name}: non-manifold edge between vertices {a} and {b} (shared by "
+            _fail(f"{name}: non-manifold edge from {_point(V[a])} to {_point(V[b])} (shared by "
                   f"{counts[many[0]]} triangles)", allow_open, warnings)
         open_edges = np.flatnonzero(counts == 1)
         watertight = len(open_edges) == 0 and len(many) == 0
         if len(open_edges):
             a, b = directed[np.flatnonzero(ids == open_edges[0])[0]]
-            _fail(f"{name}: open mesh, {len(open_edges)} boundary edges (e.g. between vertices "
-                  f"{a} and {b}); pass allow_open to accept it", allow_open, warnings)
+            _fail(f"{name}: open mesh, {len(open_edges)} boundary edges (e.g. from {_point(V[a])} "
+                  f"to {_point(V[b])}); pass allow_open to accept it", allow_open, warnings)
         if watertight:
-            T = _fix_winding(V, T, warnings)
+            T = _fix_winding(T, name, warnings)
             cross = np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]])
             volume = float(np.sum(np.einsum("ij,ij->i", V[T[:, 0]], cross))) / 6
             if abs(volume) <= 1e-12 * size**3:
@@ -264,6 +307,20 @@ class Polyhedron:
     def dim(self) -> int:
         """3: polyhedra are spatial objects."""
         return 3
+
+    @cached_property
+    def shell_of_triangle(self) -> NDArray[np.int64]:
+        """Which connected shell each triangle belongs to (sharing vertices connects)."""
+        m, n = len(self.triangles), len(self.vertices)
+        rows = np.repeat(np.arange(m), 3)
+        incidence = coo_matrix((np.ones(3 * m), (rows, m + self.triangles.reshape(-1))),
+                               shape=(m + n, m + n))
+        return connected_components(incidence, directed=False)[1][:m]
+
+    @property
+    def shells(self) -> int:
+        """Number of separate closed surfaces (e.g. the parts of a convex decomposition)."""
+        return len(np.unique(self.shell_of_triangle))
 
     @property
     def area(self) -> float:
@@ -324,12 +381,15 @@ class Polyhedron:
     def summary(self) -> dict[str, object]:
         """Counts and sizes, for people and JSON."""
         merged = sum(len(f.triangles) > 1 for f in self.faces)
+        notes = list(self.warnings)
+        if self.shells > 1:
+            notes.append(f"{self.shells} separate shells (e.g. a convex decomposition): faces "
+                         "inside another shell are not on the object's surface")
         return {"name": self.name, "kind": "polyhedron", "vertices": len(self.vertices),
                 "triangles": len(self.triangles), "faces": len(self.faces),
-                "merged_faces": merged, "watertight": self.watertight,
+                "merged_faces": merged, "shells": self.shells, "watertight": self.watertight,
                 "volume": self.volume if self.watertight else None, "area": self.area,
-                "size": self.size, "bounds": self.bounds.tolist(),
-                "warnings": list(self.warnings)}
+                "size": self.size, "bounds": self.bounds.tolist(), "warnings": notes}
 
 
 def _planar_faces(V, T, normals, areas, directed, ids, counts, size):
@@ -352,15 +412,21 @@ def _planar_faces(V, T, normals, areas, directed, ids, counts, size):
     graph = coo_matrix((np.ones(int(coplanar.sum())), (a[coplanar], b[coplanar])), shape=(m, m))
     _, label = connected_components(graph, directed=False)
     label = _split_curved(V, T, normals, areas, label, a[coplanar], b[coplanar], tol)
-    faces = []
+    n_faces = int(label.max()) + 1
+    face_normal = np.zeros((n_faces, 3))
+    np.add.at(face_normal, label, normals * areas[:, None])
+    face_normal /= np.linalg.norm(face_normal, axis=1, keepdims=True)
+    u, v = tangent_basis(face_normal)
+    face_area = np.bincount(label, weights=areas, minlength=n_faces)
     order = np.argsort(label, kind="stable")
-    bounds = np.flatnonzero(np.diff(label[order])) + 1
-    groups = np.split(order, bounds)
-    face_of = np.empty(m, dtype=np.int64)
+    groups = np.split(order, np.flatnonzero(np.diff(label[order])) + 1)
+    faces = []
     for k, tris in enumerate(groups):
-        face_of[tris] = k
-        faces.append(_face(k, V, T, normals, areas, tris, directed))
-    return tuple(faces), face_of
+        axes = np.vstack([u[k], v[k]])
+        loops = (T[tris[0]],) if len(tris) == 1 else _loops(V, directed, tris, axes)
+        faces.append(PlanarFace(k, face_normal[k], V[loops[0][0]], axes, loops, tris,
+                                float(face_area[k]), V, T))
+    return tuple(faces), label
 
 
 def _split_curved(V, T, normals, areas, label, a, b, tol):
@@ -402,23 +468,15 @@ def _split_curved(V, T, normals, areas, label, a, b, tol):
     return np.unique(label, return_inverse=True)[1].reshape(-1)
 
 
-def _face(k, V, T, normals, areas, tris, directed):
-    n = (normals[tris] * areas[tris, None]).sum(axis=0)
-    n /= np.linalg.norm(n)
-    u, v = tangent_basis(n[None])
-    axes = np.vstack([u, v])
-    if len(tris) == 1:
-        loops = (T[tris[0]].copy(),)
-    else:
-        edges = directed.reshape(-1, 3, 2)[tris].reshape(-1, 2)
-        keys = set(map(tuple, edges.tolist()))
-        boundary = [e for e in map(tuple, edges.tolist()) if (e[1], e[0]) not in keys]
-        loops = _walk(boundary)
-        signed = [_area2d((V[loop] - V[loop[0]]) @ axes.T) for loop in loops]
-        first = int(np.argmax(signed))  # the outer boundary runs counter-clockwise
-        loops = (loops[first], *(lp for i, lp in enumerate(loops) if i != first))
-    return PlanarFace(k, n, V[loops[0][0]].copy(), axes, loops, tris,
-                      float(areas[tris].sum()), V, T)
+def _loops(V, directed, tris, axes):
+    """The boundary loops of a group of triangles, the counter-clockwise outer one first."""
+    edges = directed.reshape(-1, 3, 2)[tris].reshape(-1, 2)
+    keys = set(map(tuple, edges.tolist()))
+    boundary = [e for e in map(tuple, edges.tolist()) if (e[1], e[0]) not in keys]
+    loops = _walk(boundary)
+    signed = [_area2d((V[loop] - V[loop[0]]) @ axes.T) for loop in loops]
+    first = int(np.argmax(signed))
+    return (loops[first], *(lp for i, lp in enumerate(loops) if i != first))
 
 
 def _area2d(ring):
