@@ -128,6 +128,11 @@ def test_bad_polygons(points, message):
         Polygon.from_points(points)
 
 
+def test_numbers_after_close_path_are_refused():
+    with pytest.raises(InputError, match="'Z' takes no numbers"):
+        polygon_from_svg('<svg><path d="M0 0 L1 0 L1 1 Z 5"/></svg>')
+
+
 def test_collinear_points_are_not_a_polygon():
     with pytest.raises(InputError):
         Polygon.from_points([[0, 0], [1, 0], [2, 0], [3, 0]])
@@ -145,3 +150,37 @@ def test_random_geometry_only_raises_input_error(outer, holes):
         return
     assert p.area > 0
     assert p.to_shapely().is_valid
+
+
+json_values = st.recursive(
+    st.none() | st.booleans() | st.floats(allow_nan=True) | st.integers() | st.text(max_size=5),
+    lambda children: st.lists(children, max_size=5)
+    | st.dictionaries(st.sampled_from(["outer", "holes", "type", "coordinates", "features",
+                                       "geometry", "name"]), children, max_size=4),
+    max_leaves=25)
+
+
+@given(json_values)
+def test_random_json_only_raises_input_error(data):
+    try:
+        polygon_from_json(data)
+    except InputError as e:
+        assert "\n" not in str(e)
+
+
+@given(st.text(alphabet="MmLlHhVvZzCc0123456789.-, e", max_size=60),
+       st.sampled_from(["path", "polygon", "polyline"]))
+def test_random_svg_only_raises_input_error(d, tag):
+    attribute = "d" if tag == "path" else "points"
+    try:
+        polygon_from_svg(f'<svg><{tag} {attribute}="{d}"/></svg>')
+    except InputError as e:
+        assert "\n" not in str(e)
+
+
+@given(st.text(alphabet="0123456789.,-e \nxy", max_size=80))
+def test_random_csv_only_raises_input_error(text):
+    try:
+        polygon_from_csv(text)
+    except InputError as e:
+        assert "\n" not in str(e)

@@ -201,3 +201,13 @@ def test_random_meshes_only_raise_input_error(vertices, triangles, allow_open):
     assert poly.area > 0
     if poly.watertight:
         assert poly.volume > 0
+
+
+@pytest.mark.parametrize("suffix", [".stl", ".obj", ".ply", ".off", ".glb"])
+def test_every_mesh_format_round_trips(tmp_path, suffix):
+    block = bundled("holed-block")
+    path = tmp_path / f"block{suffix}"
+    trimesh.Trimesh(block.vertices, block.triangles, process=False).export(path)
+    loaded = load_object(path)
+    assert len(loaded.faces) == 10
+    assert loaded.volume == pytest.approx(18.0) and loaded.area == pytest.approx(60.0)

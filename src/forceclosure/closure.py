@@ -72,8 +72,9 @@ class VectorClosure:
         Smallest over largest singular value of the unit-normalised vectors
         (0 when fewer vectors than dimensions).
     margin : float or None
-        ``m s*`` from the LP (see the module); None when no affine
-        combination of the vectors is zero at all.
+        ``m s*`` from the LP (see the module); None when the rank is
+        deficient (no LP is run) or no affine combination of the vectors is
+        zero at all.
     weights : array or None
         For ``closure``: strictly positive weights, summing to 1, that
         combine the (original, unnormalised) vectors to zero.
@@ -221,18 +222,17 @@ def vector_closure(W: ArrayLike, tol: float = TOLERANCE,
         t /= np.max(np.abs(t))
         return VectorClosure(Verdict.NONE, rank, ratio, None, None, t, float(np.min(U.T @ t)),
                              f"only {m} vectors; at least {d + 1} are needed")
-    s, lam = _balance(U) if m > d else (None, None)
-    margin = None if s is None else m * s
-
-    if rank < d:
+    if rank < d:  # the first half of Theorem 1 fails; no LP needed
         t = _null_twist(U)
         why = (f"rank {rank} < {d}: the vectors span only a {rank}-dimensional subspace"
                + (f" ({m} vectors; at least {d + 1} are needed)" if m < d + 1 else ""))
-        return VectorClosure(Verdict.NONE, rank, ratio, margin, None, t,
+        return VectorClosure(Verdict.NONE, rank, ratio, None, None, t,
                              float(np.min(U.T @ t)), why)
-
     if pairs.any():
         return _modulo_lineality(W, U, keep, norms, pairs, ratio, tol)
+
+    s, lam = _balance(U)
+    margin = None if s is None else m * s
 
     if ratio > tol and margin is not None and margin > tol:
         lam_c = _certify(U, lam)

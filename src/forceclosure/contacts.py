@@ -169,8 +169,10 @@ class Contact:
         )
 
 
-def _make(points: Iterable[ArrayLike], normals: Iterable[ArrayLike], model: Model,
-          mu: float, torsion: float | None, point_field: str, normal_field: str) -> Contact:
+def make_contact(points: Iterable[ArrayLike], normals: Iterable[ArrayLike], model: Model,
+                 mu: float, torsion: float | None, point_field: str = "point",
+                 normal_field: str = "normal") -> Contact:
+    """A validated contact; error messages name ``point_field`` and ``normal_field``."""
     pts = [_vector(p, point_field) for p in points]
     nrm = [_unit(n, normal_field) for n in normals]
     if not pts:
@@ -197,7 +199,7 @@ def point_contact(point: ArrayLike, normal: ArrayLike, model: Model = "hard", mu
     >>> c.normal.tolist(), c.mu
     ([1.0, 0.0], 0.5)
     """
-    return _make([point], [normal], model, mu, torsion, "point", "normal")
+    return make_contact([point], [normal], model, mu, torsion, "point", "normal")
 
 
 def edge_contact(start: ArrayLike, end: ArrayLike, normal: ArrayLike, model: Model = "hard",
@@ -212,7 +214,7 @@ def edge_contact(start: ArrayLike, end: ArrayLike, normal: ArrayLike, model: Mod
     >>> edge_contact([0, -1], [1, -1], [0, -1], "frictionless").points.shape
     (2, 2)
     """
-    return _make([start, end], [normal], model, mu, torsion, "points", "normal")
+    return make_contact([start, end], [normal], model, mu, torsion, "points", "normal")
 
 
 def face_contact(vertices: Sequence[ArrayLike], normal: ArrayLike, model: Model = "hard",
@@ -225,7 +227,7 @@ def face_contact(vertices: Sequence[ArrayLike], normal: ArrayLike, model: Model 
     >>> face_contact(square, [0, 0, -1], "frictionless").points.shape
     (4, 3)
     """
-    return _make(vertices, [normal], model, mu, torsion, "points", "normal")
+    return make_contact(vertices, [normal], model, mu, torsion, "points", "normal")
 
 
 def vertex_contact(point: ArrayLike, normals: Sequence[ArrayLike], model: Model = "soft",
@@ -239,7 +241,7 @@ def vertex_contact(point: ArrayLike, normals: Sequence[ArrayLike], model: Model 
     >>> corner.normals.shape
     (2, 2)
     """
-    return _make([point], normals, model, mu, torsion, "point", "normals")
+    return make_contact([point], normals, model, mu, torsion, "point", "normals")
 
 
 def frame(contacts: Sequence[Contact], reference: ArrayLike | None = None,

@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 
 from .closure import Analysis, Verdict, analyze
-from .contacts import MODELS, Cone, Contact, _make, check_grasp
+from .contacts import MODELS, Cone, Contact, check_grasp, make_contact
 from .errors import InputError
 from .quality import epsilon, least_friction
 
@@ -113,7 +113,7 @@ def parse_contact(data: Any) -> Contact:
               else _coord_list(data["points"], "points"))
     normals = ([_coords(data["normal"], "normal")] if "normal" in data
                else _coord_list(data["normals"], "normals"))
-    return _make(points, normals, model, mu, torsion,
+    return make_contact(points, normals, model, mu, torsion,
                  "point" if "point" in data else "points",
                  "normal" if "normal" in data else "normals")
 

@@ -118,6 +118,8 @@ def _path_rings(d: str, name: str) -> list[list[tuple[float, float]]]:
                                  "segments (M, L, H, V, Z) are supported")
         elif cmd is None:
             raise InputError(f"{name}: path data must start with a command")
+        elif cmd in "Zz":
+            raise InputError(f"{name}: path command '{cmd}' takes no numbers")
         if cmd in "Mm":
             if ring:
                 rings.append(ring)

@@ -78,6 +78,8 @@ def _ring_array(points: ArrayLike, what: str) -> NDArray[np.float64]:
         ring = np.asarray(points, dtype=float)
     except (TypeError, ValueError):
         raise InputError(f"{what}: vertices must be numbers") from None
+    if ring.size == 0:
+        raise InputError(f"{what}: no vertices")
     if ring.ndim != 2 or ring.shape[1] != 2:
         raise InputError(f"{what}: vertices must be (x, y) pairs, got shape {ring.shape}")
     bad = np.flatnonzero(~np.all(np.isfinite(ring), axis=1))

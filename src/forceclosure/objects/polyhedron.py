@@ -69,6 +69,7 @@ class PlanarFace:
     triangles: NDArray[np.int64]
     area: float
     _vertices: NDArray[np.float64] = field(repr=False)
+    _mesh: NDArray[np.int64] = field(repr=False)  # the mesh's (m, 3) triangle array
 
     def to_plane(self, points: ArrayLike) -> NDArray[np.float64]:
         """Coordinates ``(u, v)`` of points projected onto the face's plane."""
@@ -86,15 +87,9 @@ class PlanarFace:
             return Polygon.from_points(rings[0], rings[1:], name=f"face {self.index}")
         except InputError:
             # touching loops: let shapely resolve the union of the face's triangles
-            tris = self._vertices[self._mesh_triangles]
+            tris = self._vertices[self._mesh[self.triangles]]
             union = shapely.union_all([shapely.Polygon(self.to_plane(t)) for t in tris])
             return Polygon.from_shapely(union, name=f"face {self.index}")
-
-    @property
-    def _mesh_triangles(self) -> NDArray[np.int64]:
-        return self._triangles_of[self.triangles]
-
-    _triangles_of: NDArray[np.int64] = field(default=None, repr=False)
 
     @property
     def boundary(self) -> NDArray[np.float64]:
