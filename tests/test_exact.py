@@ -6,6 +6,7 @@ clearly away from zero the verdict matches the exact answer.
 """
 
 import random
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -19,6 +20,17 @@ from exact import (
 from forceclosure import Cone, Verdict, analyze, point_contact, vector_closure
 
 CLEAR = 1e-3
+
+
+def assert_agrees(a, exact):
+    """A grasp analysis against the exact answer: closure and none always right,
+    and every verdict right when the margins are clear."""
+    if a.verdict is Verdict.CLOSURE:
+        assert exact
+    if a.verdict is Verdict.NONE:
+        assert not exact
+    if a.margin is not None and abs(a.margin) > CLEAR and a.sigma_ratio > CLEAR:
+        assert a.force_closure == exact
 
 
 def check_against_exact(columns_fraction, W_float):
@@ -104,17 +116,10 @@ def test_planar_contact_grasps_match_exact_wrenches():
     for _ in range(60):
         k = rng.randint(2, 4)
         pts, nrm, mu = _rational_planar_grasp(rng, k)
-        grasp = [point_contact(p, [float(eval(str(c))) for c in n],
-                               "hard", float(eval(m))) for p, n, m in zip(pts, nrm, mu,
-                                                                          strict=True)]
-        exact = positively_spans(planar_hard_wrenches(pts, nrm, mu))
+        grasp = [point_contact(p, [float(Fraction(c)) for c in n], "hard", float(Fraction(m)))
+                 for p, n, m in zip(pts, nrm, mu, strict=True)]
         a = analyze(grasp)
-        if a.verdict is Verdict.CLOSURE:
-            assert exact
-        if a.verdict is Verdict.NONE:
-            assert not exact
-        if a.margin is not None and abs(a.margin) > CLEAR and a.sigma_ratio > CLEAR:
-            assert a.force_closure == exact
+        assert_agrees(a, positively_spans(planar_hard_wrenches(pts, nrm, mu)))
         seen.add(a.verdict)
     assert {Verdict.CLOSURE, Verdict.NONE} <= seen
 
@@ -128,15 +133,9 @@ def test_spatial_contact_grasps_match_exact_wrenches():
         nrm = [rng.choice(axes) for _ in range(k)]
         pts = [tuple(n[i] if n[i] else rng.randint(-2, 2) / 2 for i in range(3)) for n in nrm]
         mu = [rng.choice(["1/4", "1/2", "1"]) for _ in range(k)]
-        grasp = [point_contact(p, n, "hard", float(eval(m)))
+        grasp = [point_contact(p, n, "hard", float(Fraction(m)))
                  for p, n, m in zip(pts, nrm, mu, strict=True)]
-        exact = positively_spans(spatial_pyramid4_wrenches(pts, nrm, mu))
         a = analyze(grasp, cone=Cone(4, "inscribed"))
-        if a.verdict is Verdict.CLOSURE:
-            assert exact
-        if a.verdict is Verdict.NONE:
-            assert not exact
-        if a.margin is not None and abs(a.margin) > CLEAR and a.sigma_ratio > CLEAR:
-            assert a.force_closure == exact
+        assert_agrees(a, positively_spans(spatial_pyramid4_wrenches(pts, nrm, mu)))
         seen.add(a.verdict)
     assert Verdict.NONE in seen

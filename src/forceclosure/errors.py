@@ -7,6 +7,9 @@ field). The command-line tool prints that line and exits with status 2.
 
 from __future__ import annotations
 
+import json
+from typing import Any
+
 
 class ForceClosureError(Exception):
     """Base class of the library's own errors."""
@@ -18,3 +21,14 @@ class InputError(ForceClosureError, ValueError):
     def within(self, where: str) -> InputError:
         """The same error, its message prefixed by a location such as ``grasp 2``."""
         return InputError(f"{where}: {self}")
+
+
+def parse_json(text: str, source: str) -> Any:
+    """``json.loads``, with a malformed document as one :class:`InputError` line."""
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as e:
+        raise InputError(f"{source}: not valid JSON: {e.msg} at line {e.lineno}, "
+                         f"column {e.colno}") from None
+    except RecursionError:
+        raise InputError(f"{source}: not valid JSON: nested too deeply") from None

@@ -29,7 +29,7 @@ import numpy as np
 
 from .closure import Analysis, Verdict, analyze
 from .contacts import MODELS, Cone, Contact, check_grasp, make_contact
-from .errors import InputError
+from .errors import InputError, parse_json
 from .quality import epsilon, least_friction
 
 CONTACT_KEYS = {"point", "points", "normal", "normals", "model", "mu", "torsion"}
@@ -173,13 +173,7 @@ def parse_grasp_file(text: str, source: str = "input") -> GraspFile:
     >>> f.grasps[0].error
     "grasp 1: contact 1: field 'normal' is a zero vector; a normal needs a direction"
     """
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as e:
-        raise InputError(f"{source}: not valid JSON: {e.msg} at line {e.lineno}, "
-                         f"column {e.colno}") from None
-    except RecursionError:
-        raise InputError(f"{source}: not valid JSON: nested too deeply") from None
+    data = parse_json(text, source)
     if not isinstance(data, dict):
         raise InputError(f"{source}: the top level must be an object with 'grasps' or "
                          "'contacts'")

@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import re
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -28,7 +27,7 @@ from typing import Any
 import numpy as np
 import shapely
 
-from ..errors import InputError
+from ..errors import InputError, parse_json
 from .examples import POLYGONS, POLYHEDRA, bundled
 from .polygon import Polygon
 from .polyhedron import Polyhedron
@@ -276,11 +275,4 @@ def load_object(source: str | Path | Any, allow_open: bool = False) -> Polygon |
         return polygon_from_svg(text, name)
     if suffix == ".csv":
         return polygon_from_csv(text, name)
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as e:
-        raise InputError(f"{path.name}: not valid JSON: {e.msg} at line {e.lineno}, "
-                         f"column {e.colno}") from None
-    except RecursionError:
-        raise InputError(f"{path.name}: not valid JSON: nested too deeply") from None
-    return polygon_from_json(data, name)
+    return polygon_from_json(parse_json(text, path.name), name)
