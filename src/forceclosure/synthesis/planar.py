@@ -1,0 +1,381 @@
+"""Two fingers with friction on two edges of a polygon (§4.1 Lemma 1, §5.1).
+
+By Corollary 3, hard fingers at ``p`` on edge ``e1`` and ``q`` on edge ``e2``
+are force-closure iff ``w = q - p`` lies strictly inside the friction cone
+at ``p`` and strictly inside minus the cone at ``q``. The intersection is the
+**counter-overlapping sector**. "Strictly inside the cone about the pushing
+direction ``m`` with friction ``mu``" needs no trigonometry: it is the two
+linear inequalities ``mu (w . m) - cross(m, w) > 0`` and
+``mu (w . m) + cross(m, w) > 0``. Since ``w`` is affine in the edge
+parameters ``(t1, t2)``, so are the four conditions. Therefore:
+
+* **Lemma 1**: the complete set of force-closure grasps on the pair is the
+  parameter box ``[0, L1] x [0, L2]`` cut by four open half-planes, a convex
+  polygon in ``(t1, t2)`` (:func:`pair_grasps`);
+* **independent regions**: segments ``s1 x s2`` on which *every* pair is
+  force-closure. A linear condition holds on a box iff it holds at the box's
+  four corners, so the largest such pair of segments (largest minimum
+  length) is a small linear program (:func:`maximal_regions`);
+* **certificates**: the corner check is redone in exact rational arithmetic
+  on the floating-point data (:meth:`IndependentRegions.certify`): a proof,
+  not a numerical judgement.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from fractions import Fraction
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import linprog
+
+from ..errors import InputError
+from ..objects.polygon import Edge, Polygon
+
+#: Default angular margin (radians) kept between region grasps and the cone boundary.
+ANGLE_MARGIN = 1e-3
+
+
+def _perp(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Rotate by +90 degrees: ``cross(m, w) = perp(m) . w``."""
+    return np.array([-v[1], v[0]])
+
+
+def _functionals(m_p, mu_p, m_q, mu_q) -> NDArray[np.float64]:
+    """The four linear functionals ``l_k`` with Corollary 3 <=> ``l_k . w > 0`` for all k.
+
+    ``m_p = -n_p`` and ``m_q = -n_q`` are the pushing directions; ``w = q - p``.
+    """
+    return np.array([mu_p * m_p - _perp(m_p), mu_p * m_p + _perp(m_p),
+                     -mu_q * m_q + _perp(m_q), -mu_q * m_q - _perp(m_q)])
+
+
+@dataclass(frozen=True)
+class Sector:
+    """The counter-overlapping sector ``C_p ∩ -C_q`` (Lemma 1): directions of ``q - p``.
+
+    ``low`` and ``high`` are its bounding angles (radians, ``low < high``);
+    ``width = high - low``.
+    """
+
+    low: float
+    high: float
+
+    @property
+    def width(self) -> float:
+        """Opening angle of the sector."""
+        return self.high - self.low
+
+    @property
+    def bisector(self) -> NDArray[np.float64]:
+        """Unit direction halfway between the bounds."""
+        mid = 0.5 * (self.low + self.high)
+        return np.array([math.cos(mid), math.sin(mid)])
+
+
+def counter_overlapping_sector(n_p, mu_p: float, n_q, mu_q: float) -> Sector | None:
+    """``C_p ∩ -C_q`` for outward normals ``n_p``, ``n_q`` (Lemma 1), or None if empty.
+
+    Examples
+    --------
+    >>> s = counter_overlapping_sector([-1, 0], 0.5, [1, 0], 0.5)
+    >>> round(math.degrees(s.width), 4)   # two cones of 26.57 degrees, head on
+    53.1301
+    """
+    m_p = -np.asarray(n_p, float) / np.linalg.norm(n_p)
+    theta_p = math.atan2(m_p[1], m_p[0])
+    n_q = np.asarray(n_q, float) / np.linalg.norm(n_q)
+    delta = math.remainder(math.atan2(n_q[1], n_q[0]) - theta_p, 2 * math.pi)
+    a_p, a_q = math.atan(mu_p), math.atan(mu_q)
+    low, high = max(-a_p, delta - a_q), min(a_p, delta + a_q)
+    if low >= high:
+        return None
+    return Sector(theta_p + low, theta_p + high)
+
+
+def _affine(e1: Edge, e2: Edge, mu_p: float, mu_q: float) -> tuple[NDArray, NDArray]:
+    """``(A, b)`` with the conditions ``A @ (t1, t2) + b > 0`` (one row per functional)."""
+    ell = _functionals(-e1.normal, mu_p, -e2.normal, mu_q)
+    # w = (start2 - start1) + t2 d2 - t1 d1
+    A = np.stack([-(ell @ e1.direction), ell @ e2.direction], axis=1)
+    b = ell @ (e2.start - e1.start)
+    return A, b
+
+
+def _clip(poly: NDArray[np.float64], a: NDArray, b: float) -> NDArray[np.float64]:
+    """Sutherland–Hodgman: the part of a convex polygon where ``a . x + b >= 0``."""
+    out = []
+    for i in range(len(poly)):
+        p, q = poly[i], poly[(i + 1) % len(poly)]
+        fp, fq = a @ p + b, a @ q + b
+        if fp >= 0:
+            out.append(p)
+        if (fp >= 0) != (fq >= 0):
+            out.append(p + (q - p) * (fp / (fp - fq)))
+    return np.array(out).reshape(-1, 2)
+
+
+def _edges(polygon: Polygon, i: int, j: int) -> tuple[Edge, Edge]:
+    n = len(polygon.edges)
+    for k in (i, j):
+        if not 0 <= k < n:
+            raise InputError(f"{polygon.name}: no edge {k}; edges are numbered 0 to {n - 1}")
+    if i == j:
+        raise InputError(f"{polygon.name}: two fingers need two different edges, got {i} twice")
+    return polygon.edges[i], polygon.edges[j]
+
+
+def _check_mu(mu_p: float, mu_q: float) -> None:
+    for mu in (mu_p, mu_q):
+        if not (isinstance(mu, int | float) and math.isfinite(mu) and mu >= 0):
+            raise InputError(f"friction coefficient must be a finite number >= 0, got {mu!r}")
+
+
+@dataclass(frozen=True, eq=False)
+class PairGrasps:
+    """Lemma 1: every force-closure grasp with one finger on each of two edges.
+
+    Attributes
+    ----------
+    edges : (int, int)
+    sector : Sector or None
+        The counter-overlapping sector; None when the cones do not counter-overlap.
+    region : (k, 2) array
+        Convex polygon in ``(t1, t2)``, edge parameters (distances from each
+        edge's start). Its interior is the set of force-closure grasps;
+        empty when there are none.
+    reason : str
+        Why the set is empty, or a description of it.
+    """
+
+    edges: tuple[int, int]
+    sector: Sector | None
+    region: NDArray[np.float64]
+    A: NDArray[np.float64]
+    b: NDArray[np.float64]
+    reason: str
+
+    @property
+    def empty(self) -> bool:
+        """True when no grasp on the pair is force-closure."""
+        return len(self.region) < 3
+
+    def contains(self, t1, t2) -> NDArray[np.bool_]:
+        """Whether the grasps at ``(t1, t2)`` are force-closure (vectorised)."""
+        t = np.stack(np.broadcast_arrays(np.asarray(t1, float), np.asarray(t2, float)), -1)
+        return np.all(t @ self.A.T + self.b > 0, axis=-1)
+
+
+def pair_grasps(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | None = None,
+                ) -> PairGrasps:
+    """All force-closure grasps with hard fingers on edges ``i`` and ``j`` (Lemma 1).
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> g = pair_grasps(bundled("square"), 0, 2, mu=0.3)   # opposite sides, 2 apart
+    >>> g.contains(1.0, 1.0).item(), g.contains(0.2, 0.2).item()   # head on; 1.6 apart sideways
+    (True, False)
+    """
+    mu_q = mu if mu_q is None else mu_q
+    _check_mu(mu, mu_q)
+    e1, e2 = _edges(polygon, i, j)
+    sector = counter_overlapping_sector(e1.normal, mu, e2.normal, mu_q)
+    A, b = _affine(e1, e2, mu, mu_q)
+    box = np.array([[0, 0], [e1.length, 0], [e1.length, e2.length], [0, e2.length]])
+    if sector is None:
+        return PairGrasps((i, j), None, np.zeros((0, 2)), A, b,
+                          "the friction cones do not counter-overlap (the normals are too "
+                          "far from opposite for this friction)")
+    region = box
+    for row, off in zip(A, b, strict=True):
+        region = _clip(region, row, off)
+        if len(region) == 0:
+            break
+    if len(region) < 3 or _area(region) <= 1e-12 * e1.length * e2.length:
+        return PairGrasps((i, j), sector, np.zeros((0, 2)), A, b,
+                          "the edges are placed so that no segment between them lies in the "
+                          "counter-overlapping sector")
+    share = _area(region) / (e1.length * e2.length)
+    return PairGrasps((i, j), sector, region, A, b,
+                      f"{share:.1%} of the pairs of points on the two edges are force-closure")
+
+
+def _area(poly: NDArray[np.float64]) -> float:
+    x, y = poly[:, 0], poly[:, 1]
+    return 0.5 * abs(float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)))
+
+
+@dataclass(frozen=True)
+class Certificate:
+    """The proof that a region set is force-closure, and what it checked."""
+
+    holds: bool
+    method: str
+    detail: str
+
+
+@dataclass(frozen=True, eq=False)
+class IndependentRegions:
+    """Two segments, one per edge, such that *every* pair of points is force-closure.
+
+    Attributes
+    ----------
+    polygon : Polygon
+    edges : (int, int)
+    segments : ((u1, v1), (u2, v2))
+        Edge parameters of the segments.
+    points : (2, 2, 2) array
+        The segments' endpoints in object coordinates.
+    mu : (float, float)
+    construction : str
+    """
+
+    polygon: Polygon
+    edges: tuple[int, int]
+    segments: tuple[tuple[float, float], tuple[float, float]]
+    mu: tuple[float, float]
+    construction: str
+
+    @property
+    def lengths(self) -> tuple[float, float]:
+        """Lengths of the two segments."""
+        return tuple(v - u for u, v in self.segments)
+
+    @property
+    def min_length(self) -> float:
+        """The finger-placement error the grasp tolerates."""
+        return min(self.lengths)
+
+    @property
+    def points(self) -> NDArray[np.float64]:
+        """``[[start, end] of s1, [start, end] of s2]`` in object coordinates."""
+        return np.array([[self.polygon.edges[e].point(t) for t in seg]
+                         for e, seg in zip(self.edges, self.segments, strict=True)])
+
+    def certify(self) -> Certificate:
+        """Prove, in exact rational arithmetic, that every pair of points is force-closure.
+
+        The four Corollary 3 conditions are linear in ``w = q - p``, and ``w``
+        is affine in the two edge parameters. So they hold on the whole box
+        ``s1 x s2`` iff they hold at its four corners. The corners are
+        checked with ``fractions.Fraction`` from the exact binary values of
+        the floating-point data: no rounding enters.
+        """
+        e1, e2 = (self.polygon.edges[k] for k in self.edges)
+        F = Fraction
+        m_p, m_q = [[-F(x) for x in e.normal] for e in (e1, e2)]
+        mu_p, mu_q = F(self.mu[0]), F(self.mu[1])
+
+        def point(e: Edge, t: float) -> list[Fraction]:
+            return [F(s) + F(t) * F(d) for s, d in zip(e.start, e.direction, strict=True)]
+
+        def inside(m: list[Fraction], mu: Fraction, w: list[Fraction]) -> bool:
+            dot = m[0] * w[0] + m[1] * w[1]
+            cross = m[0] * w[1] - m[1] * w[0]
+            return mu * dot - cross > 0 and mu * dot + cross > 0
+
+        for t1 in self.segments[0]:
+            for t2 in self.segments[1]:
+                p, q = point(e1, t1), point(e2, t2)
+                w = [q[0] - p[0], q[1] - p[1]]
+                if not (inside(m_p, mu_p, w) and inside(m_q, mu_q, [-w[0], -w[1]])):
+                    return Certificate(False, "corner check (exact rationals)",
+                                       f"the grasp at t = ({t1:.6g}, {t2:.6g}) is not "
+                                       "strictly inside both friction cones")
+        return Certificate(True, "corner check (exact rationals)",
+                           "Corollary 3 holds strictly at the four corners of s1 x s2, hence "
+                           "(linear conditions) at every pair of points")
+
+
+def maximal_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | None = None,
+                    margin: float = ANGLE_MARGIN) -> IndependentRegions | None:
+    """The largest independent regions of contact on edges ``i`` and ``j`` (exact LP).
+
+    Maximises the shorter segment's length, subject to every pair of points
+    being force-closure with at least ``margin`` radians to spare in both
+    cones. The conditions are linear in the four segment endpoints (checked
+    at the corners), so this is a linear program with five variables.
+
+    Returns None when the pair has no such regions.
+
+    Examples
+    --------
+    Opposite sides of a square of side 2, friction 0.3: aligned segments of
+    length ``z`` need ``z / 2 < tan(atan(0.3) - margin)`` over the gap of 2,
+    so ``z`` is just under ``2 * 0.3 = 0.6``:
+
+    >>> from forceclosure.objects import bundled
+    >>> r = maximal_regions(bundled("square"), 0, 2, mu=0.3)
+    >>> round(r.min_length, 3), r.certify().holds
+    (0.598, True)
+    """
+    mu_q = mu if mu_q is None else mu_q
+    _check_mu(mu, mu_q)
+    e1, e2 = _edges(polygon, i, j)
+    shrink = [math.tan(max(math.atan(m) - margin, 0.0)) for m in (mu, mu_q)]
+    if min(shrink) <= 0 or counter_overlapping_sector(e1.normal, shrink[0], e2.normal,
+                                                      shrink[1]) is None:
+        return None
+    A, b = _affine(e1, e2, *shrink)
+    # variables x = (u1, v1, u2, v2, z); maximise z
+    rows, rhs = [], []
+    for (a1, a2), off in zip(A, b, strict=True):
+        row = np.zeros(5)
+        row[0 if a1 >= 0 else 1] -= a1  # the corner minimising a1 t1 + a2 t2
+        row[2 if a2 >= 0 else 3] -= a2
+        rows.append(row)
+        rhs.append(off)
+    rows += [[1, -1, 0, 0, 1], [0, 0, 1, -1, 1]]  # z <= v - u on both edges
+    rhs += [0, 0]
+    bounds = [(0, e1.length), (0, e1.length), (0, e2.length), (0, e2.length), (0, None)]
+    res = linprog([0, 0, 0, 0, -1], A_ub=np.array(rows), b_ub=np.array(rhs), bounds=bounds,
+                  method="highs")
+    if res.status != 0 or res.x[4] <= 1e-9 * max(e1.length, e2.length):
+        return None
+    u1, v1, u2, v2 = res.x[:4] + 0.0  # + 0.0: no negative zeros
+    regions = IndependentRegions(polygon, (i, j), ((float(u1), float(v1)),
+                                                   (float(u2), float(v2))),
+                                 (float(mu), float(mu_q)), "maximal (linear program)")
+    if not regions.certify().holds:  # the solver's tolerance cut a corner: trim and retry
+        tight = [(u + 1e-9 * (v - u), v - 1e-9 * (v - u)) for u, v in regions.segments]
+        regions = IndependentRegions(polygon, (i, j), tuple(tight), regions.mu,
+                                     regions.construction)
+        if not regions.certify().holds:
+            return None
+    return regions
+
+
+def best_regions(polygon: Polygon, mu: float, top: int = 5,
+                 margin: float = ANGLE_MARGIN) -> list[IndependentRegions]:
+    """Independent regions for two hard fingers on every pair of edges, best first.
+
+    Pairs whose friction cones cannot counter-overlap are pruned before any
+    linear program (a test on the two normals). The rest get
+    :func:`maximal_regions`, and the results are ranked by their shorter
+    segment, the placement error the grasp tolerates.
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> best = best_regions(bundled("hexagon"), mu=0.3, top=3)
+    >>> [r.edges for r in best], round(best[0].min_length, 3)
+    ([(0, 3), (1, 4), (2, 5)], 0.518)
+    """
+    if not isinstance(top, int) or top < 1:
+        raise InputError(f"'top' must be a positive integer, got {top!r}")
+    _check_mu(mu, mu)
+    found = []
+    n = len(polygon.edges)
+    for i in range(n):
+        for j in range(i + 1, n):
+            e1, e2 = polygon.edges[i], polygon.edges[j]
+            if counter_overlapping_sector(e1.normal, mu, e2.normal, mu) is None:
+                continue
+            regions = maximal_regions(polygon, i, j, mu, margin=margin)
+            if regions is not None:
+                found.append(regions)
+    found.sort(key=lambda r: -r.min_length)
+    return found[:top]

@@ -1,0 +1,144 @@
+"""Planar synthesis (Lemma 1, maximal independent regions) against independent checks."""
+
+import math
+
+import numpy as np
+import pytest
+import shapely
+from matplotlib.font_manager import FontProperties
+from matplotlib.textpath import TextPath
+
+from forceclosure import InputError, Verdict, analyze, point_contact
+from forceclosure.objects import Polygon, bundled
+from forceclosure.synthesis import best_regions, maximal_regions, pair_grasps
+from forceclosure.synthesis.planar import ANGLE_MARGIN
+from forceclosure.two_finger import two_finger_closure
+
+
+def _glyph(letter):
+    path = TextPath((0, 0), letter, size=10, prop=FontProperties(family="DejaVu Sans"))
+    geometry = shapely.Polygon()
+    for ring in path.to_polygons():
+        if len(ring) >= 4:
+            geometry = geometry.symmetric_difference(shapely.Polygon(ring))
+    part = max(getattr(geometry, "geoms", [geometry]), key=lambda g: g.area)
+    return Polygon.from_shapely(shapely.make_valid(part), name=f"glyph {letter}")
+
+
+def _random_convex(seed, n=7):
+    rng = np.random.default_rng(seed)
+    hull = shapely.MultiPoint(rng.normal(size=(n * 3, 2))).convex_hull
+    return Polygon.from_shapely(hull, name=f"random convex {seed}")
+
+
+OBJECTS = [bundled(n) for n in ("square", "hexagon", "l-shape", "star", "frame",
+                                "wrench-head", "bracket")] + [_random_convex(s) for s in (1, 2)]
+
+
+def _closed_form(polygon, i, j, t1, t2, mu):
+    e1, e2 = polygon.edges[i], polygon.edges[j]
+    return two_finger_closure(e1.point(t1), e1.normal, e2.point(t2), e2.normal, mu)
+
+
+@pytest.mark.parametrize("polygon", OBJECTS, ids=lambda p: p.name)
+def test_lemma_1_is_the_set_of_force_closure_grasps(polygon):
+    rng = np.random.default_rng(0)
+    mu = 0.4
+    nonempty = 0
+    for i in range(len(polygon.edges)):
+        for j in range(i + 1, len(polygon.edges)):
+            g = pair_grasps(polygon, i, j, mu)
+            e1, e2 = polygon.edges[i], polygon.edges[j]
+            t1 = rng.uniform(0, e1.length, 400)
+            t2 = rng.uniform(0, e2.length, 400)
+            truth = _closed_form(polygon, i, j, t1, t2, mu)
+            clear = np.abs(np.maximum(truth.angle_p, truth.angle_q) - math.atan(mu)) > 1e-9
+            np.testing.assert_array_equal(g.contains(t1, t2)[clear],
+                                          truth.force_closure[clear])
+            if g.empty:
+                assert not truth.force_closure[clear].any()
+            else:
+                nonempty += 1
+                inside = shapely.Polygon(g.region)
+                pts = shapely.points(np.stack([t1, t2], 1))
+                far = shapely.distance(inside.boundary, pts) > 1e-9
+                np.testing.assert_array_equal(shapely.contains(inside, pts)[far & clear],
+                                              truth.force_closure[far & clear])
+    assert nonempty > 0
+
+
+def _sample_box(regions, rng, n):
+    (u1, v1), (u2, v2) = regions.segments
+    t1 = np.concatenate([[u1, u1, v1, v1], rng.uniform(u1, v1, n)])
+    t2 = np.concatenate([[u2, v2, u2, v2], rng.uniform(u2, v2, n)])
+    return t1, t2
+
+
+@pytest.mark.parametrize("polygon", [*OBJECTS, _glyph("A"), _glyph("e")], ids=lambda p: p.name)
+def test_every_pair_in_every_region_is_force_closure(polygon):
+    rng = np.random.default_rng(1)
+    mu = 0.35
+    results = best_regions(polygon, mu, top=4)
+    assert results, polygon.name
+    for r in results:
+        assert r.certify().holds
+        i, j = r.edges
+        t1, t2 = _sample_box(r, rng, 3000)
+        assert np.all(_closed_form(polygon, i, j, t1, t2, mu).force_closure)
+        for k in range(12):  # the general test, Theorem 1, on some of them
+            e1, e2 = polygon.edges[i], polygon.edges[j]
+            grasp = [point_contact(e1.point(t1[k]), e1.normal, "hard", mu),
+                     point_contact(e2.point(t2[k]), e2.normal, "hard", mu)]
+            assert analyze(grasp).verdict is Verdict.CLOSURE
+    lengths = [r.min_length for r in results]
+    assert lengths == sorted(lengths, reverse=True)
+
+
+@pytest.mark.parametrize("name,i,j,gap", [("square", 0, 2, 2.0), ("hexagon", 0, 3, math.sqrt(3)),
+                                          ("frame", 0, 2, 4.0)])
+@pytest.mark.parametrize("mu", [0.1, 0.3, 0.6])
+def test_parallel_edges_closed_form(name, i, j, gap, mu):
+    """Facing parallel edges a distance h apart: aligned segments of length
+    h tan(atan(mu) - margin), unless the edges are shorter."""
+    polygon = bundled(name)
+    r = maximal_regions(polygon, i, j, mu)
+    want = min(gap * math.tan(math.atan(mu) - ANGLE_MARGIN), polygon.edges[i].length)
+    assert r.min_length == pytest.approx(want, rel=1e-6)
+
+
+def test_maximal_regions_beat_a_grid_search():
+    """No pair of segments on a grid of endpoints does better than the LP."""
+    rng = np.random.default_rng(5)
+    polygon = _random_convex(3, n=6)
+    mu = 0.5
+    shrunk = math.tan(math.atan(mu) - ANGLE_MARGIN)
+    checked = 0
+    for i in range(len(polygon.edges)):
+        for j in range(i + 1, len(polygon.edges)):
+            r = maximal_regions(polygon, i, j, mu)
+            e1, e2 = polygon.edges[i], polygon.edges[j]
+            g1 = np.linspace(0, e1.length, 11)
+            g2 = np.linspace(0, e2.length, 11)
+            u1, v1, u2, v2 = np.meshgrid(g1, g1, g2, g2, indexing="ij")
+            ok = (v1 > u1) & (v2 > u2)
+            for a, b in ((u1, u2), (u1, v2), (v1, u2), (v1, v2)):
+                ok &= _closed_form(polygon, i, j, a, b, shrunk).force_closure
+            best = np.max(np.where(ok, np.minimum(v1 - u1, v2 - u2), 0.0))
+            assert (0.0 if r is None else r.min_length) >= best - 1e-9
+            checked += best > 0
+    assert checked > 0
+    del rng
+
+
+def test_no_regions_and_bad_input():
+    square = bundled("square")
+    g = pair_grasps(square, 0, 1, 0.3)  # perpendicular sides: cones cannot counter-overlap
+    assert g.empty and "do not counter-overlap" in g.reason
+    assert maximal_regions(square, 0, 1, 0.3) is None
+    assert maximal_regions(square, 0, 2, 0.0) is None  # frictionless pairs never close
+    with pytest.raises(InputError, match="no edge 9"):
+        pair_grasps(square, 0, 9, 0.3)
+    with pytest.raises(InputError, match="two different edges"):
+        maximal_regions(square, 1, 1, 0.3)
+    with pytest.raises(InputError, match="friction coefficient"):
+        pair_grasps(square, 0, 2, -1)
