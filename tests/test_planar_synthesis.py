@@ -142,3 +142,37 @@ def test_no_regions_and_bad_input():
         maximal_regions(square, 1, 1, 0.3)
     with pytest.raises(InputError, match="friction coefficient"):
         pair_grasps(square, 0, 2, -1)
+
+
+def test_synthesize_command(tmp_path, capsys):
+    import json
+
+    from forceclosure.cli import main
+
+    picture = tmp_path / "regions.png"
+    assert main(["synthesize", "frame", "--mu", "0.3", "--top", "3", "--json",
+                 "--plot", str(picture)]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["object"] == "frame" and len(out["grasps"]) == 3
+    best = out["grasps"][0]
+    assert best["certificate"]["holds"] is True
+    assert best["min_length"] == pytest.approx(4 * math.tan(math.atan(0.3) - ANGLE_MARGIN))
+    assert np.asarray(best["points"]).shape == (2, 2, 2)
+    assert picture.read_bytes()[:4] == b"\x89PNG"
+    assert main(["synthesize", "l-shape"]) == 0
+    assert "1. edges" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv,message", [
+    (["synthesize", "cube"], "polyhedra is not implemented yet"),
+    (["synthesize", "square", "--fingers", "4"], "only two-finger synthesis"),
+    (["synthesize", "square", "--contact", "frictionless"], "never force-closure"),
+    (["synthesize", "square", "--mu", "-1"], "--mu must be a positive number"),
+    (["synthesize", "square", "--top", "0"], "'top' must be a positive integer"),
+])
+def test_synthesize_refusals(argv, message, capsys):
+    from forceclosure.cli import main
+
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert message in err and len(err.splitlines()) == 1

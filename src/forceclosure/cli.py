@@ -95,31 +95,37 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     print("\nAnalyse your own grasps with: forceclosure analyze GRASPS.json [--json]")
     print("Inspect an object (a file or a bundled name): "
           "forceclosure inspect OBJECT --plot out.png")
+    print("Find grasps and their regions: forceclosure synthesize OBJECT --mu 0.3 "
+          "--plot out.png")
     return status
 
 
 def _demo_objects() -> None:
-    """Two fingers on the most opposed edges or faces of each bundled object."""
+    """Planar synthesis on the bundled polygons; two soft fingers on each polyhedron."""
     from .closure import analyze
     from .contacts import point_contact
     from .objects import POLYGONS, POLYHEDRA, bundled
+    from .synthesis import best_regions
 
-    print("== bundled objects: two fingers, mu 0.3, at the middles of the most opposed "
-          "edges (hard) or faces (soft) ==")
-    for name in [*POLYGONS, *POLYHEDRA]:
+    print("== bundled polygons: the best two-finger grasp, mu 0.3, and its independent "
+          "regions ==")
+    for name in POLYGONS:
+        found = best_regions(bundled(name), 0.3, top=1)
+        if not found:
+            print(f"  {name:17} no force-closure grasp with two fingers at mu 0.3")
+            continue
+        r = found[0]
+        print(f"  {name:17} edges {r.edges[0]} + {r.edges[1]}: segments "
+              f"{r.lengths[0]:.3g} and {r.lengths[1]:.3g} long, certified {r.certify().holds}")
+    print("== bundled polyhedra: two soft fingers, mu 0.3, at the middles of the most opposed "
+          "faces ==")
+    for name in POLYHEDRA:
         obj = bundled(name)
-        if obj.dim == 2:
-            sites = [((e.start + e.end) / 2, e.normal, f"edge {e.index}") for e in obj.edges]
-            model = "hard"
-        else:
-            sites = [(f.to_world(np.asarray(f.polygon.centroid)), f.normal, f"face {f.index}")
-                     for f in obj.faces]
-            model = "soft"
-        normals = np.array([n for _, n, _ in sites])
+        sites = [(f.to_world(np.asarray(f.polygon.centroid)), f.normal) for f in obj.faces]
+        normals = np.array([n for _, n in sites])
         i, j = np.unravel_index(np.argmin(normals @ normals.T), (len(sites),) * 2)
-        grasp = [point_contact(sites[k][0], sites[k][1], model, 0.3) for k in (i, j)]
-        result = analyze(grasp)
-        print(f"  {name:17} {sites[i][2]:>8} + {sites[j][2]:<8} -> {result.verdict.value}")
+        grasp = [point_contact(*sites[k], "soft", 0.3) for k in (i, j)]
+        print(f"  {name:17} faces {i} + {j}: {analyze(grasp).verdict.value}")
 
 
 def _cmd_objects(args: argparse.Namespace) -> int:
@@ -167,6 +173,49 @@ def _cmd_inspect(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_synthesize(args: argparse.Namespace) -> int:
+    from .objects.io import load_object
+    from .synthesis import best_regions
+
+    obj = load_object(args.object)
+    if obj.dim == 3:
+        raise InputError(f"{obj.name}: synthesis on polyhedra is not implemented yet; "
+                         "planar objects only")
+    if args.fingers != 2:
+        raise InputError(f"--fingers {args.fingers}: only two-finger synthesis is "
+                         "implemented so far")
+    if args.contact == "frictionless":
+        raise InputError("two frictionless fingers are never force-closure (the plane needs "
+                         "four contacts without friction)")
+    if not (args.mu > 0 and np.isfinite(args.mu)):
+        raise InputError(f"--mu must be a positive number, got {args.mu:g}")
+    found = best_regions(obj, args.mu, top=args.top, margin=args.margin)
+    if args.json:
+        json.dump({"object": obj.name, "fingers": 2, "contact": args.contact, "mu": args.mu,
+                   "size": obj.size, "grasps": [r.to_dict() for r in found]}, sys.stdout,
+                  indent=2)
+        sys.stdout.write("\n")
+    else:
+        print(f"{obj.name}: {len(found)} best two-finger grasps ({args.contact} fingers, "
+              f"mu {args.mu:g}), ranked by the shorter independent segment")
+        if not found:
+            print("  no pair of edges admits a force-closure grasp with this friction")
+        for rank, r in enumerate(found, start=1):
+            (a, b), (c, d) = np.round(r.points, 4).tolist()
+            print(f"  {rank}. edges {r.edges[0]} and {r.edges[1]}: "
+                  f"{a} to {b}  and  {c} to {d}")
+            print(f"     segments {r.lengths[0]:.4g} and {r.lengths[1]:.4g} long "
+                  f"({r.min_length / obj.size:.1%} of the object's size); "
+                  f"certified: {r.certify().holds}")
+    if args.plot:
+        from .plot import plot_regions
+
+        if found:
+            plot_regions(found, args.plot)
+            print(f"  picture: {args.plot}", file=sys.stderr if args.json else sys.stdout)
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``forceclosure`` command."""
     parser = argparse.ArgumentParser(
@@ -197,6 +246,22 @@ def build_parser() -> argparse.ArgumentParser:
     i.add_argument("--allow-open", action="store_true",
                    help="accept open or non-manifold meshes instead of refusing them")
     i.set_defaults(run=_cmd_inspect)
+    y = sub.add_parser("synthesize", help="where to put the fingers: independent regions",
+                       description="Find the best force-closure grasps on an object and the "
+                                   "independent regions of contact around them (Nguyen 1988, "
+                                   "§5): every choice of one point per region is "
+                                   "force-closure.")
+    y.add_argument("object", metavar="OBJECT", help="a polygon file or a bundled name")
+    y.add_argument("--fingers", type=int, default=2, help="number of fingers (default 2)")
+    y.add_argument("--contact", choices=("hard", "soft", "frictionless"), default="hard",
+                   help="contact model (in the plane a soft finger acts as a hard one)")
+    y.add_argument("--mu", type=float, default=0.3, help="friction coefficient (default 0.3)")
+    y.add_argument("--top", type=int, default=5, help="how many grasps (default 5)")
+    y.add_argument("--margin", type=float, default=1e-3,
+                   help="radians kept between every region grasp and the cone boundary")
+    y.add_argument("--json", action="store_true", help="print JSON for machines")
+    y.add_argument("--plot", metavar="OUT", help="save a picture (.png or .svg)")
+    y.set_defaults(run=_cmd_synthesize)
     parser.epilog = f"Verdicts within {TOLERANCE:g} of the boundary are 'marginal'."
     return parser
 
@@ -212,6 +277,9 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("forceclosure: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # the reader (e.g. `head`) closed the pipe: stop quietly
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
     except Exception as e:  # an internal error: one line unless debugging
         if os.environ.get("FORCECLOSURE_DEBUG"):
             raise

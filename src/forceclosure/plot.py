@@ -77,6 +77,21 @@ def _polyhedron_axes(ax, poly: Polyhedron, label_faces: bool) -> None:
     ax.set_zlabel("z")
 
 
+def _save(fig, path: str | Path | None) -> None:
+    """Save as PNG or SVG by the extension; a bad path is one InputError line."""
+    if path is None:
+        return
+    path = Path(path)
+    if path.suffix.lower() not in (".png", ".svg"):
+        plt.close(fig)
+        raise InputError(f"{path}: plots are saved as .png or .svg")
+    try:
+        fig.savefig(path, dpi=130, bbox_inches="tight")
+    except OSError as e:
+        plt.close(fig)
+        raise InputError(f"{path}: cannot write the plot: {e.strerror}") from None
+
+
 def plot_object(obj: Polygon | Polyhedron, path: str | Path | None = None,
                 title: str | None = None):
     """Draw an object; save it to ``path`` (``.png`` or ``.svg``) when given.
@@ -102,14 +117,42 @@ def plot_object(obj: Polygon | Polyhedron, path: str | Path | None = None,
     counts = (f"{summary['edges']} edges" if obj.dim == 2
               else f"{summary['faces']} planar faces from {summary['triangles']} triangles")
     ax.set_title(title or f"{obj.name}: {counts}", fontsize=10)
-    if path is not None:
-        path = Path(path)
-        if path.suffix.lower() not in (".png", ".svg"):
-            plt.close(fig)
-            raise InputError(f"{path}: plots are saved as .png or .svg")
-        try:
-            fig.savefig(path, dpi=130, bbox_inches="tight")
-        except OSError as e:
-            plt.close(fig)
-            raise InputError(f"{path}: cannot write the plot: {e.strerror}") from None
+    _save(fig, path)
+    return fig
+
+
+def plot_regions(regions: list, path: str | Path | None = None, title: str | None = None):
+    """Independent regions on a polygon, in the spirit of the paper's Fig. 7.
+
+    The polygon, each grasp's two segments in bold (one colour per grasp,
+    numbered by rank), and the friction cones at the segments' ends.
+    """
+    if not regions:
+        raise InputError("no regions to draw")
+    polygon = regions[0].polygon
+    fig, ax = plt.subplots(figsize=(6, 6))
+    _polygon_axes(ax, polygon, label_edges=False)
+    cmap = plt.get_cmap("tab10")
+    reach = polygon.size * 0.18
+    for rank, r in enumerate(regions):
+        colour = cmap(rank % 10)
+        for (a, b), e, mu in zip(r.points, (polygon.edges[k] for k in r.edges), r.mu,
+                                 strict=True):
+            ax.plot(*np.array([a, b]).T, color=colour, linewidth=4.5, solid_capstyle="butt",
+                    zorder=3)
+            half = np.arctan(mu)
+            push = -e.normal
+            for corner in (a, b):  # the cone of forces the finger can push with
+                for s in (-1, 1):
+                    c, d = np.cos(s * half), np.sin(s * half)
+                    ray = np.array([c * push[0] - d * push[1], d * push[0] + c * push[1]])
+                    ax.plot(*np.array([corner, corner + reach * ray]).T, color=colour,
+                            linewidth=0.8, alpha=0.7, zorder=2)
+            mid = (a + b) / 2 + e.normal * polygon.size * 0.05
+            ax.text(*mid, str(rank + 1), color=colour, fontsize=10, fontweight="bold",
+                    ha="center", va="center")
+    best = regions[0]
+    ax.set_title(title or f"{polygon.name}: {len(regions)} best two-finger grasps, mu "
+                 f"{best.mu[0]:g} (bold: independent regions)", fontsize=10)
+    _save(fig, path)
     return fig

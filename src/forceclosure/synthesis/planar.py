@@ -255,6 +255,20 @@ class IndependentRegions:
         return np.array([[self.polygon.edges[e].point(t) for t in seg]
                          for e, seg in zip(self.edges, self.segments, strict=True)])
 
+    def to_dict(self) -> dict[str, object]:
+        """The JSON record of the regions (object coordinates, lengths, certificate)."""
+        cert = self.certify()
+        return {"edges": list(self.edges),
+                "segments": [list(seg) for seg in self.segments],
+                "points": self.points.tolist(),
+                "lengths": list(self.lengths),
+                "min_length": self.min_length,
+                "relative_min_length": self.min_length / self.polygon.size,
+                "mu": list(self.mu),
+                "construction": self.construction,
+                "certificate": {"holds": cert.holds, "method": cert.method,
+                                "detail": cert.detail}}
+
     def certify(self) -> Certificate:
         """Prove, in exact rational arithmetic, that every pair of points is force-closure.
 
