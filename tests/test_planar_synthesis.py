@@ -176,3 +176,24 @@ def test_synthesize_refusals(argv, message, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err.strip()
     assert message in err and len(err.splitlines()) == 1
+
+
+@pytest.mark.parametrize("polygon", [*OBJECTS, _glyph("B")], ids=lambda p: p.name)
+def test_nguyen_regions_hold_and_never_beat_the_maximal_ones(polygon):
+    from forceclosure.synthesis import nguyen_regions
+
+    rng = np.random.default_rng(2)
+    mu = 0.35
+    built = 0
+    for i in range(len(polygon.edges)):
+        for j in range(i + 1, len(polygon.edges)):
+            n = nguyen_regions(polygon, i, j, mu)
+            if n is None:
+                continue
+            built += 1
+            assert n.certify().holds
+            t1, t2 = _sample_box(n, rng, 500)
+            assert np.all(_closed_form(polygon, i, j, t1, t2, mu).force_closure)
+            m = maximal_regions(polygon, i, j, mu)
+            assert m is not None and m.min_length >= n.min_length * (1 - 1e-9) - 1e-12
+    assert built > 0

@@ -8,8 +8,9 @@ from .planar import (
     best_regions,
     counter_overlapping_sector,
     maximal_regions,
+    nguyen_regions,
     pair_grasps,
 )
 
 __all__ = ["Certificate", "IndependentRegions", "PairGrasps", "Sector", "best_regions",
-           "counter_overlapping_sector", "maximal_regions", "pair_grasps"]
+           "counter_overlapping_sector", "maximal_regions", "nguyen_regions", "pair_grasps"]
