@@ -78,6 +78,28 @@ def main() -> None:
           f"{nguyen_empty}")
     print(f"cost per candidate pair: maximal LP {t_max / candidates * 1e3:.2f} ms, Nguyen "
           f"{t_ng / candidates * 1e3:.2f} ms (paper: 50 ms per pair, Symbolics Zeta Lisp)")
+    whole_polygon(mu=args.mu)
+
+
+
+
+def whole_polygon(edges: int = 1000, mu: float = 0.3) -> None:
+    """All edge pairs of a large polygon at once (the issue's 1000-edge case)."""
+    from forceclosure.synthesis import best_regions
+
+    theta = np.sort(np.random.default_rng(1).uniform(0, 2 * np.pi, edges))
+    radius = 1 + 0.05 * np.sin(7 * theta)
+    poly = Polygon.from_points(np.stack([radius * np.cos(theta), radius * np.sin(theta)], 1),
+                               name=f"{edges}-gon")
+    n = len(poly.edges)
+    times = []
+    for _ in range(3):
+        t = time.perf_counter()
+        best_regions(poly, mu, top=5)
+        times.append(time.perf_counter() - t)
+    pairs = n * (n - 1) // 2
+    print(f"whole polygon: {n} edges, {pairs} pairs, best 5 with maximal regions in "
+          f"{min(times):.2f} s ({min(times) / pairs * 1e6:.2f} us per pair; paper: 50 ms)")
 
 
 if __name__ == "__main__":

@@ -29,27 +29,29 @@ from fractions import Fraction
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import linprog
 
 from ..errors import InputError
 from ..objects.polygon import Edge, Polygon
 
 #: Default angular margin (radians) kept between region grasps and the cone boundary.
 ANGLE_MARGIN = 1e-3
-
-
-def _perp(v: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Rotate by +90 degrees: ``cross(m, w) = perp(m) . w``."""
-    return np.array([-v[1], v[0]])
+#: Edge pairs solved at once by :func:`max_min_segments` (bounds the memory used).
+CHUNK = 2_048
 
 
 def _functionals(m_p, mu_p, m_q, mu_q) -> NDArray[np.float64]:
     """The four linear functionals ``l_k`` with Corollary 3 <=> ``l_k . w > 0`` for all k.
 
-    ``m_p = -n_p`` and ``m_q = -n_q`` are the pushing directions; ``w = q - p``.
+    ``m_p = -n_p`` and ``m_q = -n_q`` are the pushing directions (``(..., 2)``
+    arrays), ``w = q - p``; the result is ``(..., 4, 2)``.
     """
-    return np.array([mu_p * m_p - _perp(m_p), mu_p * m_p + _perp(m_p),
-                     -mu_q * m_q + _perp(m_q), -mu_q * m_q - _perp(m_q)])
+    m_p, m_q = np.asarray(m_p, float), np.asarray(m_q, float)
+    mu_p = np.asarray(mu_p, float)[..., None]
+    mu_q = np.asarray(mu_q, float)[..., None]
+    perp_p = np.stack([-m_p[..., 1], m_p[..., 0]], axis=-1)
+    perp_q = np.stack([-m_q[..., 1], m_q[..., 0]], axis=-1)
+    return np.stack([mu_p * m_p - perp_p, mu_p * m_p + perp_p,
+                     -mu_q * m_q + perp_q, -mu_q * m_q - perp_q], axis=-2)
 
 
 @dataclass(frozen=True)
@@ -95,13 +97,20 @@ def counter_overlapping_sector(n_p, mu_p: float, n_q, mu_q: float) -> Sector | N
     return Sector(theta_p + low, theta_p + high)
 
 
+def _affine_arrays(start1, dir1, normal1, start2, dir2, normal2, mu_p, mu_q):
+    """``(A, b)`` with Corollary 3 <=> ``A @ (t1, t2) + b > 0``, for ``(..., 2)`` edge data."""
+    ell = _functionals(-normal1, mu_p, -normal2, mu_q)  # (..., 4, 2)
+    # w = (start2 - start1) + t2 d2 - t1 d1
+    A = np.stack([-np.einsum("...kj,...j->...k", ell, dir1),
+                  np.einsum("...kj,...j->...k", ell, dir2)], axis=-1)
+    b = np.einsum("...kj,...j->...k", ell, start2 - start1)
+    return A, b
+
+
 def _affine(e1: Edge, e2: Edge, mu_p: float, mu_q: float) -> tuple[NDArray, NDArray]:
     """``(A, b)`` with the conditions ``A @ (t1, t2) + b > 0`` (one row per functional)."""
-    ell = _functionals(-e1.normal, mu_p, -e2.normal, mu_q)
-    # w = (start2 - start1) + t2 d2 - t1 d1
-    A = np.stack([-(ell @ e1.direction), ell @ e2.direction], axis=1)
-    b = ell @ (e2.start - e1.start)
-    return A, b
+    return _affine_arrays(e1.start, e1.direction, e1.normal, e2.start, e2.direction,
+                          e2.normal, mu_p, mu_q)
 
 
 def _clip(poly: NDArray[np.float64], a: NDArray, b: float) -> NDArray[np.float64]:
@@ -304,14 +313,75 @@ class IndependentRegions:
                            "(linear conditions) at every pair of points")
 
 
+def _constraint_triples() -> NDArray[np.int64]:
+    """Triples of the 9 constraints; those with ``z >= 0`` tight give no regions anyway."""
+    from itertools import combinations
+
+    return np.array([t for t in combinations(range(9), 3) if 8 not in t])
+
+
+_TRIPLES = _constraint_triples()
+
+
+def max_min_segments(A: NDArray, b: NDArray, L1: NDArray, L2: NDArray,
+                     ) -> tuple[NDArray, NDArray, NDArray]:
+    """Solve the maximal-regions LP for many edge pairs at once, exactly.
+
+    For each pair: maximise ``z`` over segments ``[u1, u1 + z]`` of
+    ``[0, L1]`` and ``[u2, u2 + z]`` of ``[0, L2]`` such that
+    ``A @ (t1, t2) + b >= 0`` at all four corners. (Both segments may have
+    length exactly ``z``: shrinking a segment never breaks the conditions.)
+    The minimum of ``a1 t1 + a2 t2`` over the corners takes ``u`` or
+    ``u + z`` by the coefficients' signs, so each condition is linear in
+    ``x = (u1, u2, z)``. That leaves a three-variable LP with 9 constraints,
+    whose optimum is a vertex: one of the triples of tight constraints (56,
+    leaving out ``z >= 0``, which only an empty answer would need), all
+    solved at once by Cramer's rule and filtered for feasibility.
+
+    Parameters
+    ----------
+    A : (P, 4, 2), b : (P, 4), L1, L2 : (P,)
+
+    Returns
+    -------
+    z, u1, u2 : (P,) arrays
+        ``z`` is ``-inf`` where no segments satisfy the conditions.
+    """
+    P = len(b)
+    c = np.minimum(A[..., 0], 0) + np.minimum(A[..., 1], 0)
+    G = np.zeros((P, 9, 3))
+    h = np.zeros((P, 9))
+    G[:, :4, 0], G[:, :4, 1], G[:, :4, 2], h[:, :4] = -A[..., 0], -A[..., 1], -c, b
+    G[:, 4, 0] = G[:, 5, 1] = G[:, 8, 2] = -1.0  # u1 >= 0, u2 >= 0, z >= 0
+    G[:, 6, 0] = G[:, 6, 2] = G[:, 7, 1] = G[:, 7, 2] = 1.0  # u + z <= L
+    h[:, 6], h[:, 7] = L1, L2
+    scale = np.maximum(np.abs(G).max(axis=2), 1e-300)
+    G, h = G / scale[..., None], h / scale
+    r1, r2, r3 = (G[:, _TRIPLES[:, k]] for k in range(3))  # (P, 84, 3)
+    h1, h2, h3 = (h[:, _TRIPLES[:, k]] for k in range(3))
+    c23, c31, c12 = np.cross(r2, r3), np.cross(r3, r1), np.cross(r1, r2)
+    det = np.einsum("pti,pti->pt", r1, c23)
+    ok = np.abs(det) > 1e-12
+    x = (h1[..., None] * c23 + h2[..., None] * c31 + h3[..., None] * c12) / np.where(
+        ok, det, 1.0)[..., None]
+    slack = h[:, None, :] - np.einsum("pkj,ptj->ptk", G, x)
+    tol = 1e-9 * np.maximum(1.0, np.maximum(L1, L2))[:, None]
+    feasible = ok & np.all(slack >= -tol[..., None], axis=2)
+    z = np.where(feasible, x[..., 2], -np.inf)
+    best = np.argmax(z, axis=1)
+    rows = np.arange(P)
+    return z[rows, best], x[rows, best, 0], x[rows, best, 1]
+
+
 def maximal_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | None = None,
                     margin: float = ANGLE_MARGIN) -> IndependentRegions | None:
     """The largest independent regions of contact on edges ``i`` and ``j`` (exact LP).
 
     Maximises the shorter segment's length, subject to every pair of points
     being force-closure with at least ``margin`` radians to spare in both
-    cones. The conditions are linear in the four segment endpoints (checked
-    at the corners), so this is a linear program with five variables.
+    cones. The conditions are linear in the segment endpoints (checked at
+    the corners), so this is a small linear program, solved exactly by
+    :func:`max_min_segments`.
 
     Returns None when the pair has no such regions.
 
@@ -334,32 +404,27 @@ def maximal_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | N
                                                       shrink[1]) is None:
         return None
     A, b = _affine(e1, e2, *shrink)
-    # variables x = (u1, v1, u2, v2, z); maximise z
-    rows, rhs = [], []
-    for (a1, a2), off in zip(A, b, strict=True):
-        row = np.zeros(5)
-        row[0 if a1 >= 0 else 1] -= a1  # the corner minimising a1 t1 + a2 t2
-        row[2 if a2 >= 0 else 3] -= a2
-        rows.append(row)
-        rhs.append(off)
-    rows += [[1, -1, 0, 0, 1], [0, 0, 1, -1, 1]]  # z <= v - u on both edges
-    rhs += [0, 0]
-    bounds = [(0, e1.length), (0, e1.length), (0, e2.length), (0, e2.length), (0, None)]
-    res = linprog([0, 0, 0, 0, -1], A_ub=np.array(rows), b_ub=np.array(rhs), bounds=bounds,
-                  method="highs")
-    if res.status != 0 or res.x[4] <= 1e-9 * max(e1.length, e2.length):
+    z, u1, u2 = max_min_segments(A[None], b[None], np.array([e1.length]),
+                                 np.array([e2.length]))
+    return _certified(polygon, i, j, float(z[0]), float(u1[0]), float(u2[0]), (mu, mu_q))
+
+
+def _certified(polygon: Polygon, i: int, j: int, z: float, u1: float, u2: float,
+               mu: tuple[float, float]) -> IndependentRegions | None:
+    """Segments of length ``z`` from ``u1``, ``u2``, returned only with a holding certificate."""
+    e1, e2 = polygon.edges[i], polygon.edges[j]
+    z = float(z)
+    if not z > 1e-9 * max(e1.length, e2.length):
         return None
-    u1, v1, u2, v2 = res.x[:4] + 0.0  # + 0.0: no negative zeros
-    regions = IndependentRegions(polygon, (i, j), ((float(u1), float(v1)),
-                                                   (float(u2), float(v2))),
-                                 (float(mu), float(mu_q)), "maximal (linear program)")
-    if not regions.certify().holds:  # the solver's tolerance cut a corner: trim and retry
-        tight = [(u + 1e-9 * (v - u), v - 1e-9 * (v - u)) for u, v in regions.segments]
-        regions = IndependentRegions(polygon, (i, j), tuple(tight), regions.mu,
-                                     regions.construction)
-        if not regions.certify().holds:
-            return None
-    return regions
+    u1, u2 = max(float(u1), 0.0) + 0.0, max(float(u2), 0.0) + 0.0  # + 0.0: no -0.0
+    segments = ((u1, min(u1 + z, e1.length)), (u2, min(u2 + z, e2.length)))
+    mu = (float(mu[0]), float(mu[1]))
+    for trim in (0.0, 1e-9):  # should rounding have cut a corner, trim and check again
+        cut = tuple((u + trim * (v - u), v - trim * (v - u)) for u, v in segments)
+        regions = IndependentRegions(polygon, (i, j), cut, mu, "maximal (linear program)")
+        if regions.certify().holds:
+            return regions
+    return None
 
 
 def _ray_hits(edge: Edge, direction: NDArray) -> tuple[NDArray, float]:
@@ -456,10 +521,11 @@ def best_regions(polygon: Polygon, mu: float, top: int = 5,
                  margin: float = ANGLE_MARGIN) -> list[IndependentRegions]:
     """Independent regions for two hard fingers on every pair of edges, best first.
 
-    Pairs whose friction cones cannot counter-overlap are pruned before any
-    linear program (a test on the two normals). The rest get
-    :func:`maximal_regions`, and the results are ranked by their shorter
-    segment, the placement error the grasp tolerates.
+    Pairs whose friction cones cannot counter-overlap are pruned by a test on
+    the two normals. The rest are solved together by
+    :func:`max_min_segments`. They are ranked by their shorter segment (the
+    placement error the grasp tolerates; ties by edge indices), and the
+    ``top`` ones are returned, each certified.
 
     Examples
     --------
@@ -468,18 +534,35 @@ def best_regions(polygon: Polygon, mu: float, top: int = 5,
     >>> [r.edges for r in best], round(best[0].min_length, 3)
     ([(0, 3), (1, 4), (2, 5)], 0.518)
     """
-    if not isinstance(top, int) or top < 1:
+    if not isinstance(top, int) or isinstance(top, bool) or top < 1:
         raise InputError(f"'top' must be a positive integer, got {top!r}")
     _check_mu(mu, mu)
+    shrunk = math.tan(max(math.atan(mu) - margin, 0.0))
+    edges = polygon.edges
+    if shrunk <= 0:
+        return []
+    start, direction, normal, length = (np.array([getattr(e, k) for e in edges])
+                                        for k in ("start", "direction", "normal", "length"))
+    i, j = np.triu_indices(len(edges), 1)
+    # prune: the cones counter-overlap iff -n_i and n_j are less than 2 atan(mu) apart
+    m_i = -normal[i]
+    delta = np.arctan2(m_i[:, 0] * normal[j, 1] - m_i[:, 1] * normal[j, 0],
+                       np.einsum("pj,pj->p", m_i, normal[j]))
+    keep = np.abs(delta) < 2 * math.atan(shrunk)
+    i, j = i[keep], j[keep]
+    z = np.full(len(i), -np.inf)
+    u1, u2 = np.zeros(len(i)), np.zeros(len(i))
+    for lo in range(0, len(i), CHUNK):
+        sl = slice(lo, lo + CHUNK)
+        A, b = _affine_arrays(start[i[sl]], direction[i[sl]], normal[i[sl]], start[j[sl]],
+                              direction[j[sl]], normal[j[sl]], shrunk, shrunk)
+        z[sl], u1[sl], u2[sl] = max_min_segments(A, b, length[i[sl]], length[j[sl]])
+    order = np.lexsort((j, i, -np.round(z / polygon.size, 12)))
     found = []
-    n = len(polygon.edges)
-    for i in range(n):
-        for j in range(i + 1, n):
-            e1, e2 = polygon.edges[i], polygon.edges[j]
-            if counter_overlapping_sector(e1.normal, mu, e2.normal, mu) is None:
-                continue
-            regions = maximal_regions(polygon, i, j, mu, margin=margin)
-            if regions is not None:
-                found.append(regions)
-    found.sort(key=lambda r: -r.min_length)
-    return found[:top]
+    for k in order:
+        if len(found) == top or not z[k] > 0:
+            break
+        regions = _certified(polygon, int(i[k]), int(j[k]), z[k], u1[k], u2[k], (mu, mu))
+        if regions is not None:
+            found.append(regions)
+    return found
