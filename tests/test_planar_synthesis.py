@@ -161,13 +161,13 @@ def test_synthesize_command(tmp_path, capsys):
     assert np.asarray(best["points"]).shape == (2, 2, 2)
     assert picture.read_bytes()[:4] == b"\x89PNG"
     assert main(["synthesize", "l-shape"]) == 0
-    assert "1. edges" in capsys.readouterr().out
+    assert "1. edge " in capsys.readouterr().out
 
 
 @pytest.mark.parametrize("argv,message", [
     (["synthesize", "cube"], "polyhedra is not implemented yet"),
-    (["synthesize", "square", "--fingers", "4"], "only two-finger synthesis"),
-    (["synthesize", "square", "--contact", "frictionless"], "never force-closure"),
+    (["synthesize", "square", "--fingers", "4"], "implemented so far are two fingers"),
+    (["synthesize", "square", "--contact", "frictionless"], "the plane needs four"),
     (["synthesize", "square", "--mu", "-1"], "--mu must be a positive number"),
     (["synthesize", "square", "--top", "0"], "'top' must be a positive integer"),
 ])

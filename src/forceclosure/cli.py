@@ -175,38 +175,39 @@ def _cmd_inspect(args: argparse.Namespace) -> int:
 
 def _cmd_synthesize(args: argparse.Namespace) -> int:
     from .objects.io import load_object
-    from .synthesis import best_regions
+    from .synthesis import best_frictionless_regions, best_regions
 
     obj = load_object(args.object)
     if obj.dim == 3:
         raise InputError(f"{obj.name}: synthesis on polyhedra is not implemented yet; "
                          "planar objects only")
-    if args.fingers != 2:
-        raise InputError(f"--fingers {args.fingers}: only two-finger synthesis is "
-                         "implemented so far")
-    if args.contact == "frictionless":
-        raise InputError("two frictionless fingers are never force-closure (the plane needs "
-                         "four contacts without friction)")
-    if not (args.mu > 0 and np.isfinite(args.mu)):
+    frictionless = args.contact == "frictionless"
+    if (args.fingers, frictionless) not in ((2, False), (4, True)):
+        raise InputError(f"--fingers {args.fingers} --contact {args.contact}: implemented so "
+                         "far are two fingers with friction (hard or soft) and four "
+                         "frictionless fingers (the plane needs four without friction)")
+    if not frictionless and not (args.mu > 0 and np.isfinite(args.mu)):
         raise InputError(f"--mu must be a positive number, got {args.mu:g}")
-    found = best_regions(obj, args.mu, top=args.top, margin=args.margin)
+    mu = 0.0 if frictionless else args.mu
+    found = (best_frictionless_regions(obj, top=args.top) if frictionless
+             else best_regions(obj, mu, top=args.top, margin=args.margin))
     if args.json:
-        json.dump({"object": obj.name, "fingers": 2, "contact": args.contact, "mu": args.mu,
-                   "size": obj.size, "grasps": [r.to_dict() for r in found]}, sys.stdout,
-                  indent=2)
+        json.dump({"object": obj.name, "fingers": args.fingers, "contact": args.contact,
+                   "mu": mu, "size": obj.size, "grasps": [r.to_dict() for r in found]},
+                  sys.stdout, indent=2)
         sys.stdout.write("\n")
     else:
-        print(f"{obj.name}: {len(found)} best two-finger grasps ({args.contact} fingers, "
-              f"mu {args.mu:g}), ranked by the shorter independent segment")
+        friction = "frictionless" if frictionless else f"{args.contact} fingers, mu {mu:g}"
+        print(f"{obj.name}: {len(found)} best {args.fingers}-finger grasps ({friction}), "
+              "ranked by the shortest independent segment")
         if not found:
-            print("  no pair of edges admits a force-closure grasp with this friction")
+            print("  no choice of edges admits a force-closure grasp")
         for rank, r in enumerate(found, start=1):
-            (a, b), (c, d) = np.round(r.points, 4).tolist()
-            print(f"  {rank}. edges {r.edges[0]} and {r.edges[1]}: "
-                  f"{a} to {b}  and  {c} to {d}")
-            print(f"     segments {r.lengths[0]:.4g} and {r.lengths[1]:.4g} long "
-                  f"({r.min_length / obj.size:.1%} of the object's size); "
-                  f"certified: {r.certify().holds}")
+            spans = "; ".join(f"edge {e}: {a} to {b}" for e, (a, b) in
+                              zip(r.edges, np.round(r.points, 4).tolist(), strict=True))
+            print(f"  {rank}. {spans}")
+            print(f"     shortest segment {r.min_length:.4g} ({r.min_length / obj.size:.1%} of "
+                  f"the object's size); certified: {r.certify().holds}")
     if args.plot:
         from .plot import plot_regions
 

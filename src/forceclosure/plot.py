@@ -122,10 +122,11 @@ def plot_object(obj: Polygon | Polyhedron, path: str | Path | None = None,
 
 
 def plot_regions(regions: list, path: str | Path | None = None, title: str | None = None):
-    """Independent regions on a polygon, in the spirit of the paper's Fig. 7.
+    """Independent regions on a polygon, in the spirit of the paper's Fig. 7 and 10.
 
-    The polygon, each grasp's two segments in bold (one colour per grasp,
-    numbered by rank), and the friction cones at the segments' ends.
+    The polygon, each grasp's segments in bold (one colour per grasp,
+    numbered by rank), and at the segments' ends the friction cones (two
+    fingers with friction) or the pushing directions (frictionless fingers).
     """
     if not regions:
         raise InputError("no regions to draw")
@@ -136,14 +137,15 @@ def plot_regions(regions: list, path: str | Path | None = None, title: str | Non
     reach = polygon.size * 0.18
     for rank, r in enumerate(regions):
         colour = cmap(rank % 10)
-        for (a, b), e, mu in zip(r.points, (polygon.edges[k] for k in r.edges), r.mu,
+        mus = getattr(r, "mu", (0.0,) * len(r.edges))
+        for (a, b), e, mu in zip(r.points, (polygon.edges[k] for k in r.edges), mus,
                                  strict=True):
             ax.plot(*np.array([a, b]).T, color=colour, linewidth=4.5, solid_capstyle="butt",
                     zorder=3)
             half = np.arctan(mu)
             push = -e.normal
             for corner in (a, b):  # the cone of forces the finger can push with
-                for s in (-1, 1):
+                for s in ((-1, 1) if mu > 0 else (0,)):
                     c, d = np.cos(s * half), np.sin(s * half)
                     ray = np.array([c * push[0] - d * push[1], d * push[0] + c * push[1]])
                     ax.plot(*np.array([corner, corner + reach * ray]).T, color=colour,
@@ -151,8 +153,9 @@ def plot_regions(regions: list, path: str | Path | None = None, title: str | Non
             mid = (a + b) / 2 + e.normal * polygon.size * 0.05
             ax.text(*mid, str(rank + 1), color=colour, fontsize=10, fontweight="bold",
                     ha="center", va="center")
-    best = regions[0]
-    ax.set_title(title or f"{polygon.name}: {len(regions)} best two-finger grasps, mu "
-                 f"{best.mu[0]:g} (bold: independent regions)", fontsize=10)
+    fingers = len(regions[0].edges)
+    friction = f", mu {mus[0]:g}" if mus[0] > 0 else ", frictionless"
+    ax.set_title(title or f"{polygon.name}: {len(regions)} best {fingers}-finger grasps"
+                 f"{friction} (bold: independent regions)", fontsize=10)
     _save(fig, path)
     return fig

@@ -1,5 +1,10 @@
 """The reverse problem: where to put the fingers (Nguyen 1988, §4, §5)."""
 
+from .frictionless import (
+    FrictionlessRegions,
+    best_frictionless_regions,
+    maximal_frictionless_regions,
+)
 from .planar import (
     Certificate,
     IndependentRegions,
@@ -12,5 +17,17 @@ from .planar import (
     pair_grasps,
 )
 
-__all__ = ["Certificate", "IndependentRegions", "PairGrasps", "Sector", "best_regions",
-           "counter_overlapping_sector", "maximal_regions", "nguyen_regions", "pair_grasps"]
+__all__ = [
+    "Certificate",
+    "FrictionlessRegions",
+    "IndependentRegions",
+    "PairGrasps",
+    "Sector",
+    "best_frictionless_regions",
+    "best_regions",
+    "counter_overlapping_sector",
+    "maximal_frictionless_regions",
+    "maximal_regions",
+    "nguyen_regions",
+    "pair_grasps",
+]

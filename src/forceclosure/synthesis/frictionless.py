@@ -1,0 +1,222 @@
+"""Four frictionless fingers on four edges of a polygon (Nguyen 1988, §5.4).
+
+Frictionless contacts push along ``f_i = -n_i`` through ``p_i``, giving the
+wrenches ``w_i = (f_i, cross(p_i, f_i))``. Four wrenches in ``R^3`` of rank 3
+have a one-dimensional null space, spanned by the signed minors: ``sum_i C_i
+w_i = 0`` with ``C_i = (-1)^i det(W without column i)``. The grasp is
+force-closure (Theorem 1) iff the four ``C_i`` are nonzero with one common
+sign; a nonzero ``C_i`` also gives rank 3.
+
+Expanding a minor along its torque row, ``det = tau_j cross(f_k, f_l) -
+tau_k cross(f_j, f_l) + tau_l cross(f_j, f_k)``, which is linear in the
+torques. Each ``tau_i = cross(s_i + t_i d_i, f_i)`` is affine in its own edge
+parameter, so every ``C_i`` is **affine in (t1, ..., t4)**. This is the
+paper's observation that the condition of Corollary 2 is linear in the
+contacts, without the parallelograms. The independent regions are then a
+box in ``(t1, ..., t4)`` on whose 16 corners the conditions hold, the
+maximal such box is a small linear program, and its certificate is the
+corner check in exact rational arithmetic.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+from fractions import Fraction
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import linprog
+
+from ..errors import InputError
+from ..objects.polygon import Polygon
+from .planar import Certificate
+
+#: Default margin on the cofactors, relative to the polygon's size.
+COFACTOR_MARGIN = 1e-3
+
+
+def _cross(a, b):
+    return a[0] * b[1] - a[1] * b[0]
+
+
+def cofactors(points, forces) -> list:
+    """The signed minors ``C_i`` of four planar wrenches ``(f_i, cross(p_i, f_i))``.
+
+    Works on floats and on ``Fraction`` alike (exact when given fractions).
+    """
+    tau = [_cross(p, f) for p, f in zip(points, forces, strict=True)]
+    out = []
+    for i in range(4):
+        j, k, m = (x for x in range(4) if x != i)
+        minor = (tau[j] * _cross(forces[k], forces[m]) - tau[k] * _cross(forces[j], forces[m])
+                 + tau[m] * _cross(forces[j], forces[k]))
+        out.append(minor if i % 2 == 0 else -minor)
+    return out
+
+
+def _affine(polygon: Polygon, edges: tuple[int, ...]) -> tuple[NDArray, NDArray]:
+    """``C(t) = A @ t + b`` for the four cofactors (rows) and edge parameters (columns)."""
+    es = [polygon.edges[k] for k in edges]
+    forces = [-e.normal for e in es]
+    base = cofactors([e.start for e in es], forces)
+    A = np.zeros((4, 4))
+    for j in range(4):  # C is affine: the slope in t_j is C(start + d_j) - C(start)
+        moved = [e.start + (e.direction if k == j else 0) for k, e in enumerate(es)]
+        A[:, j] = np.array(cofactors(moved, forces)) - np.array(base)
+    return A, np.array(base)
+
+
+@dataclass(frozen=True, eq=False)
+class FrictionlessRegions:
+    """Four segments, one per edge, such that every choice of four points is force-closure.
+
+    Attributes
+    ----------
+    polygon : Polygon
+    edges : tuple of 4 int
+    segments : tuple of 4 (u, v)
+        Edge parameters of the segments.
+    construction : str
+    """
+
+    polygon: Polygon
+    edges: tuple[int, int, int, int]
+    segments: tuple[tuple[float, float], ...]
+    construction: str
+
+    @property
+    def lengths(self) -> tuple[float, ...]:
+        """Lengths of the four segments."""
+        return tuple(v - u for u, v in self.segments)
+
+    @property
+    def min_length(self) -> float:
+        """The finger-placement error the grasp tolerates."""
+        return min(self.lengths)
+
+    @property
+    def points(self) -> NDArray[np.float64]:
+        """``(4, 2, 2)``: each segment's ends in object coordinates."""
+        return np.array([[self.polygon.edges[e].point(t) for t in seg]
+                         for e, seg in zip(self.edges, self.segments, strict=True)])
+
+    def certify(self) -> Certificate:
+        """Prove, exactly, that every choice of one point per segment is force-closure.
+
+        The cofactors are affine in the four edge parameters, so they keep
+        one strict sign on the box of segments iff they do at its 16
+        corners. The corners are evaluated with ``fractions.Fraction`` from
+        the exact values of the floating-point data.
+        """
+        es = [self.polygon.edges[k] for k in self.edges]
+        forces = [[-Fraction(x) for x in e.normal] for e in es]
+        signs = set()
+        for corner in itertools.product(*self.segments):
+            pts = [[Fraction(s) + Fraction(t) * Fraction(d)
+                    for s, d in zip(e.start, e.direction, strict=True)]
+                   for e, t in zip(es, corner, strict=True)]
+            c = cofactors(pts, forces)
+            if any(x == 0 for x in c) or len({x > 0 for x in c}) != 1:
+                return Certificate(False, "corner check (exact rationals)",
+                                   f"the grasp at t = {tuple(round(x, 6) for x in corner)} is "
+                                   "not force-closure")
+            signs.add(c[0] > 0)
+        if len(signs) != 1:
+            return Certificate(False, "corner check (exact rationals)",
+                               "the cofactors change sign between corners")
+        return Certificate(True, "corner check (exact rationals)",
+                           "the four cofactors (the null vector of the wrenches) are nonzero "
+                           "with one sign at all 16 corners, hence (affine) everywhere")
+
+    def to_dict(self) -> dict[str, object]:
+        """The JSON record of the regions."""
+        cert = self.certify()
+        return {"edges": list(self.edges), "segments": [list(s) for s in self.segments],
+                "points": self.points.tolist(), "lengths": list(self.lengths),
+                "min_length": self.min_length,
+                "relative_min_length": self.min_length / self.polygon.size,
+                "construction": self.construction,
+                "certificate": {"holds": cert.holds, "method": cert.method,
+                                "detail": cert.detail}}
+
+
+def maximal_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, int],
+                                 margin: float = COFACTOR_MARGIN,
+                                 ) -> FrictionlessRegions | None:
+    """The largest independent regions for four frictionless fingers on four edges.
+
+    Maximises the shortest segment such that all four cofactors keep one
+    sign, at least ``margin * size`` from zero, on the whole box of
+    segments. Both signs are tried; each is a linear program in
+    ``(u1, ..., u4, z)`` with the segments ``[u_i, u_i + z]``.
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> r = maximal_frictionless_regions(bundled("square"), (0, 1, 2, 3))
+    >>> round(r.min_length, 3), r.certify().holds
+    (0.999, True)
+    """
+    edges = tuple(int(e) for e in edges)
+    if len(edges) != 4 or len(set(edges)) != 4:
+        raise InputError(f"four frictionless fingers need four different edges, got {edges}")
+    for e in edges:
+        if not 0 <= e < len(polygon.edges):
+            raise InputError(f"{polygon.name}: no edge {e}; edges are numbered 0 to "
+                             f"{len(polygon.edges) - 1}")
+    A, b = _affine(polygon, edges)
+    lengths = [polygon.edges[e].length for e in edges]
+    delta = margin * polygon.size
+    best = None
+    for sign in (1.0, -1.0):
+        sA, sb = sign * A, sign * b
+        # min over the box of sA_k . t = sA_k . u + sum_j min(sA_kj, 0) z  >=  delta - sb_k
+        rows = np.hstack([-sA, -np.minimum(sA, 0).sum(axis=1, keepdims=True)])
+        rhs = sb - delta
+        box = np.hstack([np.eye(4), np.ones((4, 1))])  # u_j + z <= L_j
+        res = linprog(np.r_[np.zeros(4), -1.0], A_ub=np.vstack([rows, box]),
+                      b_ub=np.r_[rhs, lengths], bounds=[(0, None)] * 5, method="highs")
+        if res.status == 0 and res.x[4] > 1e-9 * polygon.size and (
+                best is None or res.x[4] > best[4]):
+            best = res.x
+    if best is None:
+        return None
+    z = float(best[4])
+    for trim in (0.0, 1e-9):  # should rounding have cut a corner, trim and check again
+        segments = tuple((float(u) + trim * z + 0.0, min(float(u) + z, L) - trim * z)
+                         for u, L in zip(best[:4], lengths, strict=True))
+        regions = FrictionlessRegions(polygon, edges, segments, "maximal (linear program)")
+        if regions.certify().holds:
+            return regions
+    return None
+
+
+def best_frictionless_regions(polygon: Polygon, top: int = 5,
+                              margin: float = COFACTOR_MARGIN) -> list[FrictionlessRegions]:
+    """Independent regions for four frictionless fingers on every quadruple of edges.
+
+    A quadruple is pruned unless its four pushing directions ``-n_i``
+    positively span the plane (force-direction closure, Theorem 2: cheap and
+    necessary). The rest are ranked by their shortest segment.
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> [r.edges for r in best_frictionless_regions(bundled("hexagon"), top=2)]
+    [(0, 1, 3, 4), (0, 2, 3, 5)]
+    """
+    if not isinstance(top, int) or isinstance(top, bool) or top < 1:
+        raise InputError(f"'top' must be a positive integer, got {top!r}")
+    normals = np.array([e.normal for e in polygon.edges])
+    found = []
+    for quad in itertools.combinations(range(len(polygon.edges)), 4):
+        angles = np.sort(np.arctan2(-normals[list(quad), 1], -normals[list(quad), 0]))
+        gaps = np.diff(np.r_[angles, angles[0] + 2 * np.pi])
+        if gaps.max() >= np.pi - 1e-12:  # the directions fit in a half-plane
+            continue
+        regions = maximal_frictionless_regions(polygon, quad, margin)
+        if regions is not None:
+            found.append(regions)
+    found.sort(key=lambda r: (-round(r.min_length / polygon.size, 12), r.edges))
+    return found[:top]

@@ -1,0 +1,79 @@
+"""Four frictionless fingers (§5.4) against exact and independent checks."""
+
+import itertools
+from fractions import Fraction
+
+import numpy as np
+import pytest
+
+from forceclosure import InputError, Verdict, analyze, point_contact
+from forceclosure.objects import bundled
+from forceclosure.synthesis.frictionless import (
+    best_frictionless_regions,
+    cofactors,
+    maximal_frictionless_regions,
+)
+
+
+def test_cofactors_are_the_null_vector_exactly():
+    rng = np.random.default_rng(0)
+    for _ in range(20):
+        pts = [[Fraction(int(x), 4) for x in rng.integers(-8, 8, 2)] for _ in range(4)]
+        fs = [[Fraction(int(x), 3) for x in rng.integers(-6, 6, 2)] for _ in range(4)]
+        c = cofactors(pts, fs)
+        wrenches = [[*f, p[0] * f[1] - p[1] * f[0]] for p, f in zip(pts, fs, strict=True)]
+        for row in range(3):
+            assert sum(ci * w[row] for ci, w in zip(c, wrenches, strict=True)) == 0
+
+
+def test_cofactor_signs_decide_closure_like_theorem_1():
+    rng = np.random.default_rng(1)
+    seen = set()
+    for _ in range(300):
+        pts = rng.uniform(-1, 1, (4, 2))
+        angles = rng.uniform(0, 2 * np.pi, 4)
+        normals = np.stack([np.cos(angles), np.sin(angles)], 1)
+        c = np.array(cofactors(list(pts), list(-normals)))
+        same_sign = np.all(c > 0) or np.all(c < 0)
+        a = analyze([point_contact(p, n, "frictionless") for p, n in zip(pts, normals,
+                                                                         strict=True)])
+        if np.min(np.abs(c)) > 1e-3:
+            assert (a.verdict is Verdict.CLOSURE) == same_sign
+            seen.add(same_sign)
+    assert seen == {True, False}
+
+
+@pytest.mark.parametrize("name", ["square", "hexagon", "l-shape", "frame", "star",
+                                  "wrench-head", "bracket"])
+def test_every_quadruple_in_every_region_is_force_closure(name):
+    polygon = bundled(name)
+    rng = np.random.default_rng(2)
+    found = best_frictionless_regions(polygon, top=3)
+    assert found
+    for r in found:
+        assert r.certify().holds
+        edges = [polygon.edges[k] for k in r.edges]
+        corners = list(itertools.product(*r.segments))
+        samples = corners + [tuple(rng.uniform(u, v) for u, v in r.segments)
+                             for _ in range(40)]
+        for ts in samples:
+            grasp = [point_contact(e.point(t), e.normal, "frictionless")
+                     for e, t in zip(edges, ts, strict=True)]
+            assert analyze(grasp).verdict is Verdict.CLOSURE, (name, r.edges, ts)
+    lengths = [r.min_length for r in found]
+    assert all(a >= b - 1e-12 for a, b in itertools.pairwise(lengths))
+
+
+def test_square_pinwheel_is_half_of_each_side():
+    r = maximal_frictionless_regions(bundled("square"), (0, 1, 2, 3))
+    want = 1 - 1e-3 * bundled("square").size / 2  # the margin takes a little off each
+    assert r.min_length == pytest.approx(want, rel=1e-6)
+
+
+def test_refusals_and_empty_cases():
+    square = bundled("square")
+    with pytest.raises(InputError, match="four different edges"):
+        maximal_frictionless_regions(square, (0, 0, 1, 2))
+    with pytest.raises(InputError, match="no edge 7"):
+        maximal_frictionless_regions(square, (0, 1, 2, 7))
+    assert best_frictionless_regions(bundled("triangle")) == []  # three edges only
