@@ -6,24 +6,12 @@ import math
 import numpy as np
 import pytest
 import shapely
-from matplotlib.font_manager import FontProperties
-from matplotlib.textpath import TextPath
 
 from forceclosure import InputError, Verdict, analyze, point_contact
-from forceclosure.objects import Polygon, bundled
+from forceclosure.objects import Polygon, bundled, glyph
 from forceclosure.synthesis import best_regions, maximal_regions, pair_grasps
 from forceclosure.synthesis.planar import ANGLE_MARGIN
 from forceclosure.two_finger import two_finger_closure
-
-
-def _glyph(letter):
-    path = TextPath((0, 0), letter, size=10, prop=FontProperties(family="DejaVu Sans"))
-    geometry = shapely.Polygon()
-    for ring in path.to_polygons():
-        if len(ring) >= 4:
-            geometry = geometry.symmetric_difference(shapely.Polygon(ring))
-    part = max(getattr(geometry, "geoms", [geometry]), key=lambda g: g.area)
-    return Polygon.from_shapely(shapely.make_valid(part), name=f"glyph {letter}")
 
 
 def _random_convex(seed, n=7):
@@ -75,7 +63,7 @@ def _sample_box(regions, rng, n):
     return t1, t2
 
 
-@pytest.mark.parametrize("polygon", [*OBJECTS, _glyph("A"), _glyph("e")], ids=lambda p: p.name)
+@pytest.mark.parametrize("polygon", [*OBJECTS, glyph("A"), glyph("e")], ids=lambda p: p.name)
 def test_every_pair_in_every_region_is_force_closure(polygon):
     rng = np.random.default_rng(1)
     mu = 0.35
@@ -179,7 +167,7 @@ def test_synthesize_refusals(argv, message, capsys):
     assert message in err and len(err.splitlines()) == 1
 
 
-@pytest.mark.parametrize("polygon", [*OBJECTS, _glyph("B")], ids=lambda p: p.name)
+@pytest.mark.parametrize("polygon", [*OBJECTS, glyph("B")], ids=lambda p: p.name)
 def test_nguyen_regions_hold_and_never_beat_the_maximal_ones(polygon):
     from forceclosure.synthesis import nguyen_regions
 

@@ -99,6 +99,36 @@ POLYHEDRA: dict[str, tuple[str, Callable[[], Polyhedron]]] = {
 }
 
 
+def glyph(text: str, family: str = "DejaVu Sans", size: float = 10.0) -> Polygon:
+    """The outline of a letter from a font matplotlib bundles: a real non-convex polygon.
+
+    The glyph's contours are filled by the even-odd rule (so counters such as
+    the hole of an "A" become holes), and the largest part is kept (the dot
+    of an "i" is dropped).
+
+    Examples
+    --------
+    >>> a = glyph("A")
+    >>> len(a.holes), a.convex
+    (1, False)
+    """
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.textpath import TextPath
+
+    path = TextPath((0, 0), text, size=size, prop=FontProperties(family=family))
+    geometry = shapely.Polygon()
+    for ring in path.to_polygons():
+        if len(ring) >= 4:
+            geometry = geometry.symmetric_difference(shapely.Polygon(ring))
+    parts = [g for g in getattr(geometry, "geoms", [geometry]) if g.area > 0]
+    if not parts:
+        raise InputError(f"glyph {text!r}: the font draws no outline for it")
+    part = shapely.make_valid(max(parts, key=lambda g: g.area))
+    if part.geom_type != "Polygon":
+        part = max(getattr(part, "geoms", [part]), key=lambda g: g.area)
+    return Polygon.from_shapely(part, name=f"glyph {text}")
+
+
 def bundled(name: str) -> Polygon | Polyhedron:
     """A bundled example object by name (see :data:`POLYGONS` and :data:`POLYHEDRA`).
 

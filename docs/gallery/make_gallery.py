@@ -1,0 +1,41 @@
+"""Regenerate the pictures of docs/gallery.md.
+
+    uv run python docs/gallery/make_gallery.py
+"""
+
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import pybullet_data
+
+from forceclosure.objects import bundled, glyph
+from forceclosure.objects.io import load_object
+from forceclosure.plot import plot_object, plot_regions
+from forceclosure.synthesis import best_frictionless_regions, best_regions
+
+HERE = Path(__file__).parent
+
+
+def main() -> None:
+    pictures = {
+        "wrench-head-two-fingers.png": lambda: plot_regions(
+            best_regions(bundled("wrench-head"), 0.3, top=3)),
+        "bracket-four-frictionless.png": lambda: plot_regions(
+            best_frictionless_regions(bundled("bracket"), top=2)),
+        "glyph-A-two-fingers.png": lambda: plot_regions(best_regions(glyph("A"), 0.3, top=3)),
+        "glyph-e-two-fingers.png": lambda: plot_regions(best_regions(glyph("e"), 0.5, top=3)),
+        "frame-four-frictionless.png": lambda: plot_regions(
+            best_frictionless_regions(bundled("frame"), top=1)),
+        "holed-block.png": lambda: plot_object(bundled("holed-block")),
+        "pybullet-duck.png": lambda: plot_object(
+            load_object(Path(pybullet_data.getDataPath()) / "duck.obj")),
+    }
+    for name, draw in pictures.items():
+        fig = draw()
+        fig.savefig(HERE / name, dpi=90, bbox_inches="tight")
+        plt.close(fig)
+        print(HERE / name)
+
+
+if __name__ == "__main__":
+    main()
