@@ -5,6 +5,7 @@ from .frictionless import (
     best_frictionless_regions,
     maximal_frictionless_regions,
 )
+from .nguyen import nguyen_regions
 from .planar import (
     Certificate,
     IndependentRegions,
@@ -13,7 +14,6 @@ from .planar import (
     best_regions,
     counter_overlapping_sector,
     maximal_regions,
-    nguyen_regions,
     pair_grasps,
 )
 
