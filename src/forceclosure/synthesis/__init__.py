@@ -7,7 +7,6 @@ from .frictionless import (
 )
 from .nguyen import nguyen_regions
 from .planar import (
-    Certificate,
     IndependentRegions,
     PairGrasps,
     Sector,
@@ -16,12 +15,14 @@ from .planar import (
     maximal_regions,
     pair_grasps,
 )
+from .regions import Certificate, Regions
 
 __all__ = [
     "Certificate",
     "FrictionlessRegions",
     "IndependentRegions",
     "PairGrasps",
+    "Regions",
     "Sector",
     "best_frictionless_regions",
     "best_regions",

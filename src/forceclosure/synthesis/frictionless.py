@@ -30,7 +30,7 @@ from scipy.optimize import linprog
 
 from ..errors import InputError
 from ..objects.polygon import Polygon
-from .planar import Certificate
+from .regions import Certificate, Regions
 
 #: Default margin on the cofactors, relative to the polygon's size.
 COFACTOR_MARGIN = 1e-3
@@ -68,38 +68,8 @@ def _affine(polygon: Polygon, edges: tuple[int, ...]) -> tuple[NDArray, NDArray]
 
 
 @dataclass(frozen=True, eq=False)
-class FrictionlessRegions:
-    """Four segments, one per edge, such that every choice of four points is force-closure.
-
-    Attributes
-    ----------
-    polygon : Polygon
-    edges : tuple of 4 int
-    segments : tuple of 4 (u, v)
-        Edge parameters of the segments.
-    construction : str
-    """
-
-    polygon: Polygon
-    edges: tuple[int, int, int, int]
-    segments: tuple[tuple[float, float], ...]
-    construction: str
-
-    @property
-    def lengths(self) -> tuple[float, ...]:
-        """Lengths of the four segments."""
-        return tuple(v - u for u, v in self.segments)
-
-    @property
-    def min_length(self) -> float:
-        """The finger-placement error the grasp tolerates."""
-        return min(self.lengths)
-
-    @property
-    def points(self) -> NDArray[np.float64]:
-        """``(4, 2, 2)``: each segment's ends in object coordinates."""
-        return np.array([[self.polygon.edges[e].point(t) for t in seg]
-                         for e, seg in zip(self.edges, self.segments, strict=True)])
+class FrictionlessRegions(Regions):
+    """Four segments, one per edge, such that every choice of four points is force-closure."""
 
     def certify(self) -> Certificate:
         """Prove, exactly, that every choice of one point per segment is force-closure.
@@ -129,16 +99,6 @@ class FrictionlessRegions:
                            "the four cofactors (the null vector of the wrenches) are nonzero "
                            "with one sign at all 16 corners, hence (affine) everywhere")
 
-    def to_dict(self) -> dict[str, object]:
-        """The JSON record of the regions."""
-        cert = self.certify()
-        return {"edges": list(self.edges), "segments": [list(s) for s in self.segments],
-                "points": self.points.tolist(), "lengths": list(self.lengths),
-                "min_length": self.min_length,
-                "relative_min_length": self.min_length / self.polygon.size,
-                "construction": self.construction,
-                "certificate": {"holds": cert.holds, "method": cert.method,
-                                "detail": cert.detail}}
 
 
 def maximal_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, int],

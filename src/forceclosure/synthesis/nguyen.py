@@ -14,14 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..objects.polygon import Edge, Polygon
-from .planar import (
-    ANGLE_MARGIN,
-    IndependentRegions,
-    _check_mu,
-    _clip,
-    _edges,
-    counter_overlapping_sector,
-)
+from .planar import ANGLE_MARGIN, IndependentRegions, _clip, _shrunk_pair
 
 
 def _ray_hits(edge: Edge, direction: NDArray) -> tuple[NDArray, float]:
@@ -60,14 +53,10 @@ def nguyen_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | No
     >>> round(r.min_length, 3), r.certify().holds
     (0.598, True)
     """
-    mu_q = mu if mu_q is None else mu_q
-    _check_mu(mu, mu_q)
-    e1, e2 = _edges(polygon, i, j)
-    shrink = [math.tan(max(math.atan(m) - margin, 0.0)) for m in (mu, mu_q)]
-    sector = (counter_overlapping_sector(e1.normal, shrink[0], e2.normal, shrink[1])
-              if min(shrink) > 0 else None)
+    e1, e2, _, sector = _shrunk_pair(polygon, i, j, mu, mu_q, margin)
     if sector is None:
         return None
+    mu_q = mu if mu_q is None else mu_q
     rays = [np.array([math.cos(a), math.sin(a)]) for a in (sector.low, sector.high)]
     # Each cut endpoint, as an affine function of I: backward rays to e1, forward rays to e2.
     ends = []
@@ -109,6 +98,7 @@ def nguyen_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | No
     for lo, hi in ends:
         t = sorted(float(g @ best + h) for g, h in (lo, hi))
         segments.append((max(t[0], 0.0) + 0.0, t[1]))
-    regions = IndependentRegions(polygon, (i, j), tuple(segments), (float(mu), float(mu_q)),
-                                 "Nguyen's two-sided cone (Algorithm 1)")
+    regions = IndependentRegions(polygon, (i, j), tuple(segments),
+                                 "Nguyen's two-sided cone (Algorithm 1)",
+                                 (float(mu), float(mu_q)))
     return regions if regions.certify().holds else None

@@ -32,6 +32,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..objects.polygon import Edge, Polygon
+from .regions import Certificate, Regions
 
 #: Default angular margin (radians) kept between region grasps and the cone boundary.
 ANGLE_MARGIN = 1e-3
@@ -142,6 +143,18 @@ def _check_mu(mu_p: float, mu_q: float) -> None:
             raise InputError(f"friction coefficient must be a finite number >= 0, got {mu!r}")
 
 
+def _shrunk_pair(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | None,
+                 margin: float) -> tuple[Edge, Edge, list[float], Sector | None]:
+    """The two edges, the friction shrunk by ``margin`` radians, and the sector it leaves."""
+    mu_q = mu if mu_q is None else mu_q
+    _check_mu(mu, mu_q)
+    e1, e2 = _edges(polygon, i, j)
+    shrink = [math.tan(max(math.atan(m) - margin, 0.0)) for m in (mu, mu_q)]
+    sector = (counter_overlapping_sector(e1.normal, shrink[0], e2.normal, shrink[1])
+              if min(shrink) > 0 else None)
+    return e1, e2, shrink, sector
+
+
 @dataclass(frozen=True, eq=False)
 class PairGrasps:
     """Lemma 1: every force-closure grasp with one finger on each of two edges.
@@ -217,66 +230,21 @@ def _area(poly: NDArray[np.float64]) -> float:
     return 0.5 * abs(float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)))
 
 
-@dataclass(frozen=True)
-class Certificate:
-    """The proof that a region set is force-closure, and what it checked."""
-
-    holds: bool
-    method: str
-    detail: str
-
-
 @dataclass(frozen=True, eq=False)
-class IndependentRegions:
+class IndependentRegions(Regions):
     """Two segments, one per edge, such that *every* pair of points is force-closure.
 
-    Attributes
-    ----------
-    polygon : Polygon
-    edges : (int, int)
-    segments : ((u1, v1), (u2, v2))
-        Edge parameters of the segments.
-    points : (2, 2, 2) array
-        The segments' endpoints in object coordinates.
+    Attributes (beyond :class:`Regions`)
+    ------------------------------------
     mu : (float, float)
-    construction : str
+        The friction at each finger.
     """
 
-    polygon: Polygon
-    edges: tuple[int, int]
-    segments: tuple[tuple[float, float], tuple[float, float]]
-    mu: tuple[float, float]
-    construction: str
-
-    @property
-    def lengths(self) -> tuple[float, float]:
-        """Lengths of the two segments."""
-        return tuple(v - u for u, v in self.segments)
-
-    @property
-    def min_length(self) -> float:
-        """The finger-placement error the grasp tolerates."""
-        return min(self.lengths)
-
-    @property
-    def points(self) -> NDArray[np.float64]:
-        """``[[start, end] of s1, [start, end] of s2]`` in object coordinates."""
-        return np.array([[self.polygon.edges[e].point(t) for t in seg]
-                         for e, seg in zip(self.edges, self.segments, strict=True)])
+    mu: tuple[float, float] = (0.0, 0.0)
 
     def to_dict(self) -> dict[str, object]:
-        """The JSON record of the regions (object coordinates, lengths, certificate)."""
-        cert = self.certify()
-        return {"edges": list(self.edges),
-                "segments": [list(seg) for seg in self.segments],
-                "points": self.points.tolist(),
-                "lengths": list(self.lengths),
-                "min_length": self.min_length,
-                "relative_min_length": self.min_length / self.polygon.size,
-                "mu": list(self.mu),
-                "construction": self.construction,
-                "certificate": {"holds": cert.holds, "method": cert.method,
-                                "detail": cert.detail}}
+        """The JSON record (see :meth:`Regions.to_dict`), with ``mu``."""
+        return {**super().to_dict(), "mu": list(self.mu)}
 
     def certify(self) -> Certificate:
         """Prove, in exact rational arithmetic, that every pair of points is force-closure.
@@ -396,13 +364,10 @@ def maximal_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | N
     >>> round(r.min_length, 3), r.certify().holds
     (0.598, True)
     """
-    mu_q = mu if mu_q is None else mu_q
-    _check_mu(mu, mu_q)
-    e1, e2 = _edges(polygon, i, j)
-    shrink = [math.tan(max(math.atan(m) - margin, 0.0)) for m in (mu, mu_q)]
-    if min(shrink) <= 0 or counter_overlapping_sector(e1.normal, shrink[0], e2.normal,
-                                                      shrink[1]) is None:
+    e1, e2, shrink, sector = _shrunk_pair(polygon, i, j, mu, mu_q, margin)
+    if sector is None:
         return None
+    mu_q = mu if mu_q is None else mu_q
     A, b = _affine(e1, e2, *shrink)
     z, u1, u2 = max_min_segments(A[None], b[None], np.array([e1.length]),
                                  np.array([e2.length]))
@@ -421,7 +386,7 @@ def _certified(polygon: Polygon, i: int, j: int, z: float, u1: float, u2: float,
     mu = (float(mu[0]), float(mu[1]))
     for trim in (0.0, 1e-9):  # should rounding have cut a corner, trim and check again
         cut = tuple((u + trim * (v - u), v - trim * (v - u)) for u, v in segments)
-        regions = IndependentRegions(polygon, (i, j), cut, mu, "maximal (linear program)")
+        regions = IndependentRegions(polygon, (i, j), cut, "maximal (linear program)", mu)
         if regions.certify().holds:
             return regions
     return None

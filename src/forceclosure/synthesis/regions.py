@@ -1,0 +1,70 @@
+"""Independent regions of contact, whatever construction made them, and their proof."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..objects.polygon import Polygon
+
+
+@dataclass(frozen=True)
+class Certificate:
+    """The proof that a region set is force-closure, and what it checked."""
+
+    holds: bool
+    method: str
+    detail: str
+
+
+@dataclass(frozen=True, eq=False)
+class Regions:
+    """One segment per finger, such that every choice of one point per segment is
+    force-closure. Subclasses give :meth:`certify`, the proof.
+
+    Attributes
+    ----------
+    polygon : Polygon
+    edges : tuple of int
+        The edge each finger touches.
+    segments : tuple of (u, v)
+        Edge parameters (distances from each edge's start) of the segments.
+    construction : str
+    """
+
+    polygon: Polygon
+    edges: tuple[int, ...]
+    segments: tuple[tuple[float, float], ...]
+    construction: str
+
+    @property
+    def lengths(self) -> tuple[float, ...]:
+        """Lengths of the segments."""
+        return tuple(v - u for u, v in self.segments)
+
+    @property
+    def min_length(self) -> float:
+        """The finger-placement error the grasp tolerates."""
+        return min(self.lengths)
+
+    @property
+    def points(self) -> NDArray[np.float64]:
+        """``(fingers, 2, 2)``: each segment's ends in object coordinates."""
+        return np.array([[self.polygon.edges[e].point(t) for t in seg]
+                         for e, seg in zip(self.edges, self.segments, strict=True)])
+
+    def certify(self) -> Certificate:  # pragma: no cover - every subclass defines it
+        raise NotImplementedError
+
+    def to_dict(self) -> dict[str, object]:
+        """The JSON record: edges, segments, points, lengths, construction, certificate."""
+        cert = self.certify()
+        return {"edges": list(self.edges), "segments": [list(s) for s in self.segments],
+                "points": self.points.tolist(), "lengths": list(self.lengths),
+                "min_length": self.min_length,
+                "relative_min_length": self.min_length / self.polygon.size,
+                "construction": self.construction,
+                "certificate": {"holds": cert.holds, "method": cert.method,
+                                "detail": cert.detail}}
