@@ -158,6 +158,7 @@ def test_synthesize_command(tmp_path, capsys):
     (["synthesize", "square", "--contact", "frictionless"], "the plane needs four"),
     (["synthesize", "square", "--mu", "-1"], "--mu must be a positive number"),
     (["synthesize", "square", "--top", "0"], "'top' must be a positive integer"),
+    (["synthesize", "square", "--margin", "-0.1"], "margin must be an angle in radians"),
 ])
 def test_synthesize_refusals(argv, message, capsys):
     from forceclosure.cli import main

@@ -118,6 +118,9 @@ def maximal_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, i
     >>> round(r.min_length, 3), r.certify().holds
     (0.999, True)
     """
+    if not (isinstance(margin, int | float) and 0 < margin < 1):
+        raise InputError(f"margin must be a fraction of the object's size between 0 and 1, "
+                         f"got {margin!r}")
     edges = tuple(int(e) for e in edges)
     if len(edges) != 4 or len(set(edges)) != 4:
         raise InputError(f"four frictionless fingers need four different edges, got {edges}")

@@ -137,17 +137,20 @@ def _edges(polygon: Polygon, i: int, j: int) -> tuple[Edge, Edge]:
     return polygon.edges[i], polygon.edges[j]
 
 
-def _check_mu(mu_p: float, mu_q: float) -> None:
+def _check_mu(mu_p: float, mu_q: float, margin: float = ANGLE_MARGIN) -> None:
     for mu in (mu_p, mu_q):
         if not (isinstance(mu, int | float) and math.isfinite(mu) and mu >= 0):
             raise InputError(f"friction coefficient must be a finite number >= 0, got {mu!r}")
+    if not (isinstance(margin, int | float) and 0 < margin < math.pi / 2):
+        raise InputError(f"margin must be an angle in radians between 0 and pi/2, got "
+                         f"{margin!r}")
 
 
 def _shrunk_pair(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | None,
                  margin: float) -> tuple[Edge, Edge, list[float], Sector | None]:
     """The two edges, the friction shrunk by ``margin`` radians, and the sector it leaves."""
     mu_q = mu if mu_q is None else mu_q
-    _check_mu(mu, mu_q)
+    _check_mu(mu, mu_q, margin)
     e1, e2 = _edges(polygon, i, j)
     shrink = [math.tan(max(math.atan(m) - margin, 0.0)) for m in (mu, mu_q)]
     sector = (counter_overlapping_sector(e1.normal, shrink[0], e2.normal, shrink[1])
@@ -411,7 +414,7 @@ def best_regions(polygon: Polygon, mu: float, top: int = 5,
     """
     if not isinstance(top, int) or isinstance(top, bool) or top < 1:
         raise InputError(f"'top' must be a positive integer, got {top!r}")
-    _check_mu(mu, mu)
+    _check_mu(mu, mu, margin)
     shrunk = math.tan(max(math.atan(mu) - margin, 0.0))
     edges = polygon.edges
     if shrunk <= 0:
