@@ -191,10 +191,20 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
     mu = 0.0 if frictionless else args.mu
     found = (best_frictionless_regions(obj, top=args.top) if frictionless
              else best_regions(obj, mu, top=args.top, margin=args.margin))
+    corners = []
+    if args.vertices:
+        if frictionless:
+            raise InputError("--vertices puts soft fingers, with friction, on vertices; it "
+                             "does not go with --contact frictionless")
+        from .synthesis import vertex_grasps
+
+        corners = vertex_grasps(obj, mu, top=args.top)
     if args.json:
-        json.dump({"object": obj.name, "fingers": args.fingers, "contact": args.contact,
-                   "mu": mu, "size": obj.size, "grasps": [r.to_dict() for r in found]},
-                  sys.stdout, indent=2)
+        record = {"object": obj.name, "fingers": args.fingers, "contact": args.contact,
+                  "mu": mu, "size": obj.size, "grasps": [r.to_dict() for r in found]}
+        if args.vertices:
+            record["vertex_grasps"] = [g.to_dict() for g in corners]
+        json.dump(record, sys.stdout, indent=2)
         sys.stdout.write("\n")
     else:
         friction = "frictionless" if frictionless else f"{args.contact} fingers, mu {mu:g}"
@@ -208,6 +218,16 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
             print(f"  {rank}. {spans}")
             print(f"     shortest segment {r.min_length:.4g} ({r.min_length / obj.size:.1%} of "
                   f"the object's size); certified: {r.certify().holds}")
+        if args.vertices:
+            print(f"  with a soft finger on a convex vertex ({len(corners)} best):")
+            for rank, g in enumerate(corners, start=1):
+                vx = np.round(g.point, 4).tolist()
+                kind, k = g.other
+                where = (f"edge {k} from {np.round(obj.edges[k].point(g.segment[0]), 4).tolist()}"
+                         f" to {np.round(obj.edges[k].point(g.segment[1]), 4).tolist()} "
+                         f"({g.min_length:.4g} long)" if kind == "edge" else f"vertex {k}")
+                print(f"  {rank}. vertex {g.vertex} at {vx} with {where}; certified: "
+                      f"{g.certify().holds}")
     if args.plot:
         from .plot import plot_regions
 
@@ -260,6 +280,8 @@ def build_parser() -> argparse.ArgumentParser:
     y.add_argument("--top", type=int, default=5, help="how many grasps (default 5)")
     y.add_argument("--margin", type=float, default=1e-3,
                    help="radians kept between every region grasp and the cone boundary")
+    y.add_argument("--vertices", action="store_true",
+                   help="also grasp with a soft finger on a convex vertex (a wider cone)")
     y.add_argument("--json", action="store_true", help="print JSON for machines")
     y.add_argument("--plot", metavar="OUT", help="save a picture (.png or .svg)")
     y.set_defaults(run=_cmd_synthesize)

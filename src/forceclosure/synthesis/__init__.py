@@ -16,6 +16,7 @@ from .planar import (
     pair_grasps,
 )
 from .regions import Certificate, Regions
+from .vertices import VertexGrasp, convex_vertices, vertex_grasps
 
 __all__ = [
     "Certificate",
@@ -24,11 +25,14 @@ __all__ = [
     "PairGrasps",
     "Regions",
     "Sector",
+    "VertexGrasp",
     "best_frictionless_regions",
     "best_regions",
+    "convex_vertices",
     "counter_overlapping_sector",
     "maximal_frictionless_regions",
     "maximal_regions",
     "nguyen_regions",
     "pair_grasps",
+    "vertex_grasps",
 ]

@@ -1,0 +1,237 @@
+"""Soft fingers on the convex vertices of a polygon (Nguyen 1988, §2.1, §4.1).
+
+A soft finger pressed on a convex vertex touches a small patch across both
+edges, and its wrench convex is the convex sum of their friction cones: a
+cone wider than either (§2.1, Fig. 3). The paper notes that this is why
+people grasp objects at edges and corners (§4.1). Here a finger may sit on
+a convex vertex, paired with a finger on an edge, or with one on another
+vertex:
+
+* the vertex cone is the conic hull of the four generators ``-n ± mu t`` of
+  its two edges, bounded by its two extreme generators ``g_lo, g_hi``. A
+  direction ``w`` is strictly inside iff ``cross(g_lo, w) > 0`` and
+  ``cross(w, g_hi) > 0``, two linear conditions with no trigonometry;
+* with the vertex fixed, Corollary 3 is linear in the other finger's edge
+  parameter. So the grasps on the edge form one interval, and the largest
+  region, shrunk by the margin, is that whole interval;
+* the certificate checks the interval's two ends exactly, in rationals.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from fractions import Fraction
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import InputError
+from ..objects.polygon import Polygon
+from .regions import Certificate
+
+#: Default margin, as a fraction of the friction coefficient taken off every cone.
+FRICTION_MARGIN = 1e-3
+
+
+def convex_vertices(polygon: Polygon) -> list[tuple[int, int, int]]:
+    """The convex corners as ``(index, incoming edge, outgoing edge)``, indexed in
+    edge order (vertex ``k`` is where edge ``incoming`` ends and ``outgoing`` starts)."""
+    out = []
+    for e in polygon.edges:
+        nxt = next(f for f in polygon.edges if f.ring == e.ring and
+                   np.array_equal(f.start, e.end))
+        turn = e.direction[0] * nxt.direction[1] - e.direction[1] * nxt.direction[0]
+        if turn > 0:  # material on the left: a left turn is a convex corner
+            out.append((len(out), e.index, nxt.index))
+    return out
+
+
+def _generators(normals, mu) -> list:
+    """The pushing generators ``-n ± mu t`` of a contact, for each of its normals."""
+    gens = []
+    for n in normals:
+        t = [-n[1], n[0]]
+        gens += [[-n[0] + mu * t[0], -n[1] + mu * t[1]], [-n[0] - mu * t[0], -n[1] - mu * t[1]]]
+    return gens
+
+
+def _extremes(gens) -> tuple[list, list] | None:
+    """The two generators bounding their conic hull (``g_lo`` clockwise-most), or None when
+    the hull is a half-plane or more (then the finger alone pushes every way it needs)."""
+    def cross(a, b):
+        return a[0] * b[1] - a[1] * b[0]
+
+    for lo in gens:
+        if all(cross(lo, g) >= 0 for g in gens):
+            # the choice only needs an ordering; a near-tie picked wrong narrows the cone,
+            # which keeps every check sound
+            hi = max((g for g in gens if g is not lo),
+                     key=lambda g: math.atan2(float(cross(lo, g)),
+                                              float(lo[0] * g[0] + lo[1] * g[1])))
+            if cross(lo, hi) > 0:
+                return lo, hi
+    return None
+
+
+def _inside(cone, w, strict_margin=0) -> bool:
+    lo, hi = cone
+    return (lo[0] * w[1] - lo[1] * w[0] > strict_margin
+            and w[0] * hi[1] - w[1] * hi[0] > strict_margin)
+
+
+@dataclass(frozen=True, eq=False)
+class VertexGrasp:
+    """A soft finger on a convex vertex and a finger on an edge (a segment) or a vertex.
+
+    Attributes
+    ----------
+    polygon : Polygon
+    vertex : int
+        Index into :func:`convex_vertices`.
+    other : (str, int)
+        ``("edge", k)`` or ``("vertex", k)``.
+    segment : (u, v) or None
+        For an edge: the independent region on it (edge parameters).
+    mu : float
+    """
+
+    polygon: Polygon
+    vertex: int
+    other: tuple[str, int]
+    segment: tuple[float, float] | None
+    mu: float
+
+    @property
+    def point(self) -> NDArray[np.float64]:
+        """The vertex, in object coordinates."""
+        return self.polygon.edges[convex_vertices(self.polygon)[self.vertex][1]].end
+
+    def to_dict(self) -> dict[str, object]:
+        """The JSON record: the vertex, the other site, its region, the certificate."""
+        cert = self.certify()
+        kind, k = self.other
+        record: dict[str, object] = {"vertex": self.vertex, "vertex_point": self.point.tolist(),
+                                     kind: k, "mu": self.mu}
+        if self.segment is not None:
+            e = self.polygon.edges[k]
+            record.update(segment=list(self.segment),
+                          points=[e.point(t).tolist() for t in self.segment],
+                          length=self.min_length)
+        else:
+            record["other_point"] = self._site("vertex", k)[0].tolist()
+        record["certificate"] = {"holds": cert.holds, "method": cert.method,
+                                 "detail": cert.detail}
+        return record
+
+    @property
+    def min_length(self) -> float:
+        """The length of the region on the edge (0 for two vertices)."""
+        return 0.0 if self.segment is None else self.segment[1] - self.segment[0]
+
+    def _site(self, kind: str, k: int):
+        corners = convex_vertices(self.polygon)
+        if kind == "vertex":
+            _, a, b = corners[k]
+            edges = self.polygon.edges
+            return edges[a].end, [edges[a].normal, edges[b].normal]
+        return None, [self.polygon.edges[k].normal]
+
+    def certify(self) -> Certificate:
+        """Corollary 3, exactly in rationals, at the region's ends (linear in between)."""
+        F = Fraction
+        p, p_normals = self._site("vertex", self.vertex)
+        cone_p = _extremes(_generators([[F(x) for x in n] for n in p_normals], F(self.mu)))
+        kind, k = self.other
+        q0, q_normals = self._site(kind, k)
+        cone_q = _extremes(_generators([[F(x) for x in n] for n in q_normals], F(self.mu)))
+        if kind == "edge":
+            e = self.polygon.edges[k]
+            ends = [[F(s) + F(t) * F(d) for s, d in zip(e.start, e.direction, strict=True)]
+                    for t in self.segment]
+        else:
+            ends = [[F(x) for x in q0]]
+        P = [F(x) for x in p]
+        for q in ends:
+            w = [q[0] - P[0], q[1] - P[1]]
+            ok_p = cone_p is None or _inside(cone_p, w)
+            ok_q = cone_q is None or _inside(cone_q, [-w[0], -w[1]])
+            if not (ok_p and ok_q and any(w)):
+                return Certificate(False, "end check (exact rationals)",
+                                   "a grasp at an end of the region is not strictly inside "
+                                   "both cones")
+        return Certificate(True, "end check (exact rationals)",
+                           "Corollary 3 holds strictly at the ends of the region, hence "
+                           "(linear conditions) along all of it")
+
+
+def vertex_grasps(polygon: Polygon, mu: float, top: int = 5,
+                  margin: float = FRICTION_MARGIN) -> list[VertexGrasp]:
+    """Two-finger grasps with a soft finger on a convex vertex, best first.
+
+    Pairs a vertex with every edge not adjacent to it (its region: the whole
+    interval of force-closure grasps, with the friction reduced by the
+    fraction ``margin``) and with every other convex vertex (a single grasp).
+    Grasps are ranked by the region on the edge; vertex pairs come last.
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> g = vertex_grasps(bundled("triangle"), mu=0.3, top=1)[0]   # no edge pair works
+    >>> g.other[0], round(g.min_length, 3), g.certify().holds
+    ('edge', 0.899, True)
+    """
+    if not isinstance(top, int) or isinstance(top, bool) or top < 1:
+        raise InputError(f"'top' must be a positive integer, got {top!r}")
+    if not (isinstance(mu, int | float) and np.isfinite(mu) and mu > 0):
+        raise InputError(f"friction coefficient must be a positive number, got {mu!r}")
+    if not 0 < margin < 1:
+        raise InputError(f"margin must be a fraction between 0 and 1, got {margin!r}")
+    shrunk = mu * (1 - margin)
+    edges = polygon.edges
+    corners = convex_vertices(polygon)
+    found = []
+    for v, a, b in corners:
+        p = edges[a].end
+        cone_p = _extremes(_generators([edges[a].normal, edges[b].normal], shrunk))
+        for e in edges:
+            if e.index in (a, b):
+                continue
+            cone_q = _extremes(_generators([e.normal], shrunk))
+            segment = _interval(p, e, cone_p, cone_q)
+            if segment is not None:
+                found.append(VertexGrasp(polygon, v, ("edge", e.index), segment, float(mu)))
+        for w, a2, _ in corners:
+            if w > v:
+                cone_q = _extremes(_generators([edges[a2].normal,
+                                                edges[corners[w][2]].normal], shrunk))
+                d = edges[a2].end - p
+                if (cone_p is None or _inside(cone_p, d)) and \
+                        (cone_q is None or _inside(cone_q, -d)):
+                    found.append(VertexGrasp(polygon, v, ("vertex", w), None, float(mu)))
+    found = [g for g in found if g.certify().holds]
+    found.sort(key=lambda g: (-round(g.min_length / polygon.size, 12), g.vertex, g.other))
+    return found[:top]
+
+
+def _interval(p: NDArray, edge, cone_p, cone_q) -> tuple[float, float] | None:
+    """The parameters ``t`` on ``edge`` with ``q(t) - p`` inside both cones (linear in t)."""
+    lo, hi = 0.0, edge.length
+    conditions = []
+    for cone, sign in ((cone_p, 1.0), (cone_q, -1.0)):
+        if cone is None:
+            continue
+        g_lo, g_hi = (np.asarray(g, float) for g in cone)
+        for ell in (np.array([-g_lo[1], g_lo[0]]), np.array([g_hi[1], -g_hi[0]])):
+            # sign * ell . (start - p + t d) > 0
+            conditions.append((sign * ell @ (edge.start - p), sign * ell @ edge.direction))
+    for c0, c1 in conditions:
+        if abs(c1) < 1e-15:
+            if c0 <= 0:
+                return None
+            continue
+        root = -c0 / c1
+        lo, hi = (max(lo, root), hi) if c1 > 0 else (lo, min(hi, root))
+    if hi - lo <= 1e-9 * edge.length:
+        return None
+    return float(lo) + 0.0, float(hi)
