@@ -154,7 +154,7 @@ def test_synthesize_command(tmp_path, capsys):
 
 @pytest.mark.parametrize("argv,message", [
     (["synthesize", "cube"], "polyhedra is not implemented yet"),
-    (["synthesize", "square", "--fingers", "4"], "implemented so far are two fingers"),
+    (["synthesize", "square", "--fingers", "4"], "implemented so far are two or three"),
     (["synthesize", "square", "--contact", "frictionless"], "the plane needs four"),
     (["synthesize", "square", "--mu", "-1"], "--mu must be a positive number"),
     (["synthesize", "square", "--top", "0"], "'top' must be a positive integer"),

@@ -182,15 +182,21 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
         raise InputError(f"{obj.name}: synthesis on polyhedra is not implemented yet; "
                          "planar objects only")
     frictionless = args.contact == "frictionless"
-    if (args.fingers, frictionless) not in ((2, False), (4, True)):
+    if (args.fingers, frictionless) not in ((2, False), (3, False), (4, True)):
         raise InputError(f"--fingers {args.fingers} --contact {args.contact}: implemented so "
-                         "far are two fingers with friction (hard or soft) and four "
+                         "far are two or three fingers with friction (hard or soft) and four "
                          "frictionless fingers (the plane needs four without friction)")
     if not frictionless and not (args.mu > 0 and np.isfinite(args.mu)):
         raise InputError(f"--mu must be a positive number, got {args.mu:g}")
     mu = 0.0 if frictionless else args.mu
-    found = (best_frictionless_regions(obj, top=args.top) if frictionless
-             else best_regions(obj, mu, top=args.top, margin=args.margin))
+    if frictionless:
+        found = best_frictionless_regions(obj, top=args.top)
+    elif args.fingers == 3:
+        from .synthesis import best_three_finger_regions
+
+        found = best_three_finger_regions(obj, mu, top=args.top)
+    else:
+        found = best_regions(obj, mu, top=args.top, margin=args.margin)
     corners = []
     if args.vertices:
         if frictionless:

@@ -16,6 +16,7 @@ from .planar import (
     pair_grasps,
 )
 from .regions import Certificate, Regions
+from .three_fingers import ThreeFingerRegions, best_three_finger_regions, three_finger_regions
 from .vertices import VertexGrasp, convex_vertices, vertex_grasps
 
 __all__ = [
@@ -25,14 +26,17 @@ __all__ = [
     "PairGrasps",
     "Regions",
     "Sector",
+    "ThreeFingerRegions",
     "VertexGrasp",
     "best_frictionless_regions",
     "best_regions",
+    "best_three_finger_regions",
     "convex_vertices",
     "counter_overlapping_sector",
     "maximal_frictionless_regions",
     "maximal_regions",
     "nguyen_regions",
     "pair_grasps",
+    "three_finger_regions",
     "vertex_grasps",
 ]
