@@ -77,3 +77,28 @@ def test_refusals_and_empty_cases():
     with pytest.raises(InputError, match="no edge 7"):
         maximal_frictionless_regions(square, (0, 1, 2, 7))
     assert best_frictionless_regions(bundled("triangle")) == []  # three edges only
+
+
+@pytest.mark.parametrize("name", ["square", "hexagon", "l-shape", "frame", "star",
+                                  "wrench-head", "bracket"])
+def test_nguyen_construction_holds_and_never_beats_the_maximal_regions(name):
+    from forceclosure.synthesis import nguyen_frictionless_regions
+
+    polygon = bundled(name)
+    rng = np.random.default_rng(6)
+    built = 0
+    for quad in itertools.combinations(range(len(polygon.edges)), 4):
+        g = nguyen_frictionless_regions(polygon, quad)
+        if g is None:
+            continue
+        built += 1
+        assert g.certify().holds
+        edges = [polygon.edges[k] for k in g.edges]
+        ts = tuple(rng.uniform(u, v) for u, v in g.segments)
+        grasp = [point_contact(e.point(t), e.normal, "frictionless")
+                 for e, t in zip(edges, ts, strict=True)]
+        assert analyze(grasp).verdict is Verdict.CLOSURE
+        # a certified box is feasible for the maximal LP with a negligible margin
+        m = maximal_frictionless_regions(polygon, quad, margin=1e-9)
+        assert m.min_length >= g.min_length - 1e-8 * polygon.size
+    assert built > 0

@@ -4,6 +4,7 @@ from .frictionless import (
     FrictionlessRegions,
     best_frictionless_regions,
     maximal_frictionless_regions,
+    nguyen_frictionless_regions,
 )
 from .nguyen import nguyen_regions
 from .planar import (
@@ -35,6 +36,7 @@ __all__ = [
     "counter_overlapping_sector",
     "maximal_frictionless_regions",
     "maximal_regions",
+    "nguyen_frictionless_regions",
     "nguyen_regions",
     "pair_grasps",
     "three_finger_regions",

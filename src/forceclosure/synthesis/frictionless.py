@@ -31,6 +31,7 @@ from scipy.optimize import linprog
 from ..errors import InputError
 from ..objects.polygon import Polygon
 from .regions import Certificate, Regions
+from .vertices import _extremes
 
 #: Default margin on the cofactors, relative to the polygon's size.
 COFACTOR_MARGIN = 1e-3
@@ -183,3 +184,96 @@ def best_frictionless_regions(polygon: Polygon, top: int = 5,
             found.append(regions)
     found.sort(key=lambda r: (-round(r.min_length / polygon.size, 12), r.edges))
     return found[:top]
+
+
+def _meeting_point(e1, e2):
+    """``P12(t1, t2)``, where the normal lines at the two contacts meet, as an affine map:
+    ``P12 = c + M @ (t1, t2)``; None when the normals are parallel (no meeting point)."""
+    denom = e1.normal[0] * e2.normal[1] - e1.normal[1] * e2.normal[0]  # cross(n1, n2)
+    if abs(denom) < 1e-9:
+        return None
+
+    def at(t1, t2):
+        p1, p2 = e1.point(t1), e2.point(t2)
+        s = ((p2 - p1)[0] * e2.normal[1] - (p2 - p1)[1] * e2.normal[0]) / denom
+        return p1 + s * e1.normal
+
+    c = at(0.0, 0.0)
+    return c, np.stack([at(1.0, 0.0) - c, at(0.0, 1.0) - c], axis=1)
+
+
+def nguyen_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, int],
+                                margin: float = COFACTOR_MARGIN) -> FrictionlessRegions | None:
+    """Nguyen's construction for four frictionless fingers (§5.4, Fig. 10).
+
+    Fingers 1 and 2 act like one contact at ``P12``, where their normal
+    lines meet, able to push along the cone ``C12 = cone(-n1, -n2)``; so do
+    fingers 3 and 4 at ``P34``. By Corollary 2 the grasp is force-closure
+    when ``P34 - P12`` lies in the sector ``S = C12 ∩ -C34``. As the fingers
+    slide, ``P12`` sweeps a parallelogram ``Π12`` (affine in ``t1, t2``), and
+    likewise ``Π34``. A two-sided cone with vertex ``I`` and sector ``S`` cuts
+    them into ``Π'12 ⊂ I - S`` and ``Π'34 ⊂ I + S``, and boxes of edge
+    parameters inside those give the independent regions. The paper searches
+    for the best vertex geometrically. Here the conditions are linear in
+    ``I`` and the segment ends together, so the best vertex and segments come
+    from one linear program, for each of the three pairings of the fingers.
+    The result is certified by the exact cofactor check.
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> r = nguyen_frictionless_regions(bundled("hexagon"), (0, 1, 3, 4))
+    >>> round(r.min_length, 3), r.certify().holds
+    (0.497, True)
+    """
+    edges = tuple(int(e) for e in edges)
+    maximal_frictionless_regions(polygon, edges, margin)  # validates the arguments
+    best = None
+    for a, b, c, d in ((0, 1, 2, 3), (0, 2, 1, 3), (0, 3, 1, 2)):
+        order = [edges[k] for k in (a, b, c, d)]
+        es = [polygon.edges[k] for k in order]
+        maps = [_meeting_point(es[0], es[1]), _meeting_point(es[2], es[3])]
+        if maps[0] is None or maps[1] is None:
+            continue
+        c12 = _extremes(_generators_of([-es[0].normal, -es[1].normal]))
+        c34 = _extremes(_generators_of([es[2].normal, es[3].normal]))  # -C34
+        if c12 is None or c34 is None:
+            continue
+        funcs = [np.array([-g[0][1], g[0][0]]) for g in (c12, c34)] + \
+            [np.array([g[1][1], -g[1][0]]) for g in (c12, c34)]
+        delta = margin * polygon.size
+        rows, rhs = [], []  # x = (Ix, Iy, u1, u2, u3, u4, z), in the pairing's order
+        for pair, sign in ((0, -1.0), (1, 1.0)):  # I - P12 in S; P34 - I in S
+            off, M = maps[pair]
+            for ta, tb in itertools.product((0.0, 1.0), repeat=2):
+                for ell in funcs:
+                    # sign * ell . (P - I) >= delta, P = off + M @ (u + t z)
+                    g = sign * (ell @ M)
+                    row = np.zeros(7)
+                    row[:2] = sign * ell
+                    row[2 + 2 * pair], row[3 + 2 * pair] = -g[0], -g[1]
+                    row[6] = -(g[0] * ta + g[1] * tb)
+                    rows.append(row)
+                    rhs.append(sign * (ell @ off) - delta)
+        for k, e in enumerate(es):
+            row = np.zeros(7)
+            row[2 + k], row[6] = 1.0, 1.0
+            rows.append(row)
+            rhs.append(e.length)
+        res = linprog(np.r_[np.zeros(6), -1.0], A_ub=np.array(rows), b_ub=np.array(rhs),
+                      bounds=[(None, None)] * 2 + [(0, None)] * 5, method="highs")
+        if res.status != 0 or not res.x[6] > 1e-9 * polygon.size:
+            continue
+        z = float(res.x[6])
+        segments = dict(zip(order, ((float(u) + 0.0, min(float(u) + z, e.length))
+                                    for u, e in zip(res.x[2:6], es, strict=True)),
+                            strict=True))
+        regions = FrictionlessRegions(polygon, edges, tuple(segments[k] for k in edges),
+                                      "Nguyen's two-sided cone between parallelograms (§5.4)")
+        if regions.certify().holds and (best is None or regions.min_length > best.min_length):
+            best = regions
+    return best
+
+
+def _generators_of(directions):
+    return [list(map(float, v)) for v in directions]
