@@ -60,6 +60,17 @@ def test_every_quadruple_in_every_region_is_force_closure(name):
             grasp = [point_contact(e.point(t), e.normal, "frictionless")
                      for e, t in zip(edges, ts, strict=True)]
             assert analyze(grasp).verdict is Verdict.CLOSURE, (name, r.edges, ts)
+        # thousands more, by Theorem 1 computed another way: the null vector of the
+        # 3 x 4 wrench matrix (batched SVD) has one strict sign and the rank is 3
+        t = np.stack([rng.uniform(u, v, 3000) for u, v in r.segments], axis=1)
+        pts = np.stack([e.start + t[:, [k]] * e.direction for k, e in enumerate(edges)], 1)
+        forces = -np.array([e.normal for e in edges])
+        torque = pts[..., 0] * forces[:, 1] - pts[..., 1] * forces[:, 0]
+        W = np.concatenate([np.broadcast_to(forces.T, (len(t), 2, 4)), torque[:, None, :]], 1)
+        _, sv, vh = np.linalg.svd(W)
+        null = vh[:, -1, :]
+        assert np.all(sv[:, 2] > 1e-9)
+        assert np.all(np.all(null > 0, axis=1) | np.all(null < 0, axis=1))
     lengths = [r.min_length for r in found]
     assert all(a >= b - 1e-12 for a, b in itertools.pairwise(lengths))
 
@@ -102,3 +113,13 @@ def test_nguyen_construction_holds_and_never_beats_the_maximal_regions(name):
         m = maximal_frictionless_regions(polygon, quad, margin=1e-9)
         assert m.min_length >= g.min_length - 1e-8 * polygon.size
     assert built > 0
+
+
+def test_four_finger_command_draws(tmp_path, capsys):
+    from forceclosure.cli import main
+
+    picture = tmp_path / "four.svg"
+    assert main(["synthesize", "bracket", "--fingers", "4", "--contact", "frictionless",
+                 "--plot", str(picture)]) == 0
+    assert "certified: True" in capsys.readouterr().out
+    assert picture.read_text().lstrip().startswith("<?xml")

@@ -23,7 +23,7 @@ def test_every_triple_in_every_region_is_force_closure(polygon):
         assert r.certify().holds
         es = [polygon.edges[k] for k in r.edges]
         samples = list(itertools.product(*r.segments)) + [
-            tuple(rng.uniform(u, v) for u, v in r.segments) for _ in range(25)]
+            tuple(rng.uniform(u, v) for u, v in r.segments) for _ in range(80)]
         for ts in samples:
             grasp = [point_contact(e.point(t), e.normal, "hard", mu)
                      for e, t in zip(es, ts, strict=True)]
@@ -48,8 +48,11 @@ def test_regular_polygons_closed_form(mu):
             np.testing.assert_allclose(r.centre, [0, 0], atol=1e-6)
 
 
-def test_refusals_and_command(capsys):
+def test_refusals_and_command(capsys, tmp_path):
     with pytest.raises(InputError, match="three different edges"):
         three_finger_regions(bundled("triangle"), (0, 0, 1), 0.3)
-    assert main(["synthesize", "triangle", "--fingers", "3", "--mu", "0.3"]) == 0
+    picture = tmp_path / "three.png"
+    assert main(["synthesize", "triangle", "--fingers", "3", "--mu", "0.3",
+                 "--plot", str(picture)]) == 0
     assert "1. edge 0" in capsys.readouterr().out
+    assert picture.read_bytes()[:4] == b"\x89PNG"

@@ -137,7 +137,7 @@ def plot_regions(regions: list, path: str | Path | None = None, title: str | Non
     reach = polygon.size * 0.18
     for rank, r in enumerate(regions):
         colour = cmap(rank % 10)
-        mus = getattr(r, "mu", (0.0,) * len(r.edges))
+        mus = r.friction()
         for (a, b), e, mu in zip(r.points, (polygon.edges[k] for k in r.edges), mus,
                                  strict=True):
             ax.plot(*np.array([a, b]).T, color=colour, linewidth=4.5, solid_capstyle="butt",
@@ -153,6 +153,9 @@ def plot_regions(regions: list, path: str | Path | None = None, title: str | Non
             mid = (a + b) / 2 + e.normal * polygon.size * 0.05
             ax.text(*mid, str(rank + 1), color=colour, fontsize=10, fontweight="bold",
                     ha="center", va="center")
+        centre = getattr(r, "centre", None)  # three fingers: where the lines of force meet
+        if centre is not None:
+            ax.plot(*centre, marker="x", color=colour, markersize=8, zorder=4)
     fingers = len(regions[0].edges)
     friction = f", mu {mus[0]:g}" if mus[0] > 0 else ", frictionless"
     ax.set_title(title or f"{polygon.name}: {len(regions)} best {fingers}-finger grasps"

@@ -245,6 +245,10 @@ class IndependentRegions(Regions):
 
     mu: tuple[float, float] = (0.0, 0.0)
 
+    def friction(self) -> tuple[float, ...]:
+        """The friction coefficient at each finger."""
+        return tuple(self.mu)
+
     def to_dict(self) -> dict[str, object]:
         """The JSON record (see :meth:`Regions.to_dict`), with ``mu``."""
         return {**super().to_dict(), "mu": list(self.mu)}

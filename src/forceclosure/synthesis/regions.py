@@ -55,6 +55,10 @@ class Regions:
         return np.array([[self.polygon.edges[e].point(t) for t in seg]
                          for e, seg in zip(self.edges, self.segments, strict=True)])
 
+    def friction(self) -> tuple[float, ...]:
+        """The friction coefficient at each finger (0 for frictionless fingers)."""
+        return (0.0,) * len(self.edges)
+
     def certify(self) -> Certificate:  # pragma: no cover - every subclass defines it
         raise NotImplementedError
 

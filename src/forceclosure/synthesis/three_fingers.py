@@ -96,6 +96,10 @@ class ThreeFingerRegions(Regions):
                            "inside the friction cone, and any directions from the three cones "
                            "balance: a nonmarginal equilibrium for every choice")
 
+    def friction(self) -> tuple[float, ...]:
+        """The friction coefficient at each finger."""
+        return (self.mu,) * 3
+
     def to_dict(self) -> dict[str, object]:
         """The JSON record (see :meth:`Regions.to_dict`), with ``centre`` and ``mu``."""
         return {**super().to_dict(), "centre": list(self.centre), "mu": self.mu}
