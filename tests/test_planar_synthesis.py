@@ -224,3 +224,26 @@ def test_vectorised_solver_matches_an_lp_solver():
         for t in corners:  # the returned segments satisfy the conditions
             assert np.all(A[p] @ np.array(t) + b[p] >= -1e-9)
     assert 0 < infeasible < P
+
+
+def test_nguyen_construction_from_the_command(tmp_path, capsys):
+    import json
+
+    from forceclosure.cli import main
+    from forceclosure.synthesis import best_frictionless_regions
+
+    assert main(["synthesize", "wrench-head", "--construction", "nguyen", "--json",
+                 "--plot", str(tmp_path / "cone.png")]) == 0
+    out = json.loads(capsys.readouterr().out)
+    best = out["grasps"][0]
+    assert best["construction"].startswith("Nguyen") and best["certificate"]["holds"]
+    apex = np.array(best["apex"])
+    # the two-sided cone's vertex lies between the two segments
+    ends = np.array(best["points"]).reshape(-1, 2)
+    assert ends[:, 1].min() < apex[1] < ends[:, 1].max()
+    assert (tmp_path / "cone.png").stat().st_size > 5000
+    four = best_frictionless_regions(bundled("bracket"), top=1, construction="nguyen")
+    assert four[0].construction.startswith("Nguyen") and four[0].certify().holds
+    with pytest.raises(InputError, match="construction must be"):
+        best_regions(bundled("square"), 0.3, construction="other")
+    assert main(["synthesize", "square", "--fingers", "3", "--construction", "nguyen"]) == 2

@@ -189,14 +189,18 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
     if not frictionless and not (args.mu > 0 and np.isfinite(args.mu)):
         raise InputError(f"--mu must be a positive number, got {args.mu:g}")
     mu = 0.0 if frictionless else args.mu
+    if args.construction == "nguyen" and args.fingers == 3:
+        raise InputError("--construction nguyen: the paper constructs two- and four-finger "
+                         "regions; three fingers use a common centre of equilibrium")
     if frictionless:
-        found = best_frictionless_regions(obj, top=args.top)
+        found = best_frictionless_regions(obj, top=args.top, construction=args.construction)
     elif args.fingers == 3:
         from .synthesis import best_three_finger_regions
 
         found = best_three_finger_regions(obj, mu, top=args.top)
     else:
-        found = best_regions(obj, mu, top=args.top, margin=args.margin)
+        found = best_regions(obj, mu, top=args.top, margin=args.margin,
+                             construction=args.construction)
     corners = []
     if args.vertices:
         if frictionless:
@@ -286,6 +290,9 @@ def build_parser() -> argparse.ArgumentParser:
     y.add_argument("--top", type=int, default=5, help="how many grasps (default 5)")
     y.add_argument("--margin", type=float, default=1e-3,
                    help="radians kept between every region grasp and the cone boundary")
+    y.add_argument("--construction", choices=("maximal", "nguyen"), default="maximal",
+                   help="maximal regions (an exact LP), or the paper's two-sided cone "
+                        "constructions (§5.1, §5.4)")
     y.add_argument("--vertices", action="store_true",
                    help="also grasp with a soft finger on a convex vertex (a wider cone)")
     y.add_argument("--json", action="store_true", help="print JSON for machines")

@@ -153,6 +153,19 @@ def plot_regions(regions: list, path: str | Path | None = None, title: str | Non
             mid = (a + b) / 2 + e.normal * polygon.size * 0.05
             ax.text(*mid, str(rank + 1), color=colour, fontsize=10, fontweight="bold",
                     ha="center", va="center")
+        apex = getattr(r, "apex", None)  # Nguyen's two-sided cone (Fig. 7)
+        if apex is not None:
+            from .synthesis import counter_overlapping_sector
+
+            e1, e2 = (polygon.edges[k] for k in r.edges)
+            sector = counter_overlapping_sector(e1.normal, mus[0], e2.normal, mus[1])
+            if sector is not None:
+                rays = [np.array([np.cos(t), np.sin(t)]) for t in (sector.low, sector.high)]
+                for side in (1, -1):
+                    wedge = [apex, apex + side * polygon.size * rays[0],
+                             apex + side * polygon.size * rays[1]]
+                    ax.fill(*np.array(wedge).T, color=colour, alpha=0.12, zorder=1)
+                ax.plot(*apex, marker="o", color=colour, markersize=4, zorder=4)
         centre = getattr(r, "centre", None)  # three fingers: where the lines of force meet
         if centre is not None:
             ax.plot(*centre, marker="x", color=colour, markersize=8, zorder=4)

@@ -156,8 +156,8 @@ def maximal_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, i
     return None
 
 
-def best_frictionless_regions(polygon: Polygon, top: int = 5,
-                              margin: float = COFACTOR_MARGIN) -> list[FrictionlessRegions]:
+def best_frictionless_regions(polygon: Polygon, top: int = 5, margin: float = COFACTOR_MARGIN,
+                              construction: str = "maximal") -> list[FrictionlessRegions]:
     """Independent regions for four frictionless fingers on every quadruple of edges.
 
     A quadruple is pruned unless its four pushing directions ``-n_i``
@@ -172,6 +172,10 @@ def best_frictionless_regions(polygon: Polygon, top: int = 5,
     """
     if not isinstance(top, int) or isinstance(top, bool) or top < 1:
         raise InputError(f"'top' must be a positive integer, got {top!r}")
+    if construction not in ("maximal", "nguyen"):
+        raise InputError(f"construction must be 'maximal' or 'nguyen', got {construction!r}")
+    build = maximal_frictionless_regions if construction == "maximal" else \
+        nguyen_frictionless_regions
     normals = np.array([e.normal for e in polygon.edges])
     found = []
     for quad in itertools.combinations(range(len(polygon.edges)), 4):
@@ -179,7 +183,7 @@ def best_frictionless_regions(polygon: Polygon, top: int = 5,
         gaps = np.diff(np.r_[angles, angles[0] + 2 * np.pi])
         if gaps.max() >= np.pi - 1e-12:  # the directions fit in a half-plane
             continue
-        regions = maximal_frictionless_regions(polygon, quad, margin)
+        regions = build(polygon, quad, margin)
         if regions is not None:
             found.append(regions)
     found.sort(key=lambda r: (-round(r.min_length / polygon.size, 12), r.edges))

@@ -100,5 +100,6 @@ def nguyen_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | No
         segments.append((max(t[0], 0.0) + 0.0, t[1]))
     regions = IndependentRegions(polygon, (i, j), tuple(segments),
                                  "Nguyen's two-sided cone (Algorithm 1)",
-                                 (float(mu), float(mu_q)))
+                                 (float(mu), float(mu_q)),
+                                 (float(best[0]) + 0.0, float(best[1]) + 0.0))
     return regions if regions.certify().holds else None

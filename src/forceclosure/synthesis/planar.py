@@ -244,14 +244,18 @@ class IndependentRegions(Regions):
     """
 
     mu: tuple[float, float] = (0.0, 0.0)
+    apex: tuple[float, float] | None = None  # Nguyen's two-sided cone vertex, if it made them
 
     def friction(self) -> tuple[float, ...]:
         """The friction coefficient at each finger."""
         return tuple(self.mu)
 
     def to_dict(self) -> dict[str, object]:
-        """The JSON record (see :meth:`Regions.to_dict`), with ``mu``."""
-        return {**super().to_dict(), "mu": list(self.mu)}
+        """The JSON record (see :meth:`Regions.to_dict`), with ``mu`` (and ``apex``)."""
+        record = {**super().to_dict(), "mu": list(self.mu)}
+        if self.apex is not None:
+            record["apex"] = list(self.apex)
+        return record
 
     def certify(self) -> Certificate:
         """Prove, in exact rational arithmetic, that every pair of points is force-closure.
@@ -399,15 +403,16 @@ def _certified(polygon: Polygon, i: int, j: int, z: float, u1: float, u2: float,
     return None
 
 
-def best_regions(polygon: Polygon, mu: float, top: int = 5,
-                 margin: float = ANGLE_MARGIN) -> list[IndependentRegions]:
+def best_regions(polygon: Polygon, mu: float, top: int = 5, margin: float = ANGLE_MARGIN,
+                 construction: str = "maximal") -> list[IndependentRegions]:
     """Independent regions for two hard fingers on every pair of edges, best first.
 
     Pairs whose friction cones cannot counter-overlap are pruned by a test on
     the two normals. The rest are solved together by
-    :func:`max_min_segments`. They are ranked by their shorter segment (the
-    placement error the grasp tolerates; ties by edge indices), and the
-    ``top`` ones are returned, each certified.
+    :func:`max_min_segments`, or, with ``construction="nguyen"``, given
+    Nguyen's regions where maximal ones exist. They are ranked by their
+    shorter segment (the placement error the grasp tolerates; ties by edge
+    indices), and the ``top`` ones are returned, each certified.
 
     Examples
     --------
@@ -439,6 +444,16 @@ def best_regions(polygon: Polygon, mu: float, top: int = 5,
         A, b = _affine_arrays(start[i[sl]], direction[i[sl]], normal[i[sl]], start[j[sl]],
                               direction[j[sl]], normal[j[sl]], shrunk, shrunk)
         z[sl], u1[sl], u2[sl] = max_min_segments(A, b, length[i[sl]], length[j[sl]])
+    if construction == "nguyen":  # the paper's construction on the same candidate pairs
+        from .nguyen import nguyen_regions
+
+        built = [nguyen_regions(polygon, int(a), int(b), mu, margin=margin)
+                 for a, b, zab in zip(i, j, z, strict=True) if zab > 0]
+        built = [r for r in built if r is not None]
+        built.sort(key=lambda r: (-round(r.min_length / polygon.size, 12), r.edges))
+        return built[:top]
+    if construction != "maximal":
+        raise InputError(f"construction must be 'maximal' or 'nguyen', got {construction!r}")
     order = np.lexsort((j, i, -np.round(z / polygon.size, 12)))
     found = []
     for k in order:
