@@ -11,7 +11,11 @@ import pybullet_data
 from forceclosure.objects import bundled, glyph
 from forceclosure.objects.io import load_object
 from forceclosure.plot import plot_object, plot_regions
-from forceclosure.synthesis import best_frictionless_regions, best_regions
+from forceclosure.synthesis import (
+    best_frictionless_regions,
+    best_regions,
+    best_three_finger_regions,
+)
 
 HERE = Path(__file__).parent
 
@@ -20,6 +24,10 @@ def main() -> None:
     pictures = {
         "wrench-head-two-fingers.png": lambda: plot_regions(
             best_regions(bundled("wrench-head"), 0.3, top=3)),
+        "wrench-head-nguyen.png": lambda: plot_regions(
+            best_regions(bundled("wrench-head"), 0.3, top=3, construction="nguyen")),
+        "triangle-three-fingers.png": lambda: plot_regions(
+            best_three_finger_regions(bundled("triangle"), 0.3, top=1)),
         "bracket-four-frictionless.png": lambda: plot_regions(
             best_frictionless_regions(bundled("bracket"), top=2)),
         "glyph-A-two-fingers.png": lambda: plot_regions(best_regions(glyph("A"), 0.3, top=3)),
