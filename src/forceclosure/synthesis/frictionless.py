@@ -30,7 +30,7 @@ from scipy.optimize import linprog
 
 from ..errors import InputError
 from ..objects.polygon import Polygon
-from .regions import Certificate, Regions
+from .regions import Certificate, Regions, check_edges
 from .vertices import _extremes
 
 #: Default margin on the cofactors, relative to the polygon's size.
@@ -102,6 +102,13 @@ class FrictionlessRegions(Regions):
 
 
 
+def _check(polygon: Polygon, edges, margin: float) -> tuple[int, ...]:
+    if not (isinstance(margin, int | float) and 0 < margin < 1):
+        raise InputError(f"margin must be a fraction of the object's size between 0 and 1, "
+                         f"got {margin!r}")
+    return check_edges(polygon, edges, 4)
+
+
 def maximal_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, int],
                                  margin: float = COFACTOR_MARGIN,
                                  ) -> FrictionlessRegions | None:
@@ -119,16 +126,7 @@ def maximal_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, i
     >>> round(r.min_length, 3), r.certify().holds
     (0.999, True)
     """
-    if not (isinstance(margin, int | float) and 0 < margin < 1):
-        raise InputError(f"margin must be a fraction of the object's size between 0 and 1, "
-                         f"got {margin!r}")
-    edges = tuple(int(e) for e in edges)
-    if len(edges) != 4 or len(set(edges)) != 4:
-        raise InputError(f"four frictionless fingers need four different edges, got {edges}")
-    for e in edges:
-        if not 0 <= e < len(polygon.edges):
-            raise InputError(f"{polygon.name}: no edge {e}; edges are numbered 0 to "
-                             f"{len(polygon.edges) - 1}")
+    edges = _check(polygon, edges, margin)
     A, b = _affine(polygon, edges)
     lengths = [polygon.edges[e].length for e in edges]
     delta = margin * polygon.size
@@ -230,8 +228,7 @@ def nguyen_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, in
     >>> round(r.min_length, 3), r.certify().holds
     (0.497, True)
     """
-    edges = tuple(int(e) for e in edges)
-    maximal_frictionless_regions(polygon, edges, margin)  # validates the arguments
+    edges = _check(polygon, edges, margin)
     best = None
     for a, b, c, d in ((0, 1, 2, 3), (0, 2, 1, 3), (0, 3, 1, 2)):
         order = [edges[k] for k in (a, b, c, d)]

@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..objects.polygon import Edge, Polygon
-from .regions import Certificate, Regions
+from .regions import Certificate, Regions, check_edges
 
 #: Default angular margin (radians) kept between region grasps and the cone boundary.
 ANGLE_MARGIN = 1e-3
@@ -128,12 +128,7 @@ def _clip(poly: NDArray[np.float64], a: NDArray, b: float) -> NDArray[np.float64
 
 
 def _edges(polygon: Polygon, i: int, j: int) -> tuple[Edge, Edge]:
-    n = len(polygon.edges)
-    for k in (i, j):
-        if not 0 <= k < n:
-            raise InputError(f"{polygon.name}: no edge {k}; edges are numbered 0 to {n - 1}")
-    if i == j:
-        raise InputError(f"{polygon.name}: two fingers need two different edges, got {i} twice")
+    i, j = check_edges(polygon, (i, j), 2)
     return polygon.edges[i], polygon.edges[j]
 
 

@@ -7,7 +7,23 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from ..errors import InputError
 from ..objects.polygon import Polygon
+
+_COUNT = {2: "two", 3: "three", 4: "four"}
+
+
+def check_edges(polygon: Polygon, edges, count: int) -> tuple[int, ...]:
+    """``count`` different edge indices of ``polygon``, or one InputError line saying why."""
+    edges = tuple(int(e) for e in edges)
+    if len(edges) != count or len(set(edges)) != count:
+        raise InputError(f"{_COUNT[count]} fingers need {_COUNT[count]} different edges, "
+                         f"got {edges}")
+    for e in edges:
+        if not 0 <= e < len(polygon.edges):
+            raise InputError(f"{polygon.name}: no edge {e}; edges are numbered 0 to "
+                             f"{len(polygon.edges) - 1}")
+    return edges
 
 
 @dataclass(frozen=True)

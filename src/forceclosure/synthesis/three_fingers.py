@@ -31,7 +31,7 @@ from scipy.optimize import linprog
 
 from ..errors import InputError
 from ..objects.polygon import Polygon
-from .regions import Certificate, Regions
+from .regions import Certificate, Regions, check_edges
 from .vertices import _extremes, _generators
 
 #: Default margin: friction reduced by this fraction, and ``X`` kept this fraction of the
@@ -116,13 +116,7 @@ def three_finger_regions(polygon: Polygon, edges: tuple[int, int, int], mu: floa
     >>> round(r.min_length, 3), r.certify().holds
     (0.3, True)
     """
-    edges = tuple(int(e) for e in edges)
-    if len(edges) != 3 or len(set(edges)) != 3:
-        raise InputError(f"three fingers need three different edges, got {edges}")
-    for e in edges:
-        if not 0 <= e < len(polygon.edges):
-            raise InputError(f"{polygon.name}: no edge {e}; edges are numbered 0 to "
-                             f"{len(polygon.edges) - 1}")
+    edges = check_edges(polygon, edges, 3)
     if not (isinstance(mu, int | float) and np.isfinite(mu) and mu > 0):
         raise InputError(f"friction coefficient must be a positive number, got {mu!r}")
     if not 0 < margin < 1:

@@ -38,9 +38,13 @@ def convex_vertices(polygon: Polygon) -> list[tuple[int, int, int]]:
     """The convex corners as ``(index, incoming edge, outgoing edge)``, indexed in
     edge order (vertex ``k`` is where edge ``incoming`` ends and ``outgoing`` starts)."""
     out = []
-    for e in polygon.edges:
-        nxt = next(f for f in polygon.edges if f.ring == e.ring and
-                   np.array_equal(f.start, e.end))
+    edges = polygon.edges
+    first = {}  # each ring's first edge: rings are stored one after another, in order
+    for e in edges:
+        first.setdefault(e.ring, e.index)
+    for e in edges:
+        k = e.index + 1
+        nxt = edges[k] if k < len(edges) and edges[k].ring == e.ring else edges[first[e.ring]]
         turn = e.direction[0] * nxt.direction[1] - e.direction[1] * nxt.direction[0]
         if turn > 0:  # material on the left: a left turn is a convex corner
             out.append((len(out), e.index, nxt.index))
@@ -94,6 +98,8 @@ class VertexGrasp:
     segment : (u, v) or None
         For an edge: the independent region on it (edge parameters).
     mu : float
+    corners : tuple of (incoming, outgoing) edge pairs
+        The edges meeting at the vertex, and at the other vertex if there is one.
     """
 
     polygon: Polygon
@@ -101,11 +107,12 @@ class VertexGrasp:
     other: tuple[str, int]
     segment: tuple[float, float] | None
     mu: float
+    corners: tuple[tuple[int, int], ...]
 
     @property
     def point(self) -> NDArray[np.float64]:
         """The vertex, in object coordinates."""
-        return self.polygon.edges[convex_vertices(self.polygon)[self.vertex][1]].end
+        return self.polygon.edges[self.corners[0][0]].end
 
     def to_dict(self) -> dict[str, object]:
         """The JSON record: the vertex, the other site, its region, the certificate."""
@@ -119,7 +126,7 @@ class VertexGrasp:
                           points=[e.point(t).tolist() for t in self.segment],
                           length=self.min_length)
         else:
-            record["other_point"] = self._site("vertex", k)[0].tolist()
+            record["other_point"] = self.polygon.edges[self.corners[1][0]].end.tolist()
         record["certificate"] = {"holds": cert.holds, "method": cert.method,
                                  "detail": cert.detail}
         return record
@@ -129,29 +136,26 @@ class VertexGrasp:
         """The length of the region on the edge (0 for two vertices)."""
         return 0.0 if self.segment is None else self.segment[1] - self.segment[0]
 
-    def _site(self, kind: str, k: int):
-        corners = convex_vertices(self.polygon)
-        if kind == "vertex":
-            _, a, b = corners[k]
-            edges = self.polygon.edges
-            return edges[a].end, [edges[a].normal, edges[b].normal]
-        return None, [self.polygon.edges[k].normal]
-
     def certify(self) -> Certificate:
         """Corollary 3, exactly in rationals, at the region's ends (linear in between)."""
         F = Fraction
-        p, p_normals = self._site("vertex", self.vertex)
-        cone_p = _extremes(_generators([[F(x) for x in n] for n in p_normals], F(self.mu)))
+        edges = self.polygon.edges
+
+        def cone(indices):
+            normals = [[F(x) for x in edges[i].normal] for i in indices]
+            return _extremes(_generators(normals, F(self.mu)))
+
         kind, k = self.other
-        q0, q_normals = self._site(kind, k)
-        cone_q = _extremes(_generators([[F(x) for x in n] for n in q_normals], F(self.mu)))
+        cone_p = cone(self.corners[0])
         if kind == "edge":
-            e = self.polygon.edges[k]
+            cone_q = cone([k])
+            e = edges[k]
             ends = [[F(s) + F(t) * F(d) for s, d in zip(e.start, e.direction, strict=True)]
                     for t in self.segment]
         else:
-            ends = [[F(x) for x in q0]]
-        P = [F(x) for x in p]
+            cone_q = cone(self.corners[1])
+            ends = [[F(x) for x in edges[self.corners[1][0]].end]]
+        P = [F(x) for x in self.point]
         for q in ends:
             w = [q[0] - P[0], q[1] - P[1]]
             ok_p = cone_p is None or _inside(cone_p, w)
@@ -200,18 +204,24 @@ def vertex_grasps(polygon: Polygon, mu: float, top: int = 5,
             cone_q = _extremes(_generators([e.normal], shrunk))
             segment = _interval(p, e, cone_p, cone_q)
             if segment is not None:
-                found.append(VertexGrasp(polygon, v, ("edge", e.index), segment, float(mu)))
-        for w, a2, _ in corners:
+                found.append(VertexGrasp(polygon, v, ("edge", e.index), segment, float(mu),
+                                         ((a, b),)))
+        for w, a2, b2 in corners:
             if w > v:
-                cone_q = _extremes(_generators([edges[a2].normal,
-                                                edges[corners[w][2]].normal], shrunk))
+                cone_q = _extremes(_generators([edges[a2].normal, edges[b2].normal], shrunk))
                 d = edges[a2].end - p
                 if (cone_p is None or _inside(cone_p, d)) and \
                         (cone_q is None or _inside(cone_q, -d)):
-                    found.append(VertexGrasp(polygon, v, ("vertex", w), None, float(mu)))
-    found = [g for g in found if g.certify().holds]
+                    found.append(VertexGrasp(polygon, v, ("vertex", w), None, float(mu),
+                                             ((a, b), (a2, b2))))
     found.sort(key=lambda g: (-round(g.min_length / polygon.size, 12), g.vertex, g.other))
-    return found[:top]
+    certified = []  # walk down the ranking, proving only what is returned
+    for g in found:
+        if len(certified) == top:
+            break
+        if g.certify().holds:
+            certified.append(g)
+    return certified
 
 
 def _interval(p: NDArray, edge, cone_p, cone_q) -> tuple[float, float] | None:
