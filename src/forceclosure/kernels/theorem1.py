@@ -1,0 +1,626 @@
+"""Theorem 1 compiled: the force-closure verdict for many point-contact grasps at once.
+
+Each grasp goes through the same steps as :func:`forceclosure.closure.
+vector_closure`, with the same tolerance, the same generating wrenches and
+the same margin LP, so verdicts and margins agree with the reference path:
+
+1. generating wrenches in the grasp's frame (the contacts' centroid and
+   their largest distance from it), unit-normalised columns;
+2. the rank half of Theorem 1 from the eigenvalues of ``U U^T``;
+3. the counting fact (``m = d`` vectors never positively span ``R^d``);
+4. the margin LP (:mod:`.simplex`): ``closure`` needs margin and singular
+   value ratio above ``tol`` *and* weights that stay strictly positive once
+   corrected onto the exact null space of ``U`` — a certificate checked
+   here, independently of the LP;
+5. otherwise a twist that repels every wrench: first from the margin LP's
+   duals, else from the separation LP ``min |U lam|_1, lam in simplex``
+   (its value is the reference's ``max_t min_i U_i . t``, ``|t|_inf <= 1``).
+
+Soft fingers with the paper's two-sided torques are decided modulo the span
+of those torques, as the reference does. Spatial friction with
+``exact`` cones brackets the circular cone between inscribed and
+circumscribed pyramids of 8 … 256 edges, as :func:`forceclosure.closure.
+decide` does.
+
+A grasp the kernel cannot settle with a clear margin is flagged ``DEFER``
+and decided by the reference path: a singular value ratio below ``GUARD``
+(where the reference's numerical rank rule, not geometry, decides), a
+quantity within ``BAND`` of a threshold, a certificate that fails, or a
+stalled simplex. On random grasps that is a handful in a million.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import namedtuple
+
+import numba as nb
+import numpy as np
+
+from .simplex import OPTIMAL, solve
+
+NONE, MARGINAL, CLOSURE, DEFER = 0, 1, 2, 3
+FRICTIONLESS, HARD, SOFT = 0, 1, 2
+
+#: Singular value ratio below which the rank is left to the reference's SVD.
+GUARD = 1e-5
+#: Margins and repelling work this close to the tolerance go to the reference.
+BAND = 1e-8
+#: Pyramid sizes of the exact-cone bracket (as ``closure.EXACT_CONE_EDGES``).
+EXACT_EDGES = np.array([8, 16, 32, 64, 128, 256], dtype=np.int64)
+
+#: Scratch arrays of one thread, allocated once per block of grasps.
+Work = namedtuple("Work", "W two U W2 norms G V lam A b c x y T basis weights r sigma_min tw")
+
+
+def columns_per_grasp(k: int, dim: int, edges: int) -> int:
+    """Most generating wrenches ``k`` contacts can have with ``edges``-edge pyramids."""
+    return k * (4 if dim == 2 else max(2 * edges, edges + 2))
+
+
+@nb.njit(cache=True, nogil=True)
+def _work(maxm):  # pragma: no cover - compiled
+    n = maxm + 12
+    return Work(np.empty((6, maxm)), np.empty(maxm, dtype=np.bool_), np.empty((6, maxm)),
+                np.empty((6, maxm)), np.empty(maxm), np.empty((6, 6)), np.empty((6, 6)),
+                np.empty(6), np.empty((7, n)), np.empty(7), np.empty(n), np.empty(n),
+                np.empty(7), np.empty((8, n + 8)), np.empty(7, dtype=np.int64),
+                np.empty(maxm), np.empty(6), np.empty(1), np.empty(6))
+
+
+@nb.njit(cache=True, nogil=True)
+def _eigh(G, V, lam):  # pragma: no cover - compiled
+    """Eigen-decomposition of a small symmetric ``G`` (cyclic Jacobi, destroys ``G``)."""
+    d = G.shape[0]
+    for i in range(d):
+        for j in range(d):
+            V[i, j] = 1.0 if i == j else 0.0
+    for _ in range(60):
+        off = 0.0
+        diag = 0.0
+        for i in range(d):
+            diag += G[i, i] * G[i, i]
+            for j in range(i + 1, d):
+                off += G[i, j] * G[i, j]
+        if off <= 1e-32 * diag:
+            break
+        for p in range(d - 1):
+            for q in range(p + 1, d):
+                if G[p, q] == 0.0:
+                    continue
+                theta = (G[q, q] - G[p, p]) / (2.0 * G[p, q])
+                t = (1.0 if theta >= 0 else -1.0) / (abs(theta) + math.sqrt(theta * theta + 1))
+                c = 1.0 / math.sqrt(t * t + 1.0)
+                s = t * c
+                for k in range(d):
+                    gkp = G[k, p]
+                    gkq = G[k, q]
+                    G[k, p] = c * gkp - s * gkq
+                    G[k, q] = s * gkp + c * gkq
+                for k in range(d):
+                    gpk = G[p, k]
+                    gqk = G[q, k]
+                    G[p, k] = c * gpk - s * gqk
+                    G[q, k] = s * gpk + c * gqk
+                for k in range(d):
+                    vkp = V[k, p]
+                    vkq = V[k, q]
+                    V[k, p] = c * vkp - s * vkq
+                    V[k, q] = s * vkp + c * vkq
+    for i in range(d):
+        lam[i] = G[i, i]
+
+
+@nb.njit(cache=True, nogil=True)
+def _frame(P, ref):  # pragma: no cover - compiled
+    """Centroid of the contact points and their largest distance from it (``contacts.frame``)."""
+    k, d = P.shape
+    for j in range(d):
+        s = 0.0
+        for i in range(k):
+            s += P[i, j]
+        ref[j] = s / k
+    scale = 0.0
+    big = 0.0
+    for i in range(k):
+        r = 0.0
+        for j in range(d):
+            r += (P[i, j] - ref[j]) ** 2
+            big = max(big, abs(P[i, j]))
+        scale = max(scale, math.sqrt(r))
+    if scale <= 1e-12 * max(1.0, big):
+        scale = 1.0
+    return scale
+
+
+@nb.njit(cache=True, nogil=True)
+def _column(W, col, f, arm, scale, d, spin):  # pragma: no cover - compiled
+    """Write the wrench ``(f, arm x f / scale + spin)`` as column ``col``."""
+    if d == 2:
+        W[0, col] = f[0]
+        W[1, col] = f[1]
+        W[2, col] = (arm[0] * f[1] - arm[1] * f[0]) / scale
+    else:
+        for j in range(3):
+            W[j, col] = f[j]
+        W[3, col] = (arm[1] * f[2] - arm[2] * f[1]) / scale + spin[0]
+        W[4, col] = (arm[2] * f[0] - arm[0] * f[2]) / scale + spin[1]
+        W[5, col] = (arm[0] * f[1] - arm[1] * f[0]) / scale + spin[2]
+
+
+@nb.njit(cache=True, nogil=True)
+def wrenches(P, N, mu, tors, model, edges, radius_factor, ref, scale, W, two):
+    # pragma: no cover - compiled
+    """Generating wrenches of one grasp (as ``contacts.primitive_wrenches``); returns ``m``."""
+    k, d = P.shape
+    col = 0
+    f = np.empty(d)
+    arm = np.empty(d)
+    shifted = np.empty(d)
+    spin = np.zeros(3)
+    t = np.empty((2, 3))
+    for i in range(k):
+        n = N[i]
+        for j in range(d):
+            arm[j] = P[i, j] - ref[j]
+        spin[:] = 0.0
+        if model[i] == FRICTIONLESS:
+            for j in range(d):
+                f[j] = -n[j]
+            _column(W, col, f, arm, scale, d, spin)
+            two[col] = False
+            col += 1
+            continue
+        coupled = model[i] == SOFT and not math.isnan(tors[i])
+        if d == 2:
+            tx, ty = -n[1], n[0]
+            for sh in range(2 if coupled else 1):
+                off = 0.0 if not coupled else (tors[i] if sh == 0 else -tors[i])
+                shifted[0] = arm[0] + off * tx
+                shifted[1] = arm[1] + off * ty
+                for side in range(2):
+                    sgn = 1.0 - 2.0 * side
+                    f[0] = -n[0] + sgn * mu[i] * tx
+                    f[1] = -n[1] + sgn * mu[i] * ty
+                    _column(W, col, f, shifted, scale, 2, spin)
+                    two[col] = False
+                    col += 1
+            continue
+        # tangents as contacts.tangent_basis: t1 = e x n from the axis least aligned with n
+        ax = 0
+        for j in range(1, 3):
+            if abs(n[j]) < abs(n[ax]):
+                ax = j
+        a1, a2 = (ax + 1) % 3, (ax + 2) % 3
+        t[0, ax] = 0.0
+        t[0, a1] = -n[a2]
+        t[0, a2] = n[a1]
+        norm = math.sqrt(t[0, 0] ** 2 + t[0, 1] ** 2 + t[0, 2] ** 2)
+        for j in range(3):
+            t[0, j] /= norm
+        t[1, 0] = n[1] * t[0, 2] - n[2] * t[0, 1]
+        t[1, 1] = n[2] * t[0, 0] - n[0] * t[0, 2]
+        t[1, 2] = n[0] * t[0, 1] - n[1] * t[0, 0]
+        radius = mu[i] * radius_factor
+        for side in range(2 if coupled else 1):
+            sgn = 1.0 - 2.0 * side
+            for j in range(3):
+                spin[j] = sgn * tors[i] * n[j] / scale if coupled else 0.0
+            for r in range(edges):
+                theta = 2.0 * np.pi * r / edges
+                c, s = math.cos(theta), math.sin(theta)
+                for j in range(3):
+                    f[j] = -n[j] + radius * (c * t[0, j] + s * t[1, j])
+                _column(W, col, f, arm, scale, 3, spin)
+                two[col] = False
+                col += 1
+        if model[i] == SOFT and not coupled:
+            for side in range(2):
+                sgn = 1.0 - 2.0 * side
+                for j in range(3):
+                    W[j, col] = 0.0
+                    W[3 + j, col] = sgn * n[j]
+                two[col] = True
+                col += 1
+    return col
+
+
+@nb.njit(cache=True, nogil=True)
+def _closure(W, m, d, tol, work, twist, rank_only=False):  # pragma: no cover - compiled
+    """Theorem 1 for the first ``m`` columns of ``W`` (``d`` rows); returns (code, rank, margin).
+
+    ``twist`` (length ``d``) receives a repelling or least-resisted twist for
+    ``none`` and ``marginal``. With ``rank_only`` it stops after the rank and
+    counting checks, returning code -1 when they pass.
+    """
+    U = work.U
+    norms = work.norms
+    big = 0.0
+    for col in range(m):
+        s = 0.0
+        for j in range(d):
+            s += W[j, col] * W[j, col]
+        norms[col] = math.sqrt(s)
+        big = max(big, norms[col])
+    cutoff = 1e-12 * max(1.0, big)
+    mm = 0
+    for col in range(m):
+        if norms[col] > cutoff:
+            for j in range(d):
+                U[j, mm] = W[j, col] / norms[col]
+            mm += 1
+    for j in range(d):
+        twist[j] = 0.0
+    if mm == 0:
+        twist[0] = 1.0
+        return NONE, 0, np.nan
+    G = work.G[:d, :d]
+    for i in range(d):
+        for j in range(i, d):
+            s = 0.0
+            for c in range(mm):
+                s += U[i, c] * U[j, c]
+            G[i, j] = s
+            G[j, i] = s
+    V = work.V[:d, :d]
+    lam = work.lam[:d]
+    _eigh(G, V, lam)
+    top = 0
+    low = 0
+    for i in range(d):
+        if lam[i] > lam[top]:
+            top = i
+        if lam[i] < lam[low]:
+            low = i
+    ratio = math.sqrt(max(lam[low], 0.0) / lam[top])
+    work.sigma_min[0] = math.sqrt(max(lam[low], 0.0))
+    if mm < d:
+        # rank <= mm < d. The mm-th largest eigenvalue tells whether rank = mm exactly.
+        order = np.sort(lam)[::-1]
+        if math.sqrt(max(order[mm - 1], 0.0) / order[0]) < GUARD:
+            return DEFER, 0, np.nan
+        _scaled_copy(V[:, low], twist)
+        return NONE, mm, np.nan
+    if ratio < GUARD:
+        return DEFER, 0, np.nan
+    if mm == d:  # the counting fact; twist from the separation LP below
+        z = _separate(U, mm, d, work, twist)
+        return (NONE, d, np.nan) if z >= 0.0 else (DEFER, d, np.nan)
+    if rank_only:
+        return -1, d, np.nan
+    # the margin LP: max s, U lam = 0, sum lam = 1, lam >= s  (lam = u + 1/m - v)
+    A = work.A[: d + 1, : mm + 1]
+    b = work.b[: d + 1]
+    c = work.c[: mm + 1]
+    A[:, :] = 0.0
+    c[:] = 0.0
+    c[mm] = -1.0
+    for j in range(d):
+        row = 0.0
+        for col in range(mm):
+            A[j, col] = U[j, col]
+            row += U[j, col]
+        A[j, mm] = -row
+        b[j] = -row / mm
+    for col in range(mm):
+        A[d, col] = 1.0
+    A[d, mm] = -float(mm)
+    b[d] = 0.0
+    x = work.x[: mm + 1]
+    y = work.y[: d + 1]
+    status = solve(A, b, c, work.T[: d + 2, : mm + 1 + d + 1 + 1], work.basis[: d + 1], x, y)
+    margin = np.nan
+    if status == OPTIMAL:
+        margin = 1.0 - mm * x[mm]
+        if abs(margin - tol) < BAND:
+            return DEFER, d, margin
+        if margin > tol and ratio > tol:
+            if _certified(U, mm, d, x, work):
+                return CLOSURE, d, margin
+            return DEFER, d, margin
+        if margin < 0.0:
+            # duals: U_i . t >= -margin / m > 0 for every column
+            big_t = 0.0
+            for j in range(d):
+                big_t = max(big_t, abs(y[j]))
+            if big_t > 0.0 and (-margin / mm) / big_t > tol + BAND:
+                for j in range(d):
+                    twist[j] = y[j] / big_t
+                return NONE, d, margin
+    elif status != 1:  # stalled or unbounded: not ours to decide
+        return DEFER, d, margin
+    z = _separate(U, mm, d, work, twist)
+    if z < 0.0 or abs(z - tol) < BAND or abs(ratio - tol) < BAND:
+        return DEFER, d, margin
+    if z > tol:
+        return NONE, d, margin
+    if ratio <= tol:
+        _scaled_copy(V[:, low], twist)
+    return MARGINAL, d, margin
+
+
+@nb.njit(cache=True, nogil=True)
+def _scaled_copy(v, out):  # pragma: no cover - compiled
+    big = 0.0
+    for j in range(v.shape[0]):
+        big = max(big, abs(v[j]))
+    for j in range(v.shape[0]):
+        out[j] = v[j] / big
+
+
+@nb.njit(cache=True, nogil=True)
+def _separate(U, mm, d, work, twist):  # pragma: no cover - compiled
+    """``max_{|t|_inf <= 1} min_i U_i . t`` as ``min |U lam|_1`` over the simplex; -1 if unsolved."""
+    n = mm + 2 * d
+    A = work.A[: d + 1, :n]
+    b = work.b[: d + 1]
+    c = work.c[:n]
+    A[:, :] = 0.0
+    c[:] = 0.0
+    for j in range(d):
+        for col in range(mm):
+            A[j, col] = U[j, col]
+        A[j, mm + j] = -1.0
+        A[j, mm + d + j] = 1.0
+        c[mm + j] = -1.0
+        c[mm + d + j] = -1.0
+        b[j] = 0.0
+    for col in range(mm):
+        A[d, col] = 1.0
+    b[d] = 1.0
+    x = work.x[:n]
+    y = work.y[: d + 1]
+    status = solve(A, b, c, work.T[: d + 2, : n + d + 1 + 1], work.basis[: d + 1], x, y)
+    if status != OPTIMAL:
+        return -1.0
+    z = 0.0
+    for j in range(d):
+        z += x[mm + j] + x[mm + d + j]
+    big = 0.0
+    for j in range(d):
+        big = max(big, abs(y[j]))
+    if big > 0.0:
+        for j in range(d):
+            twist[j] = y[j] / big
+    return z
+
+
+@nb.njit(cache=True, nogil=True)
+def _certified(U, mm, d, x, work):  # pragma: no cover - compiled
+    """``closure._certify``: LP weights corrected onto the null space of ``U`` stay positive."""
+    lam = work.weights[:mm]
+    shift = 1.0 / mm - x[mm]
+    low = np.inf
+    for col in range(mm):
+        lam[col] = x[col] + shift
+        low = min(low, lam[col])
+    # correction delta = U^T (U U^T)^-1 (U lam), by Cholesky of the Gram matrix
+    G = work.G[:d, :d]
+    r = work.r[:d]
+    for i in range(d):
+        s = 0.0
+        for col in range(mm):
+            s += U[i, col] * lam[col]
+        r[i] = s
+        for j in range(i, d):
+            g = 0.0
+            for col in range(mm):
+                g += U[i, col] * U[j, col]
+            G[i, j] = g
+            G[j, i] = g
+    for j in range(d):
+        s = G[j, j]
+        for k in range(j):
+            s -= G[j, k] * G[j, k]
+        if s <= 0.0:
+            return False
+        G[j, j] = math.sqrt(s)
+        for i in range(j + 1, d):
+            s = G[i, j]
+            for k in range(j):
+                s -= G[i, k] * G[j, k]
+            G[i, j] = s / G[j, j]
+    for i in range(d):  # forward
+        s = r[i]
+        for k in range(i):
+            s -= G[i, k] * r[k]
+        r[i] = s / G[i, i]
+    for i in range(d - 1, -1, -1):  # backward with L^T
+        s = r[i]
+        for k in range(i + 1, d):
+            s -= G[k, i] * r[k]
+        r[i] = s / G[i, i]
+    corrected_low = np.inf
+    for col in range(mm):
+        s = 0.0
+        for j in range(d):
+            s += U[j, col] * r[j]
+        lam[col] -= s
+        corrected_low = min(corrected_low, lam[col])
+    leftover = 0.0
+    for j in range(d):
+        s = 0.0
+        for col in range(mm):
+            s += U[j, col] * lam[col]
+        leftover += s * s
+    leftover = math.sqrt(leftover) / work.sigma_min[0]
+    return corrected_low > max(0.5 * low, 2.0 * leftover)
+
+
+@nb.njit(cache=True, nogil=True)
+def _modulo_two_sided(W, two, m, tol, work, twist):  # pragma: no cover - compiled
+    """Theorem 1 modulo the span ``L`` of the two-sided torques (``closure._modulo_lineality``).
+
+    The cone of the wrenches is the whole space iff the one-sided columns,
+    projected onto ``L``'s orthogonal complement, positively span it. The LP
+    is invariant under the choice of orthonormal basis of that complement,
+    so the margin is the reference's.
+    """
+    # orthonormal basis of L (torque space) by Gram-Schmidt over the pure torques
+    basis = np.zeros((3, 3))
+    dim_l = 0
+    for col in range(m):
+        if not two[col] or dim_l == 3:
+            continue
+        v = np.empty(3)
+        for j in range(3):
+            v[j] = W[3 + j, col]
+        for b in range(dim_l):
+            dot = v[0] * basis[b, 0] + v[1] * basis[b, 1] + v[2] * basis[b, 2]
+            for j in range(3):
+                v[j] -= dot * basis[b, j]
+        left = math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2)
+        if left > 1e-9:
+            for j in range(3):
+                basis[dim_l, j] = v[j] / left
+            dim_l += 1
+        elif left > 1e-13:  # nearly dependent: the reference's SVD rank decides
+            return DEFER, 6, np.nan
+    # the complement: the force axes, and torque axes made orthogonal to L
+    Q = np.zeros((6, 6))
+    for j in range(3):
+        Q[j, j] = 1.0
+    dq = 3
+    for axis in range(3):
+        if dq == 6 - dim_l:
+            break
+        v = np.zeros(3)
+        v[axis] = 1.0
+        for b in range(dim_l):
+            dot = basis[b, axis]
+            for j in range(3):
+                v[j] -= dot * basis[b, j]
+        for b in range(3, dq):
+            dot = v[0] * Q[3, b] + v[1] * Q[4, b] + v[2] * Q[5, b]
+            for j in range(3):
+                v[j] -= dot * Q[3 + j, b]
+        left = math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2)
+        if left > 0.5:
+            for j in range(3):
+                Q[3 + j, dq] = v[j] / left
+            dq += 1
+    if dq != 6 - dim_l:
+        return DEFER, 6, np.nan
+    R = work.W2
+    mr = 0
+    for col in range(m):
+        if two[col]:
+            continue
+        for a in range(dq):
+            s = 0.0
+            for j in range(6):
+                s += Q[j, a] * W[j, col]
+            R[a, mr] = s
+        mr += 1
+    sub = work.tw
+    code, _, margin = _closure(R, mr, dq, tol, work, sub)
+    big = 0.0
+    for j in range(6):
+        s = 0.0
+        for a in range(dq):
+            s += Q[j, a] * sub[a]
+        twist[j] = s
+        big = max(big, abs(s))
+    if big > 0.0:
+        for j in range(6):
+            twist[j] /= big
+    return code, 6, margin
+
+
+@nb.njit(cache=True, nogil=True)
+def _decide(P, N, mu, tors, model, edges, factor, ref, scale, tol, work, twist):
+    # pragma: no cover - compiled
+    """Theorem 1 for one grasp with one pyramid: (code, rank, margin)."""
+    d = P.shape[1]
+    D = 3 if d == 2 else 6
+    m = wrenches(P, N, mu, tors, model, edges, factor, ref, scale, work.W, work.two)
+    has_two = False
+    for col in range(m):
+        has_two = has_two or work.two[col]
+    if not has_two:
+        return _closure(work.W, m, D, tol, work, twist)
+    # the full set's rank first, as the reference does, then the quotient
+    code, rank, margin = _closure(work.W, m, D, tol, work, twist, True)
+    if code != -1:
+        return code, rank, margin
+    return _modulo_two_sided(work.W, work.two, m, tol, work, twist)
+
+
+@nb.njit(cache=True, nogil=True)
+def _physical(y, ref, scale, d, out):  # pragma: no cover - compiled
+    """``motion.shift_twist`` then ``motion_of``'s normalisation: ``(omega, v)`` about the origin."""
+    if d == 2:
+        omega = y[2] / scale
+        vx = y[0] + omega * ref[1]
+        vy = y[1] - omega * ref[0]
+        out[0], out[1], out[2] = omega, vx, vy
+        w_norm = abs(omega)
+        v_norm = math.sqrt(vx * vx + vy * vy)
+        k = 1
+    else:
+        for j in range(3):
+            out[j] = y[3 + j] / scale
+        out[3] = y[0] - (out[1] * ref[2] - out[2] * ref[1])
+        out[4] = y[1] - (out[2] * ref[0] - out[0] * ref[2])
+        out[5] = y[2] - (out[0] * ref[1] - out[1] * ref[0])
+        w_norm = math.sqrt(out[0] ** 2 + out[1] ** 2 + out[2] ** 2)
+        v_norm = math.sqrt(out[3] ** 2 + out[4] ** 2 + out[5] ** 2)
+        k = 3
+    unit = v_norm if (w_norm * scale <= 1e-9 * v_norm or w_norm == 0.0) else w_norm
+    if unit > 0.0:
+        for j in range(k + d):
+            out[j] /= unit
+
+
+@nb.njit(parallel=True, cache=True, nogil=True)
+def closure_kernel(points, normals, mu, tors, model, edges, fit, exact, tol, maxm,
+                   code, rank, margin, twist):  # pragma: no cover - compiled
+    """Theorem 1 for ``(N, k, d)`` grasps; fills ``code``, ``rank``, ``margin``, ``twist``.
+
+    ``fit`` is 0 (inscribed) or 1 (circumscribed) for the fixed pyramid used
+    when ``exact`` is False or the grasp has no spatial friction.
+    """
+    n_grasps, k, d = points.shape
+    block = 256
+    n_blocks = (n_grasps + block - 1) // block
+    for blk in nb.prange(n_blocks):
+        work = _work(maxm)
+        ref = np.empty(d)
+        y = np.empty(3 if d == 2 else 6)
+        for g in range(blk * block, min(n_grasps, (blk + 1) * block)):
+            P = points[g]
+            N = normals[g]
+            scale = _frame(P, ref)
+            friction = False
+            if d == 3:
+                for i in range(k):
+                    friction = friction or (model[i] != FRICTIONLESS and mu[g, i] > 0.0)
+            for j in range(y.shape[0]):
+                y[j] = 0.0
+            if exact and friction:
+                c = DEFER
+                for e in EXACT_EDGES:
+                    c, r, mg = _decide(P, N, mu[g], tors[g], model, e, 1.0, ref, scale, tol,
+                                       work, y)
+                    if c == CLOSURE or c == DEFER:
+                        break
+                    keep = (r, mg)
+                    kept = y.copy()
+                    c, r, mg = _decide(P, N, mu[g], tors[g], model, e,
+                                       1.0 / math.cos(math.pi / e), ref, scale, tol, work, y)
+                    if c == NONE or c == DEFER:
+                        break
+                    c, r, mg = MARGINAL, keep[0], keep[1]
+                    y[:] = kept
+            else:
+                use = 8 if exact else edges  # closure.decide: Cone() when nothing to bracket
+                factor = 1.0 / math.cos(math.pi / use) if (fit == 1 and not exact) else 1.0
+                c, r, mg = _decide(P, N, mu[g], tors[g], model, use, factor, ref, scale, tol,
+                                   work, y)
+            code[g] = c
+            rank[g] = r
+            margin[g] = mg
+            if c == NONE or c == MARGINAL:
+                _physical(y, ref, scale, d, twist[g])
+            else:
+                twist[g, :] = np.nan
