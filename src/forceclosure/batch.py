@@ -2,15 +2,21 @@
 
 :func:`analyze_batch` takes ``N`` grasps of ``k`` point contacts as arrays
 and returns arrays of verdicts, ranks, margins and unresisted twists, with
-the same meaning (and the same code path per grasp) as
-:func:`forceclosure.analyze`. Contacts in one slot share a contact model.
+the same meaning as :func:`forceclosure.analyze`. Contacts in one slot share
+a contact model. The compiled engine (:mod:`forceclosure.kernels`) decides
+grasps in parallel and hands the few it cannot settle with a clear margin to
+the reference path; ``engine="reference"`` runs the reference path on every
+grasp. Both give the same verdicts. Work proceeds in chunks, so memory stays
+bounded however many grasps there are; :func:`least_friction_batch` gives
+each grasp's least friction in one compiled pass.
+
 For two-finger grasps, :func:`forceclosure.two_finger.two_finger_closure`
-is fully vectorised and far faster.
+is faster still.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -20,18 +26,27 @@ from .closure import TOLERANCE, Verdict, decide, force_direction_closure, torque
 from .contacts import MODELS, Cone, Contact
 from .errors import InputError
 from .motion import motion_of, shift_twist
+from .two_finger import Engine
+
+_VERDICTS = np.array([Verdict.NONE.value, Verdict.MARGINAL.value, Verdict.CLOSURE.value])
+_CODES = {Verdict.NONE: 0, Verdict.MARGINAL: 1, Verdict.CLOSURE: 2}
+
+#: Grasps handed to the kernel at a time: bounds the memory of the outputs in flight.
+CHUNK = 65_536
 
 
 @dataclass(frozen=True, eq=False)
 class BatchAnalysis:
     """Verdicts for ``N`` grasps, as arrays (see :class:`forceclosure.Analysis`).
 
-    ``margin`` is NaN where undefined; ``twist`` rows are NaN for grasps that
-    are force-closure; ``force_direction_closure`` and ``torque_closure`` are
-    filled only when asked for (``explain=True``).
+    ``code`` is the verdict as 0 ``none``, 1 ``marginal``, 2 ``closure``;
+    ``margin`` is NaN where undefined; ``twist`` rows (the unresisted motion,
+    ``(omega, v)`` about the origin as in :class:`forceclosure.Motion`) are NaN
+    for grasps that are force-closure; ``force_direction_closure`` and
+    ``torque_closure`` are filled only when asked for (``explain=True``).
     """
 
-    verdict: NDArray[np.str_]
+    code: NDArray[np.int8]
     rank: NDArray[np.int64]
     margin: NDArray[np.float64]
     twist: NDArray[np.float64]
@@ -39,16 +54,44 @@ class BatchAnalysis:
     torque_closure: NDArray[np.bool_] | None
 
     @property
+    def verdict(self) -> NDArray[np.str_]:
+        """``"closure"``, ``"marginal"`` or ``"none"`` per grasp."""
+        return _VERDICTS[self.code]
+
+    @property
     def force_closure(self) -> NDArray[np.bool_]:
         """True where the verdict is ``closure``."""
-        return self.verdict == Verdict.CLOSURE.value
+        return self.code == 2
 
     def __len__(self) -> int:
-        return len(self.verdict)
+        return len(self.code)
+
+
+@dataclass(frozen=True, eq=False)
+class _Grasps:
+    """Validated arrays: points, unit normals, per-contact mu and torsion, slot models."""
+
+    points: NDArray[np.float64]
+    normals: NDArray[np.float64]
+    mu: NDArray[np.float64]
+    torsion: NDArray[np.float64]
+    models: list[str]
+
+    def contacts(self, g: int, mu: float | None = None) -> list[Contact]:
+        """Grasp ``g`` as contacts for the reference path (with all friction ``mu``, if given)."""
+        return [Contact(self.points[g, i][None], self.normals[g, i][None], self.models[i],
+                        float(np.nan_to_num(self.mu[g, i] if mu is None else mu)),
+                        None if np.isnan(self.torsion[g, i]) else float(self.torsion[g, i]))
+                for i in range(self.points.shape[1])]
 
 
 def _per_contact(value: ArrayLike | None, shape: tuple[int, int], name: str) -> NDArray:
-    a = np.broadcast_to(np.asarray(np.nan if value is None else value, dtype=float), shape)
+    try:
+        a = np.asarray(np.nan if value is None else value, dtype=float)
+        a = np.broadcast_to(a, shape)
+    except (TypeError, ValueError):
+        raise InputError(f"'{name}' must be a number or an array broadcastable to {shape} "
+                         "(grasps, contacts)") from None
     bad = np.argwhere(~np.isnan(a) & ((a < 0) | ~np.isfinite(a)))
     if len(bad):
         g, c = bad[0]
@@ -57,10 +100,53 @@ def _per_contact(value: ArrayLike | None, shape: tuple[int, int], name: str) -> 
     return a
 
 
+def _validate(points: ArrayLike, normals: ArrayLike, mu: ArrayLike,
+              model: str | Sequence[str], torsion: ArrayLike | None) -> _Grasps:
+    try:
+        P = np.asarray(points, dtype=float)
+        N_ = np.asarray(normals, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError("points and normals must be arrays of numbers") from None
+    if P.ndim != 3 or P.shape != N_.shape or P.shape[2] not in (2, 3):
+        raise InputError(f"points and normals must both have shape (N, k, 2 or 3); got "
+                         f"{P.shape} and {N_.shape}")
+    n, k, _ = P.shape
+    for name, arr in (("point", P), ("normal", N_)):
+        bad = np.argwhere(~np.all(np.isfinite(arr), axis=2))
+        if len(bad):
+            raise InputError(f"grasp {bad[0][0] + 1}, contact {bad[0][1] + 1}: '{name}' has a "
+                             "non-finite coordinate")
+    length = np.linalg.norm(N_, axis=2)
+    bad = np.argwhere(length <= 1e-12)
+    if len(bad):
+        raise InputError(f"grasp {bad[0][0] + 1}, contact {bad[0][1] + 1}: 'normal' is a zero "
+                         "vector")
+    models = [model] * k if isinstance(model, str) else [str(m) for m in model]
+    if len(models) != k or any(m not in MODELS for m in models):
+        raise InputError(f"model must be one of {', '.join(MODELS)}, or a list of {k} of them")
+    return _Grasps(P, N_ / length[..., None], _per_contact(mu, (n, k), "mu"),
+                   _per_contact(torsion, (n, k), "torsion"), models)
+
+
+def _cone_args(cone: str | Cone) -> tuple[bool, int, int]:
+    """``(exact, edges, fit)`` for the kernels."""
+    if cone == "exact":
+        return True, 8, 0
+    if isinstance(cone, Cone):
+        return False, cone.edges, int(cone.fit == "circumscribed")
+    raise InputError(f"cone must be 'exact' or a Cone(edges, fit), got {cone!r}")
+
+
+def _check_engine(engine: str) -> None:
+    if engine not in ("compiled", "reference"):
+        raise InputError(f"engine must be 'compiled' or 'reference', got {engine!r}")
+
+
 def analyze_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
                   model: str | Sequence[str] = "hard", torsion: ArrayLike | None = None,
                   cone: str | Cone = "exact", tol: float = TOLERANCE,
-                  explain: bool = False) -> BatchAnalysis:
+                  explain: bool = False, engine: Engine = "compiled",
+                  progress: Callable[[int], object] | None = None) -> BatchAnalysis:
     """Analyse ``N`` grasps of ``k`` point contacts each (Theorem 1 per grasp).
 
     Parameters
@@ -75,7 +161,12 @@ def analyze_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
     cone, tol :
         As in :func:`forceclosure.analyze`.
     explain : bool
-        Also fill ``force_direction_closure`` and ``torque_closure``.
+        Also fill ``force_direction_closure`` and ``torque_closure`` (by the
+        reference path, grasp by grasp, for those not force-closure).
+    engine : {"compiled", "reference"}
+        The compiled kernels (default), or the reference path for every grasp.
+    progress : callable, optional
+        Called with the number of grasps just finished, after every chunk.
 
     Examples
     --------
@@ -85,47 +176,108 @@ def analyze_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
     >>> analyze_batch(p, n, mu=0.3).verdict.tolist()
     ['closure', 'none']
     """
-    P = np.asarray(points, dtype=float)
-    N_ = np.asarray(normals, dtype=float)
-    if P.ndim != 3 or P.shape != N_.shape or P.shape[2] not in (2, 3):
-        raise InputError(f"points and normals must both have shape (N, k, 2 or 3); got "
-                         f"{P.shape} and {N_.shape}")
-    n, k, d = P.shape
-    for name, arr in (("point", P), ("normal", N_)):
-        bad = np.argwhere(~np.all(np.isfinite(arr), axis=2))
-        if len(bad):
-            raise InputError(f"grasp {bad[0][0] + 1}, contact {bad[0][1] + 1}: '{name}' has a "
-                             "non-finite coordinate")
-    length = np.linalg.norm(N_, axis=2)
-    bad = np.argwhere(length <= 1e-12)
-    if len(bad):
-        raise InputError(f"grasp {bad[0][0] + 1}, contact {bad[0][1] + 1}: 'normal' is a zero "
-                         "vector")
-    mus = _per_contact(mu, (n, k), "mu")
-    tors = _per_contact(torsion, (n, k), "torsion")
-    models = [model] * k if isinstance(model, str) else list(model)
-    if len(models) != k or any(m not in MODELS for m in models):
-        raise InputError(f"model must be one of {', '.join(MODELS)}, or a list of {k} of them")
-    verdict = np.empty(n, dtype="<U8")
+    _check_engine(engine)
+    grasps = _validate(points, normals, mu, model, torsion)
+    exact, edges, fit = _cone_args(cone)
+    n, k, d = grasps.points.shape
+    code = np.empty(n, dtype=np.int8)
     rank = np.zeros(n, dtype=np.int64)
     margin = np.full(n, np.nan)
     twist = np.full((n, 3 if d == 2 else 6), np.nan)
-    fd = np.zeros(n, dtype=bool) if explain else None
-    tc = np.zeros(n, dtype=bool) if explain else None
-    for g in range(n):
-        grasp = [Contact(P[g, i][None], (N_[g, i] / length[g, i])[None], models[i],
-                         float(np.nan_to_num(mus[g, i])),
-                         None if np.isnan(tors[g, i]) else float(tors[g, i]))
-                 for i in range(k)]
-        vc, ws, _ = decide(grasp, cone, tol)
-        verdict[g] = vc.verdict.value
+    if engine == "compiled" and n:
+        from .kernels import theorem1 as kernel
+
+        model_codes = np.array([MODELS.index(m) for m in grasps.models], dtype=np.int64)
+        maxm = kernel.columns_per_grasp(k, d, 256 if exact else edges)
+        for lo in range(0, n, CHUNK):
+            part = slice(lo, min(n, lo + CHUNK))
+            kernel.closure_kernel(
+                np.ascontiguousarray(grasps.points[part]),
+                np.ascontiguousarray(grasps.normals[part]),
+                np.ascontiguousarray(grasps.mu[part]), np.ascontiguousarray(grasps.torsion[part]),
+                model_codes, edges, fit, exact, float(tol), maxm,
+                code[part], rank[part], margin[part], twist[part])
+            if progress is not None:
+                progress(part.stop - part.start)
+        todo = np.flatnonzero(code == kernel.DEFER)
+    else:
+        todo = np.arange(n)
+    for g in todo:
+        vc, ws, _ = decide(grasps.contacts(g), cone, tol)
+        code[g] = _CODES[vc.verdict]
         rank[g] = vc.rank
         margin[g] = np.nan if vc.margin is None else vc.margin
+        twist[g] = np.nan
         if vc.twist is not None:
             physical = shift_twist(vc.twist, ws.reference, ws.length_scale)
             twist[g] = motion_of(physical, length_scale=ws.length_scale).twist
-        if explain:
-            closed = vc.verdict is Verdict.CLOSURE
-            fd[g] = closed or force_direction_closure(ws.wrenches, tol)
-            tc[g] = closed or (not fd[g] and torque_closure(ws.wrenches))
-    return BatchAnalysis(verdict, rank, margin, twist, fd, tc)
+        if engine == "reference" and progress is not None:
+            progress(1)
+    fd = tc = None
+    if explain:
+        fd = code == 2
+        tc = code == 2
+        for g in np.flatnonzero(code != 2):
+            vc, ws, _ = decide(grasps.contacts(g), cone, tol)
+            fd[g] = force_direction_closure(ws.wrenches, tol)
+            tc[g] = not fd[g] and torque_closure(ws.wrenches)
+    return BatchAnalysis(code, rank, margin, twist, fd, tc)
+
+
+def least_friction_batch(points: ArrayLike, normals: ArrayLike, *,
+                         model: str | Sequence[str] = "hard", torsion: ArrayLike | None = None,
+                         cone: str | Cone = "exact", tol: float = TOLERANCE, rtol: float = 1e-6,
+                         engine: Engine = "compiled") -> NDArray[np.float64]:
+    """The least friction coefficient, equal at all fingers, closing each grasp.
+
+    The batch form of :func:`forceclosure.quality.least_friction`: frictionless
+    contacts count as hard fingers, 0 means closed without friction, ``inf``
+    that no friction up to :data:`forceclosure.quality.MU_MAX` closes the
+    grasp. Compiled, it is one parallel pass over the grasps: each grasp's
+    bisection on the cone half-angle runs inside the kernel (planar pairs use
+    Corollary 3 in closed form, as the reference does).
+
+    Examples
+    --------
+    Two fingers on opposite sides, one 0.2 higher than the other: ``tan`` of
+    the angle of ``PQ``, 0.2 / 2, in the plane (Corollary 3 in closed form)
+    and for soft fingers in space (an 8-edge pyramid has an edge along the
+    offset, so it agrees with the circular cone):
+
+    >>> import numpy as np
+    >>> P = np.array([[[-1, 0, 0], [1, 0.2, 0]]])
+    >>> N = np.array([[[-1, 0, 0], [1, 0, 0]]])
+    >>> round(float(least_friction_batch(P[..., :2], N[..., :2])[0]), 6)
+    0.1
+    >>> least_friction_batch(P, N, model="soft", cone=Cone(8)).round(6).tolist()
+    [0.1]
+    """
+    from .quality import MU_MAX, least_friction
+
+    _check_engine(engine)
+    grasps = _validate(points, normals, 0.0, model, torsion)
+    exact, edges, fit = _cone_args(cone)
+    n, k, d = grasps.points.shape
+    out = np.empty(n)
+    soft = [i for i, m in enumerate(grasps.models) if m == "soft"]
+    planar_pair = d == 2 and k == 2 and bool(np.all(np.isnan(grasps.torsion[:, soft])))
+    if engine == "reference":
+        todo = np.arange(n)
+    elif planar_pair:
+        from .two_finger import two_finger_closure
+
+        P, N_ = grasps.points, grasps.normals
+        return two_finger_closure(P[:, 0], N_[:, 0], P[:, 1], N_[:, 1], 1.0).least_friction
+    else:
+        from .kernels import theorem1 as kernel
+
+        model_codes = np.array([MODELS.index(m) for m in grasps.models], dtype=np.int64)
+        maxm = kernel.columns_per_grasp(k, d, 256 if exact else edges)
+        deferred = np.zeros(n, dtype=np.bool_)
+        kernel.least_friction_kernel(grasps.points, grasps.normals, grasps.torsion, model_codes,
+                                     edges, fit, exact, float(tol), maxm, MU_MAX, rtol, out,
+                                     deferred)
+        todo = np.flatnonzero(deferred)
+    for g in todo:
+        out[g] = least_friction(grasps.contacts(g), cone=cone, tol=tol, rtol=rtol)
+    return out

@@ -25,7 +25,8 @@ Everything here is vectorised over any number of pairs.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -37,6 +38,8 @@ from .errors import InputError
 _VERDICTS = np.array([Verdict.NONE.value, Verdict.MARGINAL.value, Verdict.CLOSURE.value])
 _CODES = {Verdict.NONE: 0, Verdict.MARGINAL: 1, Verdict.CLOSURE: 2}
 
+Engine = Literal["compiled", "reference"]
+
 
 @dataclass(frozen=True, eq=False)
 class PairClosure:
@@ -44,27 +47,46 @@ class PairClosure:
 
     Attributes
     ----------
-    verdict : (N,) array of str
-        ``"closure"``, ``"marginal"`` or ``"none"``.
-    angle_p, angle_q : (N,) arrays
-        Angles (radians) between ``PQ`` and ``-n_P``, and ``QP`` and ``-n_Q``.
+    code : (N,) int8 array
+        0 ``none``, 1 ``marginal``, 2 ``closure``: the verdict, compactly.
     least_friction : (N,) array
         ``tan(max(angle_p, angle_q))``: the pair closes for any larger
         friction coefficient at both fingers (in space an upper bound unless
         the normals are antiparallel); ``inf`` when no friction can
         close it (an angle of 90 degrees or more, coincident points, or hard
         fingers in space).
+    verdict : (N,) array of str
+        ``"closure"``, ``"marginal"`` or ``"none"`` (made from ``code`` on use).
+    angle_p, angle_q : (N,) arrays
+        Angles (radians) between ``PQ`` and ``-n_P``, and ``QP`` and ``-n_Q``
+        (computed on use).
     """
 
-    verdict: NDArray[np.str_]
-    angle_p: NDArray[np.float64]
-    angle_q: NDArray[np.float64]
+    code: NDArray[np.int8]
     least_friction: NDArray[np.float64]
+    _pairs: tuple[NDArray[np.float64], ...] = field(repr=False)
+
+    @property
+    def verdict(self) -> NDArray[np.str_]:
+        """``"closure"``, ``"marginal"`` or ``"none"`` per pair."""
+        return _VERDICTS[self.code]
 
     @property
     def force_closure(self) -> NDArray[np.bool_]:
         """True where the verdict is ``closure``."""
-        return self.verdict == Verdict.CLOSURE.value
+        return self.code == 2
+
+    @property
+    def angle_p(self) -> NDArray[np.float64]:
+        """Angle between ``Q - P`` and ``-n_P``."""
+        p, n_p, q, _ = self._pairs
+        return _angle(q - p, -n_p)
+
+    @property
+    def angle_q(self) -> NDArray[np.float64]:
+        """Angle between ``P - Q`` and ``-n_Q``."""
+        p, _, q, n_q = self._pairs
+        return _angle(p - q, -n_q)
 
 
 def _angle(u: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -78,15 +100,16 @@ def _angle(u: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64
 
 
 def _array(value: ArrayLike, name: str) -> NDArray[np.float64]:
-    a = np.asarray(value, dtype=float)
-    if not np.all(np.isfinite(a)):
-        raise InputError(f"'{name}' has a non-finite entry")
-    return a
+    try:
+        return np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"'{name}' must be an array of numbers") from None
 
 
 def two_finger_closure(p: ArrayLike, n_p: ArrayLike, q: ArrayLike, n_q: ArrayLike,
                        mu_p: ArrayLike, mu_q: ArrayLike | None = None, *,
-                       model: str = "soft", tol: float = TOLERANCE) -> PairClosure:
+                       model: str = "soft", tol: float = TOLERANCE,
+                       engine: Engine = "compiled") -> PairClosure:
     """Corollary 3: are two frictional contacts force-closure? Vectorised.
 
     Parameters
@@ -94,7 +117,7 @@ def two_finger_closure(p: ArrayLike, n_p: ArrayLike, q: ArrayLike, n_q: ArrayLik
     p, q : (..., d) arrays
         Contact points, ``d`` = 2 or 3.
     n_p, n_q : (..., d) arrays
-        Outward normals there (normalised here; zero normals are refused).
+        Outward normals there (any length but zero).
     mu_p, mu_q : arrays broadcastable to ``(...)``
         Friction coefficients (``mu_q`` defaults to ``mu_p``).
     model : {"soft", "hard"}
@@ -104,6 +127,10 @@ def two_finger_closure(p: ArrayLike, n_p: ArrayLike, q: ArrayLike, n_q: ArrayLik
     tol : float
         Angles within ``tol`` radians of the cone's half-angle are
         ``marginal``.
+    engine : {"compiled", "reference"}
+        The compiled kernel (:mod:`forceclosure.kernels.pairs`, parallel, no
+        trigonometry) or the NumPy reference computing the angles. They
+        return the same verdicts.
 
     Returns
     -------
@@ -117,15 +144,69 @@ def two_finger_closure(p: ArrayLike, n_p: ArrayLike, q: ArrayLike, n_q: ArrayLik
     """
     p, q, n_p, n_q = (_array(v, name) for v, name in
                       ((p, "p"), (q, "q"), (n_p, "n_p"), (n_q, "n_q")))
-    d = p.shape[-1]
-    if d not in (2, 3) or any(a.shape[-1] != d for a in (q, n_p, n_q)):
+    d = p.shape[-1] if p.ndim else 0
+    if d not in (2, 3) or any(a.ndim == 0 or a.shape[-1] != d for a in (q, n_p, n_q)):
         raise InputError("p, n_p, q, n_q must all have 2 or all have 3 coordinates")
     mu_p = _array(mu_p, "mu_p")
     mu_q = mu_p if mu_q is None else _array(mu_q, "mu_q")
-    if np.any(mu_p < 0) or np.any(mu_q < 0):
-        raise InputError("friction coefficients must be >= 0")
+    for name, mu in (("mu_p", mu_p), ("mu_q", mu_q)):
+        if not np.all(np.isfinite(mu)) or np.any(mu < 0):
+            raise InputError(f"'{name}' must be finite and >= 0")
     if model not in ("soft", "hard"):
         raise InputError(f"model must be 'soft' or 'hard' for Corollary 3, got {model!r}")
+    if engine not in ("compiled", "reference"):
+        raise InputError(f"engine must be 'compiled' or 'reference', got {engine!r}")
+    try:
+        shape = np.broadcast_shapes(p.shape[:-1], q.shape[:-1], n_p.shape[:-1],
+                                    n_q.shape[:-1], mu_p.shape, mu_q.shape)
+    except ValueError:
+        raise InputError("p, n_p, q, n_q, mu_p and mu_q do not broadcast to one shape") from None
+    pairs = (p, n_p, q, n_q)
+    if engine == "reference":
+        code, least = _reference(p, n_p, q, n_q, mu_p, mu_q, model, tol)
+    else:
+        code, least = _compiled(p, n_p, q, n_q, mu_p, mu_q, model, tol, shape)
+    return PairClosure(np.asarray(code, dtype=np.int8).reshape(shape),
+                       np.asarray(least, dtype=float).reshape(shape), pairs)
+
+
+def _compiled(p, n_p, q, n_q, mu_p, mu_q, model, tol, shape):
+    from .kernels import pairs as kernel
+
+    flat = [np.ascontiguousarray(np.broadcast_to(a, (*shape, a.shape[-1]))).reshape(-1, a.shape[-1])
+            for a in (p, n_p, q, n_q)]
+    mus = [np.ascontiguousarray(np.broadcast_to(m, shape)).reshape(-1) for m in (mu_p, mu_q)]
+    n = flat[0].shape[0]
+    code = np.empty(n, dtype=np.int8)
+    least = np.empty(n)
+    kernel.pair_kernel(*flat, *mus, float(tol), code, least)
+    bad = np.flatnonzero(code >= kernel.ZERO_NORMAL)
+    if len(bad):
+        i = int(bad[0])
+        index = np.unravel_index(i, shape) if len(shape) > 1 else i
+        where = f"pair at index {index}" if shape else "the pair"
+        what = ("a normal is a zero vector" if code[i] == kernel.ZERO_NORMAL
+                else "a point or normal has a non-finite coordinate")
+        raise InputError(f"{where}: {what}")
+    if p.shape[-1] == 3 and model == "hard":
+        code[:] = kernel.NONE
+        least[:] = np.inf
+    undecided = np.flatnonzero(code == kernel.UNDECIDED)
+    if len(undecided):  # spatial soft pairs beyond Corollary 3: Theorem 1, compiled
+        from .batch import analyze_batch
+
+        P = np.stack([flat[0][undecided], flat[2][undecided]], axis=1)
+        N = np.stack([flat[1][undecided], flat[3][undecided]], axis=1)
+        mu = np.stack([mus[0][undecided], mus[1][undecided]], axis=1)
+        code[undecided] = analyze_batch(P, N, mu=mu, model="soft", tol=tol).code
+    return code, least
+
+
+def _reference(p, n_p, q, n_q, mu_p, mu_q, model, tol):
+    """The angles of Corollary 3, in NumPy; spatial pairs it cannot settle by ``analyze``."""
+    if not all(np.all(np.isfinite(a)) for a in (p, q, n_p, n_q)):
+        raise InputError("a point or normal has a non-finite coordinate")
+    d = p.shape[-1]
     norm_p = np.linalg.norm(n_p, axis=-1, keepdims=True)
     norm_q = np.linalg.norm(n_q, axis=-1, keepdims=True)
     if np.any(norm_p <= 1e-12) or np.any(norm_q <= 1e-12):
@@ -158,4 +239,4 @@ def two_finger_closure(p: ArrayLike, n_p: ArrayLike, q: ArrayLike, n_q: ArrayLik
                 grasp = [point_contact(P[idx], NP[idx], "soft", float(MP[idx])),
                          point_contact(Q[idx], NQ[idx], "soft", float(MQ[idx]))]
                 code[idx] = _CODES[analyze(grasp, tol=tol).verdict]
-    return PairClosure(_VERDICTS[code], angle_p, angle_q, least)
+    return code, least

@@ -24,8 +24,8 @@ NONE, MARGINAL, CLOSURE = 0, 1, 2
 #: A pair whose code is not final: spatial soft fingers, non-antiparallel
 #: normals, Corollary 3's condition failing (decided by Theorem 1 instead).
 UNDECIDED = 3
-#: A pair with a zero normal (the caller reports it).
-ZERO_NORMAL = 4
+#: A pair with a zero normal, or a non-finite coordinate (the caller reports it).
+ZERO_NORMAL, NON_FINITE = 4, 5
 
 
 @nb.njit(inline="always")
@@ -63,6 +63,11 @@ def pair_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, code, least):  # pragma: no cov
             cq += v * n_q[i, j]
             np2 += n_p[i, j] * n_p[i, j]
             nq2 += n_q[i, j] * n_q[i, j]
+        if not (math.isfinite(pq2) and math.isfinite(np2) and math.isfinite(nq2)
+                and math.isfinite(cp) and math.isfinite(cq)):
+            code[i] = NON_FINITE
+            least[i] = np.nan
+            continue
         if np2 <= 1e-24 or nq2 <= 1e-24:
             code[i] = ZERO_NORMAL
             least[i] = np.inf

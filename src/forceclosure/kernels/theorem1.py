@@ -49,6 +49,9 @@ BAND = 1e-8
 #: Pyramid sizes of the exact-cone bracket (as ``closure.EXACT_CONE_EDGES``).
 EXACT_EDGES = np.array([8, 16, 32, 64, 128, 256], dtype=np.int64)
 
+#: Grasps per parallel task (one workspace each).
+BLOCK = 256
+
 #: Scratch arrays of one thread, allocated once per block of grasps.
 Work = namedtuple("Work", "W two U W2 norms G V lam A b c x y T basis weights r sigma_min tw")
 
@@ -285,7 +288,7 @@ def _closure(W, m, d, tol, work, twist, rank_only=False):  # pragma: no cover - 
         return DEFER, 0, np.nan
     if mm == d:  # the counting fact; twist from the separation LP below
         z = _separate(U, mm, d, work, twist)
-        return (NONE, d, np.nan) if z >= 0.0 else (DEFER, d, np.nan)
+        return (NONE, d, np.nan) if z >= 0.0 else (DEFER, d, np.nan)  # z = -1: unsolved
     if rank_only:
         return -1, d, np.nan
     # the margin LP: max s, U lam = 0, sum lam = 1, lam >= s  (lam = u + 1/m - v)
@@ -350,7 +353,10 @@ def _scaled_copy(v, out):  # pragma: no cover - compiled
 
 @nb.njit(cache=True, nogil=True)
 def _separate(U, mm, d, work, twist):  # pragma: no cover - compiled
-    """``max_{|t|_inf <= 1} min_i U_i . t`` as ``min |U lam|_1`` over the simplex; -1 if unsolved."""
+    """``max_t min_i U_i . t`` (``|t|_inf <= 1``) as ``min |U lam|_1`` over the simplex.
+
+    Returns -1 when the LP is not solved.
+    """
     n = mm + 2 * d
     A = work.A[: d + 1, :n]
     b = work.b[: d + 1]
@@ -376,6 +382,7 @@ def _separate(U, mm, d, work, twist):  # pragma: no cover - compiled
     z = 0.0
     for j in range(d):
         z += x[mm + j] + x[mm + d + j]
+    z = max(z, 0.0)  # a sum of non-negative variables, up to rounding
     big = 0.0
     for j in range(d):
         big = max(big, abs(y[j]))
@@ -548,7 +555,7 @@ def _decide(P, N, mu, tors, model, edges, factor, ref, scale, tol, work, twist):
 
 @nb.njit(cache=True, nogil=True)
 def _physical(y, ref, scale, d, out):  # pragma: no cover - compiled
-    """``motion.shift_twist`` then ``motion_of``'s normalisation: ``(omega, v)`` about the origin."""
+    """``motion.shift_twist``, normalised as ``motion_of`` does: ``(omega, v)`` about the origin."""
     if d == 2:
         omega = y[2] / scale
         vx = y[0] + omega * ref[1]
@@ -572,55 +579,118 @@ def _physical(y, ref, scale, d, out):  # pragma: no cover - compiled
             out[j] /= unit
 
 
+@nb.njit(cache=True, nogil=True)
+def grasp(P, N, mu, tors, model, edges, fit, exact, tol, work, ref, y):
+    # pragma: no cover - compiled
+    """One grasp, as :func:`forceclosure.closure.decide`: (code, rank, margin, scale).
+
+    ``ref`` receives the torque reference point and ``y`` the twist in the
+    scaled wrench frame.
+    """
+    k, d = P.shape
+    scale = _frame(P, ref)
+    friction = False
+    if d == 3:
+        for i in range(k):
+            friction = friction or (model[i] != FRICTIONLESS and mu[i] > 0.0)
+    y[:] = 0.0
+    if not (exact and friction):
+        use = 8 if exact else edges  # closure.decide: Cone() when there is nothing to bracket
+        factor = 1.0 / math.cos(math.pi / use) if (fit == 1 and not exact) else 1.0
+        c, r, mg = _decide(P, N, mu, tors, model, use, factor, ref, scale, tol, work, y)
+        return c, r, mg, scale
+    kept = np.empty_like(y)
+    c, r, mg = DEFER, 0, np.nan
+    for e in EXACT_EDGES:  # inscribed proves closure, circumscribed refutes it
+        c, r, mg = _decide(P, N, mu, tors, model, e, 1.0, ref, scale, tol, work, y)
+        if c in (CLOSURE, DEFER):
+            return c, r, mg, scale
+        inner_r, inner_mg = r, mg
+        kept[:] = y
+        c, r, mg = _decide(P, N, mu, tors, model, e, 1.0 / math.cos(math.pi / e), ref, scale,
+                           tol, work, y)
+        if c in (NONE, DEFER):
+            return c, r, mg, scale
+        y[:] = kept
+        c, r, mg = MARGINAL, inner_r, inner_mg
+    return c, r, mg, scale
+
+
 @nb.njit(parallel=True, cache=True, nogil=True)
 def closure_kernel(points, normals, mu, tors, model, edges, fit, exact, tol, maxm,
                    code, rank, margin, twist):  # pragma: no cover - compiled
     """Theorem 1 for ``(N, k, d)`` grasps; fills ``code``, ``rank``, ``margin``, ``twist``.
 
-    ``fit`` is 0 (inscribed) or 1 (circumscribed) for the fixed pyramid used
-    when ``exact`` is False or the grasp has no spatial friction.
+    ``fit`` is 0 (inscribed) or 1 (circumscribed): the fixed pyramid used
+    when ``exact`` is False.
     """
-    n_grasps, k, d = points.shape
-    block = 256
-    n_blocks = (n_grasps + block - 1) // block
+    n_grasps, _, d = points.shape
+    n_blocks = (n_grasps + BLOCK - 1) // BLOCK
     for blk in nb.prange(n_blocks):
         work = _work(maxm)
         ref = np.empty(d)
         y = np.empty(3 if d == 2 else 6)
-        for g in range(blk * block, min(n_grasps, (blk + 1) * block)):
-            P = points[g]
-            N = normals[g]
-            scale = _frame(P, ref)
-            friction = False
-            if d == 3:
-                for i in range(k):
-                    friction = friction or (model[i] != FRICTIONLESS and mu[g, i] > 0.0)
-            for j in range(y.shape[0]):
-                y[j] = 0.0
-            if exact and friction:
-                c = DEFER
-                for e in EXACT_EDGES:
-                    c, r, mg = _decide(P, N, mu[g], tors[g], model, e, 1.0, ref, scale, tol,
-                                       work, y)
-                    if c == CLOSURE or c == DEFER:
-                        break
-                    keep = (r, mg)
-                    kept = y.copy()
-                    c, r, mg = _decide(P, N, mu[g], tors[g], model, e,
-                                       1.0 / math.cos(math.pi / e), ref, scale, tol, work, y)
-                    if c == NONE or c == DEFER:
-                        break
-                    c, r, mg = MARGINAL, keep[0], keep[1]
-                    y[:] = kept
-            else:
-                use = 8 if exact else edges  # closure.decide: Cone() when nothing to bracket
-                factor = 1.0 / math.cos(math.pi / use) if (fit == 1 and not exact) else 1.0
-                c, r, mg = _decide(P, N, mu[g], tors[g], model, use, factor, ref, scale, tol,
-                                   work, y)
+        for g in range(blk * BLOCK, min(n_grasps, (blk + 1) * BLOCK)):
+            c, r, mg, scale = grasp(points[g], normals[g], mu[g], tors[g], model, edges, fit,
+                                    exact, tol, work, ref, y)
             code[g] = c
             rank[g] = r
             margin[g] = mg
-            if c == NONE or c == MARGINAL:
+            if c in (NONE, MARGINAL):
                 _physical(y, ref, scale, d, twist[g])
             else:
                 twist[g, :] = np.nan
+
+
+@nb.njit(parallel=True, cache=True, nogil=True)
+def least_friction_kernel(points, normals, tors, model, edges, fit, exact, tol, maxm,
+                          mu_max, rtol, out, deferred):  # pragma: no cover - compiled
+    """Least common friction closing each grasp (``quality.least_friction``), compiled.
+
+    One pass over the grasps; per grasp a bisection on the cone half-angle
+    to relative precision ``rtol``, each step a Theorem 1 verdict. Frictionless
+    contacts count as hard fingers. ``deferred[g]`` is set where a step
+    could not be decided here.
+    """
+    n_grasps, k, d = points.shape
+    model_f = model.copy()
+    for i in range(k):
+        if model_f[i] == FRICTIONLESS:
+            model_f[i] = HARD
+    n_blocks = (n_grasps + BLOCK - 1) // BLOCK
+    for blk in nb.prange(n_blocks):
+        work = _work(maxm)
+        ref = np.empty(d)
+        y = np.empty(3 if d == 2 else 6)
+        mu = np.empty(k)
+        for g in range(blk * BLOCK, min(n_grasps, (blk + 1) * BLOCK)):
+            deferred[g] = False
+            mu[:] = 0.0
+            c = grasp(points[g], normals[g], mu, tors[g], model_f, edges, fit, exact, tol,
+                      work, ref, y)[0]
+            if c == CLOSURE or c == DEFER:
+                out[g] = 0.0
+                deferred[g] = c == DEFER
+                continue
+            mu[:] = mu_max
+            c = grasp(points[g], normals[g], mu, tors[g], model_f, edges, fit, exact, tol,
+                      work, ref, y)[0]
+            if c != CLOSURE:
+                out[g] = np.inf
+                deferred[g] = c == DEFER
+                continue
+            lo = 0.0
+            hi = math.atan(mu_max)
+            while hi - lo > rtol * hi:
+                mid = 0.5 * (lo + hi)
+                mu[:] = math.tan(mid)
+                c = grasp(points[g], normals[g], mu, tors[g], model_f, edges, fit, exact, tol,
+                          work, ref, y)[0]
+                if c == DEFER:
+                    deferred[g] = True
+                    break
+                if c == CLOSURE:
+                    hi = mid
+                else:
+                    lo = mid
+            out[g] = math.tan(hi)
