@@ -15,10 +15,10 @@ from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 import pytest
-from exact import planar_hard_wrenches, positively_spans, spatial_pyramid4_wrenches
 from hypothesis import given
 from hypothesis import strategies as st
 
+from exact import planar_hard_wrenches, positively_spans, spatial_pyramid4_wrenches
 from forceclosure import Cone, InputError, point_contact
 from forceclosure.batch import _CODES, analyze_batch, least_friction_batch
 from forceclosure.closure import decide

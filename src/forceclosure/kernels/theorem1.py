@@ -668,7 +668,7 @@ def least_friction_kernel(points, normals, tors, model, edges, fit, exact, tol, 
             mu[:] = 0.0
             c = grasp(points[g], normals[g], mu, tors[g], model_f, edges, fit, exact, tol,
                       work, ref, y)[0]
-            if c == CLOSURE or c == DEFER:
+            if c in (CLOSURE, DEFER):
                 out[g] = 0.0
                 deferred[g] = c == DEFER
                 continue
