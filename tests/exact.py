@@ -4,16 +4,14 @@ Theorem 1 decided with ``fractions.Fraction`` and no linear programming:
 vectors ``V`` positively span ``Q^d`` iff ``rank V = d`` and, for every
 ``i``, ``-v_i`` is a non-negative combination of ``V`` (then ``v_i`` has a
 positive weight in some zero combination; summing those gives a strictly
-positive one). Cone membership is decided by Carathéodory's theorem: a
-point of ``cone(V)`` is a non-negative combination of linearly independent
-columns, so trying every independent subset is exact. Exponential, for the
-small sets of the tests only.
+positive one). Cone membership is decided by a phase-one simplex in
+rationals with Bland's rule, which cannot cycle: exact, and fast enough for
+the small sets of the tests.
 """
 
 from __future__ import annotations
 
 from fractions import Fraction
-from itertools import combinations
 
 Matrix = list[list[Fraction]]
 
@@ -49,32 +47,41 @@ def rank(columns: list[list[Fraction]]) -> int:
     return len(_echelon([list(col) for col in columns])[1])
 
 
-def _solve(columns: list[list[Fraction]], x: list[Fraction]) -> list[Fraction] | None:
-    """The unique solution of ``sum mu_j c_j = x`` for independent columns, or None."""
-    d, k = len(x), len(columns)
-    aug = [[columns[j][i] for j in range(k)] + [x[i]] for i in range(d)]
-    m, pivots = _echelon(aug)
-    if k in pivots:  # inconsistent: a pivot in the right-hand side
-        return None
-    mu = [Fraction(0)] * k
-    for row, c in enumerate(pivots):
-        mu[c] = m[row][k]
-    return mu
-
-
 def in_cone(columns: list[list[Fraction]], x: list[Fraction]) -> bool:
-    """Whether ``x`` is a non-negative combination of ``columns`` (exactly)."""
-    if all(v == 0 for v in x):
-        return True
-    d = len(x)
-    for size in range(1, min(d, len(columns)) + 1):
-        for subset in combinations(columns, size):
-            if rank(list(subset)) < size:
-                continue
-            mu = _solve(list(subset), x)
-            if mu is not None and all(v >= 0 for v in mu):
-                return True
-    return False
+    """Whether ``x`` is a non-negative combination of ``columns`` (exactly).
+
+    Phase one of the simplex method: minimise the sum of artificial
+    variables ``a >= 0`` in ``V lam + a = x`` (rows signed so that
+    ``x >= 0``), entering the lowest-index improving column and leaving the
+    lowest-index basic variable among ratio ties (Bland's rule).
+    """
+    d, m = len(x), len(columns)
+    rows = []
+    for i in range(d):
+        s = -1 if x[i] < 0 else 1
+        rows.append([s * Fraction(columns[j][i]) for j in range(m)]
+                    + [Fraction(int(i == r)) for r in range(d)] + [s * Fraction(x[i])])
+    basis = [m + i for i in range(d)]
+
+    def cost(j: int) -> int:
+        return 1 if j >= m else 0
+
+    while True:
+        entering = next((j for j in range(m + d)
+                         if cost(j) - sum(cost(basis[i]) * rows[i][j] for i in range(d)) < 0),
+                        None)
+        if entering is None:
+            return sum(cost(basis[i]) * rows[i][-1] for i in range(d)) == 0
+        ratios = [(rows[i][-1] / rows[i][entering], basis[i], i)
+                  for i in range(d) if rows[i][entering] > 0]
+        _, _, r = min(ratios)  # non-empty: phase one is bounded below by 0
+        pivot = rows[r][entering]
+        rows[r] = [v / pivot for v in rows[r]]
+        for i in range(d):
+            if i != r and rows[i][entering] != 0:
+                f = rows[i][entering]
+                rows[i] = [a - f * b for a, b in zip(rows[i], rows[r], strict=True)]
+        basis[r] = entering
 
 
 def positively_spans(columns: list[list[Fraction]]) -> bool:

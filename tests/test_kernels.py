@@ -27,8 +27,9 @@ from forceclosure.two_finger import two_finger_closure
 
 #: Grasps compared with the reference path in total (the issue's 100k).
 GRASPS = int(os.environ.get("FORCECLOSURE_AGREEMENT_GRASPS", 100_000))
-#: The reference LP (HiGHS) solves to about this accuracy (relative, for large margins).
-MARGIN_ATOL = 1e-7
+#: Margins agree to this (relative, for large margins): HiGHS, behind the reference,
+#: meets its constraints to 1e-7, and the margin 1 - m s scales an error in s by m.
+MARGIN_ATOL = 1e-6
 
 
 def _unit(v):
@@ -291,8 +292,9 @@ def test_compiled_verdicts_are_invariant(seed, angle, scale, shift, model):
 
 def test_least_friction_matches_closed_forms_and_the_reference():
     rng = np.random.default_rng(5)
-    # antiparallel soft fingers in space: Corollary 3 is exact, mu* = tan(angle of PQ)
-    n = 200
+    # antiparallel soft fingers in space: Corollary 3 is exact, mu* = tan(angle of PQ);
+    # each grasp bisects on pyramids of up to 256 edges, so a few suffice
+    n = 16
     y = rng.uniform(-0.5, 0.5, (n, 2))
     P = np.stack([np.c_[-np.ones(n), np.zeros((n, 2))], np.c_[np.ones(n), y]], 1)
     N = np.array([[-1.0, 0, 0], [1.0, 0, 0]])[None].repeat(n, 0)

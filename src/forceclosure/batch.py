@@ -185,6 +185,7 @@ def analyze_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
     margin = np.full(n, np.nan)
     twist = np.full((n, 3 if d == 2 else 6), np.nan)
     if engine == "compiled" and n:
+        from .kernels import kernel_array
         from .kernels import theorem1 as kernel
 
         model_codes = np.array([MODELS.index(m) for m in grasps.models], dtype=np.int64)
@@ -192,9 +193,8 @@ def analyze_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
         for lo in range(0, n, CHUNK):
             part = slice(lo, min(n, lo + CHUNK))
             kernel.closure_kernel(
-                np.ascontiguousarray(grasps.points[part]),
-                np.ascontiguousarray(grasps.normals[part]),
-                np.ascontiguousarray(grasps.mu[part]), np.ascontiguousarray(grasps.torsion[part]),
+                kernel_array(grasps.points[part]), kernel_array(grasps.normals[part]),
+                kernel_array(grasps.mu[part]), kernel_array(grasps.torsion[part]),
                 model_codes, edges, fit, exact, float(tol), maxm,
                 code[part], rank[part], margin[part], twist[part])
             if progress is not None:
@@ -269,14 +269,15 @@ def least_friction_batch(points: ArrayLike, normals: ArrayLike, *,
         P, N_ = grasps.points, grasps.normals
         return two_finger_closure(P[:, 0], N_[:, 0], P[:, 1], N_[:, 1], 1.0).least_friction
     else:
+        from .kernels import kernel_array
         from .kernels import theorem1 as kernel
 
         model_codes = np.array([MODELS.index(m) for m in grasps.models], dtype=np.int64)
         maxm = kernel.columns_per_grasp(k, d, 256 if exact else edges)
         deferred = np.zeros(n, dtype=np.bool_)
-        kernel.least_friction_kernel(grasps.points, grasps.normals, grasps.torsion, model_codes,
-                                     edges, fit, exact, float(tol), maxm, MU_MAX, rtol, out,
-                                     deferred)
+        kernel.least_friction_kernel(kernel_array(grasps.points), kernel_array(grasps.normals),
+                                     kernel_array(grasps.torsion), model_codes, edges, fit,
+                                     exact, float(tol), maxm, MU_MAX, float(rtol), out, deferred)
         todo = np.flatnonzero(deferred)
     for g in todo:
         out[g] = least_friction(grasps.contacts(g), cone=cone, tol=tol, rtol=rtol)

@@ -77,8 +77,57 @@ def _analyze_file(grasp_file: GraspFile, as_json: bool, quality: bool, out) -> i
 
 
 def _cmd_analyze(args: argparse.Namespace) -> int:
+    if args.file.endswith(".npz"):
+        return _analyze_arrays(args)
+    if args.out:
+        raise InputError("--out is for .npz grasp files; JSON results go to standard output "
+                         "with --json")
     grasp_file = parse_grasp_file(_read(args.file), args.file)
     return _analyze_file(grasp_file, args.json, not args.no_quality, sys.stdout)
+
+
+def _analyze_arrays(args: argparse.Namespace) -> int:
+    """A large grasp set from an .npz: a chunk at a time, a progress bar, a summary."""
+    import time
+
+    from tqdm import tqdm
+
+    from .grasp_arrays import analyze_npz, open_npz
+
+    if args.chunk < 1:
+        raise InputError(f"--chunk must be a positive number of grasps, got {args.chunk}")
+    info = open_npz(args.file)
+    start = time.perf_counter()
+    with tqdm(total=info.count, unit=" grasps", unit_scale=True, file=sys.stderr,
+              disable=None, desc=os.path.basename(args.file)) as bar:
+        results = analyze_npz(args.file, chunk=args.chunk, progress=bar.update)
+    seconds = time.perf_counter() - start
+    shown = results.errors[:20]
+    for line in shown:
+        print(f"forceclosure: error: {line}", file=sys.stderr)
+    if len(results.errors) > len(shown):
+        print(f"forceclosure: error: ... and {len(results.errors) - len(shown)} more grasps "
+              "with bad input (their verdict is -1 in the results)", file=sys.stderr)
+    if args.out:
+        results.save(args.out)
+    counts = results.counts()
+    summary = {"file": args.file, "grasps": info.count, "contacts": info.contacts,
+               "dim": info.dim, "models": info.models, "cone": str(info.cone), **counts,
+               "seconds": round(seconds, 3),
+               "grasps_per_second": round(info.count / seconds) if seconds > 0 else None,
+               "out": args.out}
+    if args.json:
+        json.dump(summary, sys.stdout, indent=2)
+        sys.stdout.write("\n")
+    else:
+        kind = "planar" if info.dim == 2 else "spatial"
+        print(f"{args.file}: {info.count:,} grasps of {info.contacts} "
+              f"{'/'.join(sorted(set(info.models)))} contacts ({kind}, {info.cone} cones)")
+        print(f"  closure {counts['closure']:,}, marginal {counts['marginal']:,}, "
+              f"none {counts['none']:,}, bad input {counts['errors']:,}")
+        print(f"  {seconds:.2f} s ({summary['grasps_per_second'] or 0:,} grasps/s)"
+              + (f"; results in {args.out}" if args.out else ""))
+    return 2 if results.errors else 0
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
@@ -254,13 +303,20 @@ def build_parser() -> argparse.ArgumentParser:
         description="Analyse force-closure grasps (V.-D. Nguyen, IJRR 1988).")
     parser.add_argument("--version", action="version", version=f"forceclosure {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    p = sub.add_parser("analyze", help="is each grasp in a JSON grasp file force-closure?",
+    p = sub.add_parser("analyze", help="is each grasp in a grasp file force-closure?",
                        description="Analyse the grasps of a JSON grasp file "
-                                   "(docs/grasp-file.schema.json); '-' reads standard input.")
+                                   "(docs/grasp-file.schema.json; '-' reads standard input), "
+                                   "or of an .npz file of arrays (points, normals, mu, model; "
+                                   "see docs/analysis.md), any number of grasps, in chunks.")
     p.add_argument("file", metavar="FILE")
-    p.add_argument("--json", action="store_true", help="print JSON results for machines")
+    p.add_argument("--json", action="store_true",
+                   help="print JSON for machines (for .npz: the summary)")
     p.add_argument("--no-quality", action="store_true",
                    help="skip epsilon and least friction (faster)")
+    p.add_argument("--out", metavar="RESULTS.npz",
+                   help=".npz input: save verdict codes, ranks and margins here")
+    p.add_argument("--chunk", type=int, default=65_536,
+                   help=".npz input: grasps read and analysed at a time (default 65536)")
     p.set_defaults(run=_cmd_analyze)
     d = sub.add_parser("demo", help="analyse the bundled example grasps")
     d.set_defaults(run=_cmd_demo)

@@ -160,8 +160,13 @@ def _certify(U: NDArray[np.float64], lam: NDArray[np.float64]) -> NDArray[np.flo
 
 
 def _null_twist(U: NDArray[np.float64]) -> NDArray[np.float64]:
+    """A unit-max twist reciprocal to ``U``, its largest component +1.
+
+    The SVD fixes a null vector only up to sign, and LAPACK builds differ in
+    the sign they return; dividing by the largest component makes it one.
+    """
     u = np.linalg.svd(U, full_matrices=True)[0][:, -1]
-    return u / np.max(np.abs(u))
+    return u / u[np.argmax(np.abs(u))]
 
 
 def vector_closure(W: ArrayLike, tol: float = TOLERANCE,

@@ -171,11 +171,12 @@ def two_finger_closure(p: ArrayLike, n_p: ArrayLike, q: ArrayLike, n_q: ArrayLik
 
 
 def _compiled(p, n_p, q, n_q, mu_p, mu_q, model, tol, shape):
+    from .kernels import kernel_array
     from .kernels import pairs as kernel
 
-    flat = [np.ascontiguousarray(np.broadcast_to(a, (*shape, a.shape[-1]))).reshape(-1, a.shape[-1])
+    flat = [kernel_array(np.broadcast_to(a, (*shape, a.shape[-1])).reshape(-1, a.shape[-1]))
             for a in (p, n_p, q, n_q)]
-    mus = [np.ascontiguousarray(np.broadcast_to(m, shape)).reshape(-1) for m in (mu_p, mu_q)]
+    mus = [kernel_array(np.broadcast_to(m, shape).reshape(-1)) for m in (mu_p, mu_q)]
     n = flat[0].shape[0]
     code = np.empty(n, dtype=np.int8)
     least = np.empty(n)

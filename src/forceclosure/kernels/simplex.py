@@ -29,6 +29,19 @@ def workspace(rows: int, cols: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 @nb.njit(cache=True, nogil=True)
+def tableau(buffer, rows, cols):  # pragma: no cover - compiled
+    """A C-contiguous ``(rows + 1, cols + rows + 1)`` tableau in a flat buffer, zeroed.
+
+    The caller writes ``A`` into ``T[:rows, :cols]`` and ``b`` into
+    ``T[:rows, -1]``, then calls :func:`solve_tableau`.
+    """
+    size = (rows + 1) * (cols + rows + 1)
+    T = buffer[:size].reshape(rows + 1, cols + rows + 1)
+    T[:, :] = 0.0
+    return T
+
+
+@nb.njit(cache=True, nogil=True)
 def _pivot(T, basis, r, c):  # pragma: no cover - compiled
     rows = T.shape[0]
     width = T.shape[1]
@@ -86,17 +99,30 @@ def _iterate(T, basis, ncols, limit):  # pragma: no cover - compiled
 def solve(A, b, c, T, basis, x, y):  # pragma: no cover - compiled
     """Solve ``max c.x, A x = b, x >= 0``; fill ``x`` and the duals ``y``; return status.
 
-    ``y`` solves ``A^T y >= c`` with ``b . y = c . x`` at the optimum.
+    ``T`` is a ``(rows + 1, cols + rows + 1)`` scratch tableau. ``y`` solves
+    ``A^T y >= c`` with ``b . y = c . x`` at the optimum.
     """
     m, n = A.shape
-    rhs = n + m
     T[:, :] = 0.0
     for i in range(m):
-        sign = -1.0 if b[i] < 0.0 else 1.0
         for j in range(n):
-            T[i, j] = sign * A[i, j]
+            T[i, j] = A[i, j]
+        T[i, n + m] = b[i]
+    return solve_tableau(T, m, n, c, basis, x, y)
+
+
+@nb.njit(cache=True, nogil=True)
+def solve_tableau(T, m, n, c, basis, x, y):  # pragma: no cover - compiled
+    """:func:`solve` for ``A`` and ``b`` already written into the tableau ``T``."""
+    rhs = n + m
+    for i in range(m):  # rows turned to b >= 0; y keeps each row's sign until the duals
+        y[i] = 1.0
+        if T[i, rhs] < 0.0:
+            y[i] = -1.0
+            for j in range(n):
+                T[i, j] = -T[i, j]
+            T[i, rhs] = -T[i, rhs]
         T[i, n + i] = 1.0
-        T[i, rhs] = sign * b[i]
         basis[i] = n + i
     # Phase I: minimise the sum of the artificials.
     for j in range(n):
@@ -144,12 +170,11 @@ def solve(A, b, c, T, basis, x, y):  # pragma: no cover - compiled
     for i in range(m):
         if basis[i] < n:
             x[basis[i]] = T[i, rhs]
-    # Duals: y = c_B B^-1, and B^-1 sits (up to the row signs) in the artificial columns.
+    # Duals: y = c_B B^-1, and B^-1 sits (up to the row flips) in the artificial columns.
     for k in range(m):
-        sign = -1.0 if b[k] < 0.0 else 1.0
         s = 0.0
         for i in range(m):
             if basis[i] < n:
                 s += c[basis[i]] * T[i, n + k]
-        y[k] = s * sign
+        y[k] *= s
     return OPTIMAL

@@ -37,7 +37,7 @@ from collections import namedtuple
 import numba as nb
 import numpy as np
 
-from .simplex import OPTIMAL, solve
+from .simplex import INFEASIBLE, OPTIMAL, solve_tableau, tableau
 
 NONE, MARGINAL, CLOSURE, DEFER = 0, 1, 2, 3
 FRICTIONLESS, HARD, SOFT = 0, 1, 2
@@ -53,7 +53,7 @@ EXACT_EDGES = np.array([8, 16, 32, 64, 128, 256], dtype=np.int64)
 BLOCK = 256
 
 #: Scratch arrays of one thread, allocated once per block of grasps.
-Work = namedtuple("Work", "W two U W2 norms G V lam A b c x y T basis weights r sigma_min tw")
+Work = namedtuple("Work", "W two U W2 norms G V lam c x y tab basis weights r sigma_min tw rim")
 
 
 def columns_per_grasp(k: int, dim: int, edges: int) -> int:
@@ -62,13 +62,14 @@ def columns_per_grasp(k: int, dim: int, edges: int) -> int:
 
 
 @nb.njit(cache=True, nogil=True)
-def _work(maxm):  # pragma: no cover - compiled
+def _work(maxm, max_edges):  # pragma: no cover - compiled
     n = maxm + 12
     return Work(np.empty((6, maxm)), np.empty(maxm, dtype=np.bool_), np.empty((6, maxm)),
                 np.empty((6, maxm)), np.empty(maxm), np.empty((6, 6)), np.empty((6, 6)),
-                np.empty(6), np.empty((7, n)), np.empty(7), np.empty(n), np.empty(n),
-                np.empty(7), np.empty((8, n + 8)), np.empty(7, dtype=np.int64),
-                np.empty(maxm), np.empty(6), np.empty(1), np.empty(6))
+                np.empty(6), np.empty(n), np.empty(n), np.empty(7), np.empty(8 * (n + 8)),
+                np.empty(7, dtype=np.int64),
+                np.empty(maxm), np.empty(6), np.empty(1), np.empty(6),
+                np.zeros((2, max_edges + 1)))
 
 
 @nb.njit(cache=True, nogil=True)
@@ -152,9 +153,19 @@ def _column(W, col, f, arm, scale, d, spin):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, nogil=True)
-def wrenches(P, N, mu, tors, model, edges, radius_factor, ref, scale, W, two):
+def wrenches(P, N, mu, tors, model, edges, radius_factor, ref, scale, W, two, rim):
     # pragma: no cover - compiled
-    """Generating wrenches of one grasp (as ``contacts.primitive_wrenches``); returns ``m``."""
+    """Generating wrenches of one grasp (as ``contacts.primitive_wrenches``); returns ``m``.
+
+    ``rim`` caches the cosines and sines of the pyramid's edge angles; its
+    last column says for how many edges.
+    """
+    if rim[0, -1] != edges:
+        for r in range(edges):
+            theta = 2.0 * np.pi * r / edges
+            rim[0, r] = math.cos(theta)
+            rim[1, r] = math.sin(theta)
+        rim[0, -1] = edges
     k, d = P.shape
     col = 0
     f = np.empty(d)
@@ -210,8 +221,7 @@ def wrenches(P, N, mu, tors, model, edges, radius_factor, ref, scale, W, two):
             for j in range(3):
                 spin[j] = sgn * tors[i] * n[j] / scale if coupled else 0.0
             for r in range(edges):
-                theta = 2.0 * np.pi * r / edges
-                c, s = math.cos(theta), math.sin(theta)
+                c, s = rim[0, r], rim[1, r]
                 for j in range(3):
                     f[j] = -n[j] + radius * (c * t[0, j] + s * t[1, j])
                 _column(W, col, f, arm, scale, 3, spin)
@@ -267,22 +277,25 @@ def _closure(W, m, d, tol, work, twist, rank_only=False):  # pragma: no cover - 
             G[j, i] = s
     V = work.V[:d, :d]
     lam = work.lam[:d]
-    _eigh(G, V, lam)
-    top = 0
-    low = 0
-    for i in range(d):
-        if lam[i] > lam[top]:
-            top = i
-        if lam[i] < lam[low]:
-            low = i
-    ratio = math.sqrt(max(lam[low], 0.0) / lam[top])
-    work.sigma_min[0] = math.sqrt(max(lam[low], 0.0))
+    low = -1
+    ratio = _ratio_bound(G, V, d, work) if mm > d else 0.0
+    if ratio <= max(GUARD, tol + BAND):  # not clear from the bound: the eigenvalues
+        _eigh(G, V, lam)
+        top = 0
+        low = 0
+        for i in range(d):
+            if lam[i] > lam[top]:
+                top = i
+            if lam[i] < lam[low]:
+                low = i
+        ratio = math.sqrt(max(lam[low], 0.0) / lam[top])
+        work.sigma_min[0] = math.sqrt(max(lam[low], 0.0))
     if mm < d:
         # rank <= mm < d. The mm-th largest eigenvalue tells whether rank = mm exactly.
         order = np.sort(lam)[::-1]
         if math.sqrt(max(order[mm - 1], 0.0) / order[0]) < GUARD:
             return DEFER, 0, np.nan
-        _scaled_copy(V[:, low], twist)
+        _null_twist(V[:, low], twist)
         return NONE, mm, np.nan
     if ratio < GUARD:
         return DEFER, 0, np.nan
@@ -292,26 +305,24 @@ def _closure(W, m, d, tol, work, twist, rank_only=False):  # pragma: no cover - 
     if rank_only:
         return -1, d, np.nan
     # the margin LP: max s, U lam = 0, sum lam = 1, lam >= s  (lam = u + 1/m - v)
-    A = work.A[: d + 1, : mm + 1]
-    b = work.b[: d + 1]
+    T = tableau(work.tab, d + 1, mm + 1)
     c = work.c[: mm + 1]
-    A[:, :] = 0.0
     c[:] = 0.0
     c[mm] = -1.0
+    rhs = mm + 1 + d + 1
     for j in range(d):
         row = 0.0
         for col in range(mm):
-            A[j, col] = U[j, col]
+            T[j, col] = U[j, col]
             row += U[j, col]
-        A[j, mm] = -row
-        b[j] = -row / mm
+        T[j, mm] = -row
+        T[j, rhs] = -row / mm
     for col in range(mm):
-        A[d, col] = 1.0
-    A[d, mm] = -float(mm)
-    b[d] = 0.0
+        T[d, col] = 1.0
+    T[d, mm] = -float(mm)
     x = work.x[: mm + 1]
     y = work.y[: d + 1]
-    status = solve(A, b, c, work.T[: d + 2, : mm + 1 + d + 1 + 1], work.basis[: d + 1], x, y)
+    status = solve_tableau(T, d + 1, mm + 1, c, work.basis[: d + 1], x, y)
     margin = np.nan
     if status == OPTIMAL:
         margin = 1.0 - mm * x[mm]
@@ -330,7 +341,7 @@ def _closure(W, m, d, tol, work, twist, rank_only=False):  # pragma: no cover - 
                 for j in range(d):
                     twist[j] = y[j] / big_t
                 return NONE, d, margin
-    elif status != 1:  # stalled or unbounded: not ours to decide
+    elif status != INFEASIBLE:  # stalled or unbounded: not ours to decide
         return DEFER, d, margin
     z = _separate(U, mm, d, work, twist)
     if z < 0.0 or abs(z - tol) < BAND or abs(ratio - tol) < BAND:
@@ -338,17 +349,48 @@ def _closure(W, m, d, tol, work, twist, rank_only=False):  # pragma: no cover - 
     if z > tol:
         return NONE, d, margin
     if ratio <= tol:
-        _scaled_copy(V[:, low], twist)
+        _null_twist(V[:, low], twist)
     return MARGINAL, d, margin
 
 
 @nb.njit(cache=True, nogil=True)
-def _scaled_copy(v, out):  # pragma: no cover - compiled
-    big = 0.0
+def _ratio_bound(G, L, d, work):  # pragma: no cover - compiled
+    """A lower bound on the singular value ratio, ``sqrt(det G / trace(G)^d)``, by Cholesky.
+
+    ``lambda_min >= det G / lambda_max^(d-1)`` and ``lambda_max <= trace G``;
+    ``work.sigma_min`` receives the matching bound on the smallest singular
+    value. Returns 0 when ``G`` is not numerically positive definite.
+    """
+    trace = 0.0
+    for i in range(d):
+        trace += G[i, i]
+    det = 1.0
+    for j in range(d):
+        s = G[j, j]
+        for k in range(j):
+            s -= L[j, k] * L[j, k]
+        if s <= 1e-300:
+            return 0.0
+        det *= s
+        L[j, j] = math.sqrt(s)
+        for i in range(j + 1, d):
+            s = G[i, j]
+            for k in range(j):
+                s -= L[i, k] * L[j, k]
+            L[i, j] = s / L[j, j]
+    work.sigma_min[0] = math.sqrt(det / trace ** (d - 1))
+    return math.sqrt(det / trace**d)
+
+
+@nb.njit(cache=True, nogil=True)
+def _null_twist(v, out):  # pragma: no cover - compiled
+    """``v`` scaled so that its largest component is +1 (``closure._null_twist``)."""
+    big = 0
     for j in range(v.shape[0]):
-        big = max(big, abs(v[j]))
+        if abs(v[j]) > abs(v[big]):
+            big = j
     for j in range(v.shape[0]):
-        out[j] = v[j] / big
+        out[j] = v[j] / v[big]
 
 
 @nb.njit(cache=True, nogil=True)
@@ -358,25 +400,22 @@ def _separate(U, mm, d, work, twist):  # pragma: no cover - compiled
     Returns -1 when the LP is not solved.
     """
     n = mm + 2 * d
-    A = work.A[: d + 1, :n]
-    b = work.b[: d + 1]
+    T = tableau(work.tab, d + 1, n)
     c = work.c[:n]
-    A[:, :] = 0.0
     c[:] = 0.0
     for j in range(d):
         for col in range(mm):
-            A[j, col] = U[j, col]
-        A[j, mm + j] = -1.0
-        A[j, mm + d + j] = 1.0
+            T[j, col] = U[j, col]
+        T[j, mm + j] = -1.0
+        T[j, mm + d + j] = 1.0
         c[mm + j] = -1.0
         c[mm + d + j] = -1.0
-        b[j] = 0.0
     for col in range(mm):
-        A[d, col] = 1.0
-    b[d] = 1.0
+        T[d, col] = 1.0
+    T[d, n + d + 1] = 1.0
     x = work.x[:n]
     y = work.y[: d + 1]
-    status = solve(A, b, c, work.T[: d + 2, : n + d + 1 + 1], work.basis[: d + 1], x, y)
+    status = solve_tableau(T, d + 1, n, c, work.basis[: d + 1], x, y)
     if status != OPTIMAL:
         return -1.0
     z = 0.0
@@ -393,15 +432,8 @@ def _separate(U, mm, d, work, twist):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, nogil=True)
-def _certified(U, mm, d, x, work):  # pragma: no cover - compiled
-    """``closure._certify``: LP weights corrected onto the null space of ``U`` stay positive."""
-    lam = work.weights[:mm]
-    shift = 1.0 / mm - x[mm]
-    low = np.inf
-    for col in range(mm):
-        lam[col] = x[col] + shift
-        low = min(low, lam[col])
-    # correction delta = U^T (U U^T)^-1 (U lam), by Cholesky of the Gram matrix
+def _null_correct(U, mm, d, lam, work):  # pragma: no cover - compiled
+    """``lam -= U^T (U U^T)^-1 (U lam)`` by Cholesky of the Gram matrix; False if singular."""
     G = work.G[:d, :d]
     r = work.r[:d]
     for i in range(d):
@@ -437,21 +469,41 @@ def _certified(U, mm, d, x, work):  # pragma: no cover - compiled
         for k in range(i + 1, d):
             s -= G[k, i] * r[k]
         r[i] = s / G[i, i]
-    corrected_low = np.inf
     for col in range(mm):
         s = 0.0
         for j in range(d):
             s += U[j, col] * r[j]
         lam[col] -= s
+    return True
+
+
+@nb.njit(cache=True, nogil=True)
+def _certified(U, mm, d, x, work):  # pragma: no cover - compiled
+    """``closure._certify``: LP weights corrected onto the null space of ``U`` stay positive."""
+    lam = work.weights[:mm]
+    shift = 1.0 / mm - x[mm]
+    low = np.inf
+    for col in range(mm):
+        lam[col] = x[col] + shift
+        low = min(low, lam[col])
+    if not _null_correct(U, mm, d, lam, work):
+        return False
+    corrected_low = np.inf
+    for col in range(mm):
         corrected_low = min(corrected_low, lam[col])
-    leftover = 0.0
+    return corrected_low > max(0.5 * low, 2.0 * _leftover(U, mm, d, lam, work))
+
+
+@nb.njit(cache=True, nogil=True)
+def _leftover(U, mm, d, lam, work):  # pragma: no cover - compiled
+    """``|U lam| / sigma_min``: how far rounding leaves ``lam`` from the null space."""
+    total = 0.0
     for j in range(d):
         s = 0.0
         for col in range(mm):
             s += U[j, col] * lam[col]
-        leftover += s * s
-    leftover = math.sqrt(leftover) / work.sigma_min[0]
-    return corrected_low > max(0.5 * low, 2.0 * leftover)
+        total += s * s
+    return math.sqrt(total) / work.sigma_min[0]
 
 
 @nb.njit(cache=True, nogil=True)
@@ -540,7 +592,7 @@ def _decide(P, N, mu, tors, model, edges, factor, ref, scale, tol, work, twist):
     """Theorem 1 for one grasp with one pyramid: (code, rank, margin)."""
     d = P.shape[1]
     D = 3 if d == 2 else 6
-    m = wrenches(P, N, mu, tors, model, edges, factor, ref, scale, work.W, work.two)
+    m = wrenches(P, N, mu, tors, model, edges, factor, ref, scale, work.W, work.two, work.rim)
     has_two = False
     for col in range(m):
         has_two = has_two or work.two[col]
@@ -627,7 +679,7 @@ def closure_kernel(points, normals, mu, tors, model, edges, fit, exact, tol, max
     n_grasps, _, d = points.shape
     n_blocks = (n_grasps + BLOCK - 1) // BLOCK
     for blk in nb.prange(n_blocks):
-        work = _work(maxm)
+        work = _work(maxm, max(edges, EXACT_EDGES[-1]))
         ref = np.empty(d)
         y = np.empty(3 if d == 2 else 6)
         for g in range(blk * BLOCK, min(n_grasps, (blk + 1) * BLOCK)):
@@ -659,7 +711,7 @@ def least_friction_kernel(points, normals, tors, model, edges, fit, exact, tol, 
             model_f[i] = HARD
     n_blocks = (n_grasps + BLOCK - 1) // BLOCK
     for blk in nb.prange(n_blocks):
-        work = _work(maxm)
+        work = _work(maxm, max(edges, EXACT_EDGES[-1]))
         ref = np.empty(d)
         y = np.empty(3 if d == 2 else 6)
         mu = np.empty(k)
