@@ -77,7 +77,8 @@ def _least_work(twist, points, normals, mu):
     negative work on them.
     """
     d = points.shape[1]
-    contacts = [point_contact(p, n, "hard", m) for p, n, m in zip(points, normals, mu)]
+    contacts = [point_contact(p, n, "hard", m)
+                for p, n, m in zip(points, normals, mu, strict=True)]
     W = generating_wrenches(contacts, Cone(64), reference=np.zeros(d), length_scale=1.0).wrenches
     omega, v = (twist[:1], twist[1:]) if d == 2 else (twist[:3], twist[3:])
     work = W[:d].T @ v + (W[d:].T @ omega)
