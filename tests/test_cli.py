@@ -5,6 +5,7 @@ from importlib import resources
 from pathlib import Path
 
 import jsonschema
+import numpy as np
 import pytest
 
 from forceclosure.cli import main
@@ -117,3 +118,69 @@ def test_examples_run(script):
                           timeout=300)
     assert proc.returncode == 0, proc.stderr
     assert "force-closure" in proc.stdout or "closure" in proc.stdout
+
+
+def _pinches(n, rng):
+    """Planar two-finger pinches with a closed form: closure iff |offset| / 2 < mu."""
+    y = rng.uniform(-1, 1, n)
+    mu = rng.uniform(0.05, 0.6, n)
+    mu = np.where(np.abs(np.abs(y) / 2 - mu) < 1e-3, mu + 0.01, mu)  # clear of the boundary
+    P = np.stack([np.c_[-np.ones(n), np.zeros(n)], np.c_[np.ones(n), y]], 1)
+    N = np.array([[-1.0, 0.0], [1.0, 0.0]])[None].repeat(n, 0)
+    return P, N, np.repeat(mu[:, None], 2, 1), np.abs(y) / 2 < mu
+
+
+@pytest.mark.parametrize("chunk", ["7", "65536"])
+def test_analyze_npz_summary_and_results(tmp_path, capsys, chunk):
+    P, N, mu, closed = _pinches(50, np.random.default_rng(4))
+    path = tmp_path / "pinches.npz"
+    np.savez_compressed(path, points=P, normals=N, mu=mu, model="hard")
+    out = tmp_path / "results.npz"
+    assert main(["analyze", str(path), "--out", str(out), "--chunk", chunk]) == 0
+    text = capsys.readouterr().out
+    assert f"closure {closed.sum()}, marginal 0, none {50 - closed.sum()}, bad input 0" in text
+    results = np.load(out)
+    assert list(results["names"]) == ["none", "marginal", "closure"]
+    np.testing.assert_array_equal(results["verdict"], np.where(closed, 2, 0))
+    np.testing.assert_array_equal(results["rank"], 3)  # planar pinches span the plane
+    assert np.all((results["margin"] > 0) == closed)
+
+
+def test_analyze_npz_bad_rows_are_one_line_each_and_the_rest_is_kept(tmp_path, capsys):
+    P, N, mu, closed = _pinches(30, np.random.default_rng(5))
+    P[3, 1, 0] = np.nan
+    N[17, 0] = 0.0
+    mu[21, 1] = -0.5
+    path = tmp_path / "bad.npz"
+    np.savez(path, points=P, normals=N, mu=mu)
+    out = tmp_path / "r.npz"
+    assert main(["analyze", str(path), "--out", str(out), "--json"]) == 2
+    captured = capsys.readouterr()
+    errors = captured.err.strip().splitlines()
+    assert [line.split(":")[2].strip() for line in errors] == ["grasp 4, contact 2",
+                                                               "grasp 18, contact 1",
+                                                               "grasp 22, contact 2"]
+    assert all("Traceback" not in line for line in errors)
+    summary = json.loads(captured.out)
+    assert summary["errors"] == 3 and summary["grasps"] == 30
+    assert summary["closure"] + summary["none"] + summary["marginal"] == 27
+    verdict = np.load(out)["verdict"]
+    good = np.ones(30, bool)
+    good[[3, 17, 21]] = False
+    np.testing.assert_array_equal(verdict[~good], -1)
+    np.testing.assert_array_equal(verdict[good], np.where(closed, 2, 0)[good])
+
+
+@pytest.mark.parametrize("arrays, message", [
+    ({"normals": np.ones((2, 2, 2))}, "'points'"),
+    ({"points": np.ones((2, 2, 2)), "normals": np.ones((2, 3, 2))}, "normals"),
+    ({"points": np.ones((2, 2, 2)), "normals": np.ones((2, 2, 2)), "model": "sticky"}, "sticky"),
+])
+def test_analyze_npz_bad_files_exit_2_in_one_line(tmp_path, arrays, message):
+    path = tmp_path / "g.npz"
+    np.savez(path, **arrays)
+    run = subprocess.run([sys.executable, "-m", "forceclosure", "analyze", str(path)],
+                         capture_output=True, text=True)
+    assert run.returncode == 2
+    assert run.stderr.count("\n") == 1 and message in run.stderr, run.stderr
+    assert "Traceback" not in run.stderr
