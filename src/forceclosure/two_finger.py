@@ -174,14 +174,19 @@ def _compiled(p, n_p, q, n_q, mu_p, mu_q, model, tol, shape):
     from .kernels import kernel_array
     from .kernels import pairs as kernel
 
-    flat = [kernel_array(np.broadcast_to(a, (*shape, a.shape[-1])).reshape(-1, a.shape[-1]))
-            for a in (p, n_p, q, n_q)]
-    mus = [kernel_array(np.broadcast_to(m, shape).reshape(-1)) for m in (mu_p, mu_q)]
+    def rows(a: NDArray[np.float64], tail: tuple[int, ...]) -> NDArray[np.float64]:
+        if a.shape[: len(a.shape) - len(tail)] != shape:  # broadcast only when needed
+            a = np.broadcast_to(a, (*shape, *tail))
+        return kernel_array(a.reshape(-1, *tail))
+
+    flat = [rows(a, (a.shape[-1],)) for a in (p, n_p, q, n_q)]
+    # one friction value for all pairs stays one value (the kernel reads it for each)
+    mus = [kernel_array(m.reshape(1)) if m.size == 1 else rows(m, ()) for m in (mu_p, mu_q)]
     n = flat[0].shape[0]
     code = np.empty(n, dtype=np.int8)
     least = np.empty(n)
-    kernel.pair_kernel(*flat, *mus, float(tol), code, least)
-    bad = np.flatnonzero(code >= kernel.ZERO_NORMAL)
+    flagged = kernel.pair_kernel(*flat, *mus, float(tol), code, least)
+    bad = np.flatnonzero(code >= kernel.ZERO_NORMAL) if flagged else ()
     if len(bad):
         i = int(bad[0])
         index = np.unravel_index(i, shape) if len(shape) > 1 else i
@@ -192,13 +197,16 @@ def _compiled(p, n_p, q, n_q, mu_p, mu_q, model, tol, shape):
     if p.shape[-1] == 3 and model == "hard":
         code[:] = kernel.NONE
         least[:] = np.inf
+        return code, least
+    if not flagged:
+        return code, least
     undecided = np.flatnonzero(code == kernel.UNDECIDED)
     if len(undecided):  # spatial soft pairs beyond Corollary 3: Theorem 1, compiled
         from .batch import analyze_batch
 
         P = np.stack([flat[0][undecided], flat[2][undecided]], axis=1)
         N = np.stack([flat[1][undecided], flat[3][undecided]], axis=1)
-        mu = np.stack([mus[0][undecided], mus[1][undecided]], axis=1)
+        mu = np.stack([np.broadcast_to(m, (n,))[undecided] for m in mus], axis=1)
         code[undecided] = analyze_batch(P, N, mu=mu, model="soft", tol=tol).code
     return code, least
 

@@ -43,75 +43,108 @@ def _outside(c: float, s: float, mu: float, T: float) -> bool:
     return c < 0.0 and s * (muT - 1.0) < -c * (mu + T)
 
 
+@nb.njit(inline="always")
+def _verdict(cp: float, sp: float, cq: float, sq: float, mp: float, mq: float, T: float) -> int:
+    if _inside(cp, sp, mp, T) and _inside(cq, sq, mq, T):
+        return CLOSURE
+    if _outside(cp, sp, mp, T) or _outside(cq, sq, mq, T):
+        return NONE
+    return MARGINAL
+
+
+@nb.njit(inline="always")
+def _least(cp: float, sp: float, cq: float, sq: float) -> float:
+    """max(tan angle_P, tan angle_Q) = max(sp / cp, sq / cq), with one division."""
+    if cp > 0.0 and cq > 0.0:
+        return sp / cp if sp * cq >= sq * cp else sq / cq
+    return np.inf
+
+
+@nb.njit(inline="always")
+def _bad(pq2: float, np2: float, nq2: float, cp: float, cq: float) -> int:
+    """0, or the code of a pair that cannot be decided (non-finite, zero normal)."""
+    if not math.isfinite(pq2 + np2 + nq2 + cp + cq):  # any NaN or inf (or overflow)
+        return NON_FINITE
+    if np2 <= 1e-24 or nq2 <= 1e-24:
+        return ZERO_NORMAL
+    return 0
+
+
 @nb.njit(parallel=True, cache=True, nogil=True)
 def pair_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, code, least):  # pragma: no cover - compiled
-    """Fill ``code`` (int8) and ``least`` (float64) for ``(N, d)`` pairs, ``d`` = 2 or 3."""
+    """Fill ``code`` (int8) and ``least`` (float64) for ``(N, d)`` pairs, ``d`` = 2 or 3.
+
+    ``mu_p`` and ``mu_q`` have a value per pair, or one value for all.
+    Returns how many pairs have a code other than the three verdicts.
+    """
     T = math.tan(tol)
-    d = p.shape[1]
+    flagged = 0
+    step_p = 1 if mu_p.shape[0] > 1 else 0
+    step_q = 1 if mu_q.shape[0] > 1 else 0
+    if p.shape[1] == 2:
+        for i in nb.prange(p.shape[0]):
+            vx = q[i, 0] - p[i, 0]
+            vy = q[i, 1] - p[i, 1]
+            ax, ay, bx, by = n_p[i, 0], n_p[i, 1], n_q[i, 0], n_q[i, 1]
+            pq2 = vx * vx + vy * vy
+            np2 = ax * ax + ay * ay
+            nq2 = bx * bx + by * by
+            cp = -(vx * ax + vy * ay)
+            cq = vx * bx + vy * by
+            bad = _bad(pq2, np2, nq2, cp, cq)
+            if bad:
+                code[i] = bad
+                least[i] = np.nan if bad == NON_FINITE else np.inf
+                flagged += 1
+                continue
+            scale = max(1.0, abs(p[i, 0]), abs(p[i, 1]), abs(q[i, 0]), abs(q[i, 1]))
+            if pq2 <= 1e-24 * scale * scale:  # coincident points: nothing closes them
+                code[i] = NONE
+                least[i] = np.inf
+                continue
+            sp = abs(vx * ay - vy * ax)
+            sq = abs(vx * by - vy * bx)
+            code[i] = _verdict(cp, sp, cq, sq, mu_p[i * step_p], mu_q[i * step_q], T)
+            least[i] = _least(cp, sp, cq, sq)
+        return flagged
     for i in nb.prange(p.shape[0]):
+        vx = q[i, 0] - p[i, 0]
+        vy = q[i, 1] - p[i, 1]
+        vz = q[i, 2] - p[i, 2]
+        ax, ay, az = n_p[i, 0], n_p[i, 1], n_p[i, 2]
+        bx, by, bz = n_q[i, 0], n_q[i, 1], n_q[i, 2]
+        pq2 = vx * vx + vy * vy + vz * vz
+        np2 = ax * ax + ay * ay + az * az
+        nq2 = bx * bx + by * by + bz * bz
+        cp = -(vx * ax + vy * ay + vz * az)
+        cq = vx * bx + vy * by + vz * bz
+        bad = _bad(pq2, np2, nq2, cp, cq)
+        if bad:
+            code[i] = bad
+            least[i] = np.nan if bad == NON_FINITE else np.inf
+            flagged += 1
+            continue
         scale = 1.0
-        pq2 = 0.0
-        cp = 0.0
-        cq = 0.0
-        np2 = 0.0
-        nq2 = 0.0
-        for j in range(d):
+        for j in range(3):
             scale = max(scale, abs(p[i, j]), abs(q[i, j]))
-            v = q[i, j] - p[i, j]
-            pq2 += v * v
-            cp -= v * n_p[i, j]
-            cq += v * n_q[i, j]
-            np2 += n_p[i, j] * n_p[i, j]
-            nq2 += n_q[i, j] * n_q[i, j]
-        if not (math.isfinite(pq2) and math.isfinite(np2) and math.isfinite(nq2)
-                and math.isfinite(cp) and math.isfinite(cq)):
-            code[i] = NON_FINITE
-            least[i] = np.nan
-            continue
-        if np2 <= 1e-24 or nq2 <= 1e-24:
-            code[i] = ZERO_NORMAL
-            least[i] = np.inf
-            continue
-        if d == 2:
-            vx = q[i, 0] - p[i, 0]
-            vy = q[i, 1] - p[i, 1]
-            sp = abs(vx * n_p[i, 1] - vy * n_p[i, 0])
-            sq = abs(vx * n_q[i, 1] - vy * n_q[i, 0])
-        else:
-            vx = q[i, 0] - p[i, 0]
-            vy = q[i, 1] - p[i, 1]
-            vz = q[i, 2] - p[i, 2]
-            a = vy * n_p[i, 2] - vz * n_p[i, 1]
-            b = vz * n_p[i, 0] - vx * n_p[i, 2]
-            c = vx * n_p[i, 1] - vy * n_p[i, 0]
-            sp = math.sqrt(a * a + b * b + c * c)
-            a = vy * n_q[i, 2] - vz * n_q[i, 1]
-            b = vz * n_q[i, 0] - vx * n_q[i, 2]
-            c = vx * n_q[i, 1] - vy * n_q[i, 0]
-            sq = math.sqrt(a * a + b * b + c * c)
-        if math.sqrt(pq2) <= 1e-12 * scale:  # coincident points: nothing closes them
+        if pq2 <= 1e-24 * scale * scale:
             code[i] = NONE
             least[i] = np.inf
             continue
-        mp = mu_p[i]
-        mq = mu_q[i]
-        if _inside(cp, sp, mp, T) and _inside(cq, sq, mq, T):
-            code[i] = CLOSURE
-        elif _outside(cp, sp, mp, T) or _outside(cq, sq, mq, T):
-            code[i] = NONE
-        else:
-            code[i] = MARGINAL
-        if d == 3 and code[i] != CLOSURE:
+        sp = math.sqrt((vy * az - vz * ay) ** 2 + (vz * ax - vx * az) ** 2
+                       + (vx * ay - vy * ax) ** 2)
+        sq = math.sqrt((vy * bz - vz * by) ** 2 + (vz * bx - vx * bz) ** 2
+                       + (vx * by - vy * bx) ** 2)
+        c = _verdict(cp, sp, cq, sq, mu_p[i * step_p], mu_q[i * step_q], T)
+        if c != CLOSURE:
             # Corollary 3 is only sufficient in space unless the normals are antiparallel.
             inv_p = 1.0 / math.sqrt(np2)
             inv_q = 1.0 / math.sqrt(nq2)
-            gap = 0.0
-            for j in range(3):
-                g = n_p[i, j] * inv_p + n_q[i, j] * inv_q
-                gap += g * g
-            if math.sqrt(gap) > 1e-9:
-                code[i] = UNDECIDED
-        if cp > 0.0 and cq > 0.0:
-            least[i] = max(sp / cp, sq / cq)
-        else:
-            least[i] = np.inf
+            gap = ((ax * inv_p + bx * inv_q) ** 2 + (ay * inv_p + by * inv_q) ** 2
+                   + (az * inv_p + bz * inv_q) ** 2)
+            if gap > 1e-18:
+                c = UNDECIDED
+                flagged += 1
+        code[i] = c
+        least[i] = _least(cp, sp, cq, sq)
+    return flagged
