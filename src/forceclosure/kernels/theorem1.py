@@ -25,8 +25,8 @@ decide` does.
 A grasp the kernel cannot settle with a clear margin is flagged ``DEFER``
 and decided by the reference path: a singular value ratio below ``GUARD``
 (where the reference's numerical rank rule, not geometry, decides), a
-quantity within ``BAND`` of a threshold, a certificate that fails, or a
-stalled simplex. On random grasps that is a handful in a million.
+quantity within ``BAND`` of a threshold (unless it is 0 to ``ROUNDOFF``), a
+certificate that fails, or a stalled simplex. On random grasps that is a handful in a million.
 """
 
 from __future__ import annotations
@@ -46,6 +46,9 @@ FRICTIONLESS, HARD, SOFT = 0, 1, 2
 GUARD = 1e-5
 #: Margins and repelling work this close to the tolerance go to the reference.
 BAND = 1e-8
+#: Margins and repelling work this close to 0 are 0 up to round-off: clearly below a
+#: tolerance of at least 100 times as much (structurally marginal grasps, e.g. on boxes).
+ROUNDOFF = 1e-12
 #: Pyramid sizes of the exact-cone bracket (as ``closure.EXACT_CONE_EDGES``).
 EXACT_EDGES = np.array([8, 16, 32, 64, 128, 256], dtype=np.int64)
 
@@ -326,7 +329,7 @@ def _closure(W, m, d, tol, work, twist, rank_only=False):  # pragma: no cover - 
     margin = np.nan
     if status == OPTIMAL:
         margin = 1.0 - mm * x[mm]
-        if abs(margin - tol) < BAND:
+        if _unclear(margin, tol):
             return DEFER, d, margin
         if margin > tol and ratio > tol:
             if _certified(U, mm, d, x, work):
@@ -344,13 +347,21 @@ def _closure(W, m, d, tol, work, twist, rank_only=False):  # pragma: no cover - 
     elif status != INFEASIBLE:  # stalled or unbounded: not ours to decide
         return DEFER, d, margin
     z = _separate(U, mm, d, work, twist)
-    if z < 0.0 or abs(z - tol) < BAND or abs(ratio - tol) < BAND:
+    if z < -ROUNDOFF or _unclear(z, tol) or abs(ratio - tol) < BAND:  # z = -1: unsolved
         return DEFER, d, margin
     if z > tol:
         return NONE, d, margin
     if ratio <= tol:
         _null_twist(V[:, low], twist)
     return MARGINAL, d, margin
+
+
+@nb.njit(cache=True, nogil=True)
+def _unclear(value, tol):  # pragma: no cover - compiled
+    """Whether ``value`` is too close to ``tol`` to be compared with it here."""
+    if abs(value) <= ROUNDOFF and tol >= 100.0 * ROUNDOFF:
+        return False
+    return abs(value - tol) < BAND
 
 
 @nb.njit(cache=True, nogil=True)
@@ -701,14 +712,17 @@ def least_friction_kernel(points, normals, tors, model, edges, fit, exact, tol, 
 
     One pass over the grasps; per grasp a bisection on the cone half-angle
     to relative precision ``rtol``, each step a Theorem 1 verdict. Frictionless
-    contacts count as hard fingers. ``deferred[g]`` is set where a step
-    could not be decided here.
+    contacts count as hard fingers. ``deferred[g]`` is set where the end
+    points (no friction, ``mu_max``) could not be decided here.
     """
     n_grasps, k, d = points.shape
     model_f = model.copy()
+    model_0 = model.copy()  # without friction a hard finger is a frictionless one (one column)
     for i in range(k):
         if model_f[i] == FRICTIONLESS:
             model_f[i] = HARD
+        if model_0[i] == HARD:
+            model_0[i] = FRICTIONLESS
     n_blocks = (n_grasps + BLOCK - 1) // BLOCK
     for blk in nb.prange(n_blocks):
         work = _work(maxm, max(edges, EXACT_EDGES[-1]))
@@ -718,7 +732,7 @@ def least_friction_kernel(points, normals, tors, model, edges, fit, exact, tol, 
         for g in range(blk * BLOCK, min(n_grasps, (blk + 1) * BLOCK)):
             deferred[g] = False
             mu[:] = 0.0
-            c = grasp(points[g], normals[g], mu, tors[g], model_f, edges, fit, exact, tol,
+            c = grasp(points[g], normals[g], mu, tors[g], model_0, edges, fit, exact, tol,
                       work, ref, y)[0]
             if c in (CLOSURE, DEFER):
                 out[g] = 0.0
@@ -738,9 +752,9 @@ def least_friction_kernel(points, normals, tors, model, edges, fit, exact, tol, 
                 mu[:] = math.tan(mid)
                 c = grasp(points[g], normals[g], mu, tors[g], model_f, edges, fit, exact, tol,
                           work, ref, y)[0]
-                if c == DEFER:
-                    deferred[g] = True
-                    break
+                # a step too near the boundary to settle here counts as not closed: the
+                # answer stays a friction the kernel has shown to close, and the bracket
+                # closes on that step (the boundary is within the kernel's band of it)
                 if c == CLOSURE:
                     hi = mid
                 else:

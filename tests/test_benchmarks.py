@@ -1,0 +1,18 @@
+"""The batch benchmark stays runnable by a new user (its smoke mode, small sizes)."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+BENCH = Path(__file__).parents[1] / "benchmarks" / "bench_batch.py"
+
+
+def test_batch_benchmark_runs(tmp_path):
+    png = tmp_path / "bench.png"
+    run = subprocess.run([sys.executable, str(BENCH), "--quick", "--plot", str(png)],
+                         capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr[-2000:]
+    out = run.stdout
+    assert "planar pairs, Corollary 3" in out and "linprog" in out
+    assert "streamed 200,000 grasps" in out
+    assert png.stat().st_size > 10_000
