@@ -184,3 +184,25 @@ def test_analyze_npz_bad_files_exit_2_in_one_line(tmp_path, arrays, message):
     assert run.returncode == 2
     assert run.stderr.count("\n") == 1 and message in run.stderr, run.stderr
     assert "Traceback" not in run.stderr
+
+
+def test_analyze_npz_truncated_array_keeps_the_rows_before_it(tmp_path, capsys):
+    import io
+    import zipfile
+
+    P, N, mu, closed = _pinches(100, np.random.default_rng(6))
+    path = tmp_path / "cut.npz"
+    np.savez(path, normals=N, mu=mu)
+    whole = io.BytesIO()
+    np.lib.format.write_array(whole, P)
+    cut = whole.getvalue()[: len(whole.getvalue()) - 40 * P[0].nbytes]  # 60 rows of 100
+    with zipfile.ZipFile(path, "a") as archive:
+        archive.writestr("points.npy", cut)
+    out = tmp_path / "r.npz"
+    assert main(["analyze", str(path), "--out", str(out), "--chunk", "16"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "'points' is truncated" in err[0] and "not analysed" in err[0]
+    verdict = np.load(out)["verdict"]
+    done = verdict != -1
+    assert done.sum() == 48  # the three whole chunks before the cut
+    np.testing.assert_array_equal(verdict[done], np.where(closed, 2, 0)[:48])

@@ -21,6 +21,7 @@ analysed.
 from __future__ import annotations
 
 import zipfile
+import zlib
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import IO
@@ -57,7 +58,10 @@ class _Rows:
         self._row = int(np.prod(self.shape[1:], dtype=np.int64)) * self.dtype.itemsize
 
     def read(self, rows: int) -> NDArray[np.float64]:
-        data = self._file.read(rows * self._row)
+        try:
+            data = self._file.read(rows * self._row)
+        except (zipfile.BadZipFile, zlib.error, EOFError) as e:
+            raise InputError(f"array '{self.name}' is damaged ({e})") from None
         got = len(data) // self._row if self._row else rows
         if len(data) != got * self._row:
             raise InputError(f"array '{self.name}' is truncated")
@@ -162,8 +166,10 @@ def iter_chunks(info: GraspArrays, size: int = CHUNK) -> Iterator[dict[str, NDAr
         for lo in range(0, info.count, size):
             rows = min(size, info.count - lo)
             chunk = {r.name: r.read(rows) for r in readers}
-            if any(len(v) != rows for v in chunk.values()):
-                raise InputError(f"{info.path}: an array ends before row {lo + rows}")
+            short = [name for name, v in chunk.items() if len(v) != rows]
+            if short:
+                raise InputError(f"{info.path}: array '{short[0]}' is truncated: it ends "
+                                 f"before row {lo + rows}")
             chunk.update(info.constant)
             yield chunk
 
@@ -234,7 +240,15 @@ def analyze_npz(path: str, *, chunk: int = CHUNK, tol: float | None = None,
     margin = np.full(info.count, np.nan)
     errors: list[str] = []
     lo = 0
-    for part in iter_chunks(info, chunk):
+    parts = iter_chunks(info, chunk)
+    while True:
+        try:
+            part = next(parts, None)
+        except InputError as e:  # a truncated member: keep what was analysed before it
+            errors.append(f"{e}; grasps {lo + 1} to {info.count} are not analysed")
+            break
+        if part is None:
+            break
         rows = len(part["points"])
         bad, messages = _problems(part, lo)
         errors.extend(messages)
