@@ -61,13 +61,17 @@ def _least(cp: float, sp: float, cq: float, sq: float) -> float:
 
 
 @nb.njit(inline="always")
-def _bad(pq2: float, np2: float, nq2: float, cp: float, cq: float) -> int:
-    """0, or the code of a pair that cannot be decided (non-finite, zero normal)."""
+def _flag(code, least, i, pq2, np2, nq2, cp, cq) -> bool:
+    """Mark pair ``i`` if it cannot be decided (non-finite, zero normal); whether it was."""
     if not math.isfinite(pq2 + np2 + nq2 + cp + cq):  # any NaN or inf (or overflow)
-        return NON_FINITE
+        code[i] = NON_FINITE
+        least[i] = np.nan
+        return True
     if np2 <= 1e-24 or nq2 <= 1e-24:
-        return ZERO_NORMAL
-    return 0
+        code[i] = ZERO_NORMAL
+        least[i] = np.inf
+        return True
+    return False
 
 
 @nb.njit(parallel=True, cache=True, nogil=True)
@@ -91,10 +95,7 @@ def pair_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, code, least):  # pragma: no cov
             nq2 = bx * bx + by * by
             cp = -(vx * ax + vy * ay)
             cq = vx * bx + vy * by
-            bad = _bad(pq2, np2, nq2, cp, cq)
-            if bad:
-                code[i] = bad
-                least[i] = np.nan if bad == NON_FINITE else np.inf
+            if _flag(code, least, i, pq2, np2, nq2, cp, cq):
                 flagged += 1
                 continue
             scale = max(1.0, abs(p[i, 0]), abs(p[i, 1]), abs(q[i, 0]), abs(q[i, 1]))
@@ -118,10 +119,7 @@ def pair_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, code, least):  # pragma: no cov
         nq2 = bx * bx + by * by + bz * bz
         cp = -(vx * ax + vy * ay + vz * az)
         cq = vx * bx + vy * by + vz * bz
-        bad = _bad(pq2, np2, nq2, cp, cq)
-        if bad:
-            code[i] = bad
-            least[i] = np.nan if bad == NON_FINITE else np.inf
+        if _flag(code, least, i, pq2, np2, nq2, cp, cq):
             flagged += 1
             continue
         scale = 1.0

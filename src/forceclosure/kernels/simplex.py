@@ -5,7 +5,8 @@
 force-closure test solves. One tableau, Dantzig's rule falling back to
 Bland's rule after a run of degenerate pivots (so it cannot cycle), and the
 duals read off the artificial columns. It allocates nothing per call: the
-caller passes a workspace, so thousands of LPs run in a parallel loop.
+caller writes the LP into a tableau carved from its own buffer
+(:func:`tableau`), so thousands of LPs run in a parallel loop.
 
 Status codes: ``OPTIMAL``, ``INFEASIBLE``, ``UNBOUNDED`` and ``STALLED``
 (the iteration limit; the caller then falls back to HiGHS).
@@ -21,11 +22,6 @@ OPTIMAL, INFEASIBLE, UNBOUNDED, STALLED = 0, 1, 2, 3
 _PIVOT = 1e-10  # smallest pivot element accepted
 _COST = 1e-12  # reduced costs below -_COST improve the objective
 _FEASIBLE = 1e-9  # Phase I residual accepted as feasible
-
-
-def workspace(rows: int, cols: int) -> tuple[np.ndarray, np.ndarray]:
-    """Tableau and basis arrays for an LP of ``rows`` x ``cols``."""
-    return np.empty((rows + 1, cols + rows + 1)), np.empty(rows, dtype=np.int64)
 
 
 @nb.njit(cache=True, nogil=True)
@@ -96,24 +92,12 @@ def _iterate(T, basis, ncols, limit):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, nogil=True)
-def solve(A, b, c, T, basis, x, y):  # pragma: no cover - compiled
-    """Solve ``max c.x, A x = b, x >= 0``; fill ``x`` and the duals ``y``; return status.
-
-    ``T`` is a ``(rows + 1, cols + rows + 1)`` scratch tableau. ``y`` solves
-    ``A^T y >= c`` with ``b . y = c . x`` at the optimum.
-    """
-    m, n = A.shape
-    T[:, :] = 0.0
-    for i in range(m):
-        for j in range(n):
-            T[i, j] = A[i, j]
-        T[i, n + m] = b[i]
-    return solve_tableau(T, m, n, c, basis, x, y)
-
-
-@nb.njit(cache=True, nogil=True)
 def solve_tableau(T, m, n, c, basis, x, y):  # pragma: no cover - compiled
-    """:func:`solve` for ``A`` and ``b`` already written into the tableau ``T``."""
+    """Solve ``max c.x, A x = b, x >= 0`` for the ``m x n`` ``A`` and ``b`` in ``T``; return status.
+
+    Fills ``x`` and the duals ``y`` (``A^T y >= c`` with ``b . y = c . x`` at
+    the optimum).
+    """
     rhs = n + m
     for i in range(m):  # rows turned to b >= 0; y keeps each row's sign until the duals
         y[i] = 1.0

@@ -365,6 +365,29 @@ def _unclear(value, tol):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, nogil=True)
+def _cholesky(G, L, d, floor):  # pragma: no cover - compiled
+    """``G = L L^T`` into the lower triangle of ``L`` (``L`` may be ``G``): ``det G``.
+
+    Returns -1 when a pivot is at most ``floor`` (not numerically positive definite).
+    """
+    det = 1.0
+    for j in range(d):
+        s = G[j, j]
+        for k in range(j):
+            s -= L[j, k] * L[j, k]
+        if s <= floor:
+            return -1.0
+        det *= s
+        L[j, j] = math.sqrt(s)
+        for i in range(j + 1, d):
+            s = G[i, j]
+            for k in range(j):
+                s -= L[i, k] * L[j, k]
+            L[i, j] = s / L[j, j]
+    return det
+
+
+@nb.njit(cache=True, nogil=True)
 def _ratio_bound(G, L, d, work):  # pragma: no cover - compiled
     """A lower bound on the singular value ratio, ``sqrt(det G / trace(G)^d)``, by Cholesky.
 
@@ -375,20 +398,9 @@ def _ratio_bound(G, L, d, work):  # pragma: no cover - compiled
     trace = 0.0
     for i in range(d):
         trace += G[i, i]
-    det = 1.0
-    for j in range(d):
-        s = G[j, j]
-        for k in range(j):
-            s -= L[j, k] * L[j, k]
-        if s <= 1e-300:
-            return 0.0
-        det *= s
-        L[j, j] = math.sqrt(s)
-        for i in range(j + 1, d):
-            s = G[i, j]
-            for k in range(j):
-                s -= L[i, k] * L[j, k]
-            L[i, j] = s / L[j, j]
+    det = _cholesky(G, L, d, 1e-300)
+    if det < 0.0:
+        return 0.0
     work.sigma_min[0] = math.sqrt(det / trace ** (d - 1))
     return math.sqrt(det / trace**d)
 
@@ -458,18 +470,8 @@ def _null_correct(U, mm, d, lam, work):  # pragma: no cover - compiled
                 g += U[i, col] * U[j, col]
             G[i, j] = g
             G[j, i] = g
-    for j in range(d):
-        s = G[j, j]
-        for k in range(j):
-            s -= G[j, k] * G[j, k]
-        if s <= 0.0:
-            return False
-        G[j, j] = math.sqrt(s)
-        for i in range(j + 1, d):
-            s = G[i, j]
-            for k in range(j):
-                s -= G[i, k] * G[j, k]
-            G[i, j] = s / G[j, j]
+    if _cholesky(G, G, d, 0.0) < 0.0:
+        return False
     for i in range(d):  # forward
         s = r[i]
         for k in range(i):
