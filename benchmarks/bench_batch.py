@@ -13,7 +13,9 @@ timed in the same run, on the same grasps, as the compiled kernels:
   1e-3 (needs ``--extra bench``);
 * ``six-value loop`` (GraspNet-1Billion style): the two-finger angle test
   in a Python loop over grasps, re-run for friction 0.1 … 1.0 until it
-  passes.
+  passes;
+* ``Qhull epsilon`` (GraspIt! style): Ferrari–Canny's epsilon as the
+  nearest facet of ``scipy.spatial.ConvexHull`` of the wrenches, per grasp.
 
 The baselines get their wrenches precomputed (only their test is timed);
 ours builds them inside the kernel. Ratios are the result on a shared
@@ -45,7 +47,7 @@ from scipy.optimize import linprog
 from scipy.spatial import ConvexHull, QhullError
 
 from forceclosure import Cone
-from forceclosure.batch import analyze_batch, least_friction_batch
+from forceclosure.batch import analyze_batch, epsilon_batch, least_friction_batch
 from forceclosure.two_finger import two_finger_closure
 
 DOCS = Path(__file__).parents[1] / "docs"
@@ -101,6 +103,14 @@ def qhull_closure(W):
     except QhullError:  # flat wrench set: GraspIt! reports no closure
         return False
     return bool(np.all(hull.equations[:, -1] < 0))
+
+
+def qhull_epsilon(W):
+    try:
+        hull = ConvexHull(W.T)
+    except QhullError:
+        return 0.0
+    return max(0.0, float(np.min(-hull.equations[:, -1])))
 
 
 def min_norm_qp_closure(W, regularizer=1e-10, threshold=1e-3):
@@ -168,7 +178,7 @@ import time
 t = time.perf_counter()
 import numpy as np
 from forceclosure import Cone
-from forceclosure.batch import analyze_batch, least_friction_batch
+from forceclosure.batch import analyze_batch, epsilon_batch, least_friction_batch
 from forceclosure.two_finger import two_finger_closure
 P = np.random.default_rng(0).normal(size=(64, 3, 3))
 two_finger_closure(P[:, 0, :2], P[:, 0, :2], P[:, 1, :2], -P[:, 1, :2], 0.3)
@@ -176,6 +186,7 @@ two_finger_closure(P[:, 0], P[:, 0], P[:, 1], -P[:, 1], 0.3)
 analyze_batch(P, P, mu=0.5, cone=Cone(8))
 analyze_batch(P[..., :2], P[..., :2], mu=0.5)
 least_friction_batch(P, P, cone=Cone(8))
+epsilon_batch(P, P, mu=0.5)
 print(time.perf_counter() - t)
 """
 
@@ -311,6 +322,22 @@ def main() -> None:
     for name, v in verdicts.items():
         print(f"  {name}: same closure verdict as ours on {np.mean(v == truth):.1%} of "
               f"{len(v)} grasps ({int(np.sum(v & ~truth))} closures we refute)")
+
+    # epsilon of closed grasps: the wrench hull in the kernel against Qhull per grasp
+    m = 2_000 if quick else 40_000
+    eps = epsilon_batch(P[:4 * m], N[:4 * m], mu=mu[:4 * m])
+    closed = np.flatnonzero(eps > 0)[:m]
+    Pc, Nc, muc = P[closed], N[closed], mu[closed]
+    rate = best_rate(lambda: epsilon_batch(Pc, Nc, mu=muc), len(closed), 3)
+    arms = [Pc[g] - Pc[g].mean(0) for g in range(few)]
+    W = [pyramid_wrenches(a, Nc[g], muc[g], 8) for g, a in enumerate(arms)]
+    for w, a in zip(W, arms, strict=True):  # the kernel's frame: torques over the grasp's size
+        w[3:] /= np.linalg.norm(a, axis=1).max()
+    row("epsilon of closed grasps, 3 hard, 8-edge", rate, "grasps/s", "Qhull epsilon",
+        per_item_rate(qhull_epsilon, W))
+    theirs = np.array([qhull_epsilon(w) for w in W])
+    print(f"  epsilon differs from Qhull's by at most "
+          f"{np.abs(eps[closed[:few]] - theirs).max():.1e} on {few} grasps")
 
     # scaling
     m = 5_000 if quick else 40_000

@@ -6,7 +6,8 @@ vectors ``V`` positively span ``Q^d`` iff ``rank V = d`` and, for every
 positive weight in some zero combination; summing those gives a strictly
 positive one). Cone membership is decided by a phase-one simplex in
 rationals with Bland's rule, which cannot cycle: exact, and fast enough for
-the small sets of the tests.
+the small sets of the tests. Ferrari–Canny's epsilon is checked the same
+way, by the exact distance to the nearest facet of the wrench hull.
 """
 
 from __future__ import annotations
@@ -137,3 +138,42 @@ def spatial_pyramid4_wrenches(points, normals, mu) -> list[list[Fraction]]:
                    p[0] * f[1] - p[1] * f[0]]
             cols.append(f + tau)
     return cols
+
+
+def hull_distance_squared(points: list[list[Fraction]], metric: list[Fraction]) -> Fraction:
+    """Squared distance from the origin to the nearest facet of the hull of ``points``, exactly.
+
+    Every hyperplane through ``d`` affinely independent points that has all
+    points on one side carries a facet; the distance to it is
+    ``b / |a|`` for ``a . x = b``, measured with ``|a|^2 = sum metric_i a_i^2``
+    (so that coordinates scaled by ``1 / sqrt(metric_i)`` are Euclidean).
+    The origin must be inside the hull. Enumerates all ``d``-subsets: for
+    small sets only.
+    """
+    from itertools import combinations
+
+    d = len(points[0])
+    best = None
+    for subset in combinations(range(len(points)), d):
+        x0 = points[subset[0]]
+        rows = [[a - b for a, b in zip(points[i], x0, strict=True)] for i in subset[1:]]
+        m, pivots = _echelon(rows)
+        if len(pivots) != d - 1:
+            continue
+        free = next(c for c in range(d) if c not in pivots)
+        a = [Fraction(0)] * d
+        a[free] = Fraction(1)
+        for r, c in enumerate(pivots):
+            a[c] = -m[r][free]
+        b = sum(ai * xi for ai, xi in zip(a, x0, strict=True))
+        sides = [sum(ai * xi for ai, xi in zip(a, p, strict=True)) - b for p in points]
+        if all(s <= 0 for s in sides):
+            pass
+        elif all(s >= 0 for s in sides):
+            a, b = [-ai for ai in a], -b
+        else:
+            continue
+        assert b > 0, "the origin is not inside the hull"
+        dist2 = b * b / sum(w * ai * ai for w, ai in zip(metric, a, strict=True))
+        best = dist2 if best is None else min(best, dist2)
+    return best

@@ -146,6 +146,32 @@ def test_analyze_npz_summary_and_results(tmp_path, capsys, chunk):
     assert np.all((results["margin"] > 0) == closed)
 
 
+def test_analyze_npz_epsilon(tmp_path, capsys):
+    """Head-on pinches have epsilon mu / sqrt(mu^2 + 2); open grasps 0, bad rows NaN."""
+    rng = np.random.default_rng(6)
+    n = 40
+    mu = rng.uniform(0.1, 1.0, n)
+    y = np.where(np.arange(n) % 4 == 0, 3.0, 0.0)  # every fourth pinch far off its line
+    P = np.stack([np.c_[-np.ones(n), np.zeros(n)], np.c_[np.ones(n), y]], 1)
+    N = np.array([[-1.0, 0.0], [1.0, 0.0]])[None].repeat(n, 0)
+    N[5, 1] = 0.0
+    path = tmp_path / "pinches.npz"
+    np.savez(path, points=P, normals=N, mu=np.repeat(mu[:, None], 2, 1))
+    out = tmp_path / "r.npz"
+    assert main(["analyze", str(path), "--out", str(out), "--epsilon", "--chunk", "16"]) == 2
+    assert "epsilon (L1, 8-edge pyramids) of the closed grasps: median" in capsys.readouterr().out
+    eps = np.load(out)["epsilon"]
+    head_on = (y == 0) & (np.arange(n) != 5)
+    np.testing.assert_allclose(eps[head_on], mu[head_on] / np.sqrt(mu[head_on] ** 2 + 2),
+                               rtol=1e-9)
+    np.testing.assert_array_equal(eps[y != 0], 0.0)
+    assert np.isnan(eps[5])
+    json_file = tmp_path / "g.json"
+    json_file.write_text("{}")
+    assert main(["analyze", str(json_file), "--epsilon"]) == 2
+    assert "--epsilon is for .npz grasp files" in capsys.readouterr().err
+
+
 def test_analyze_npz_bad_rows_are_one_line_each_and_the_rest_is_kept(tmp_path, capsys):
     P, N, mu, closed = _pinches(30, np.random.default_rng(5))
     P[3, 1, 0] = np.nan

@@ -82,6 +82,9 @@ def _cmd_analyze(args: argparse.Namespace) -> int:
     if args.out:
         raise InputError("--out is for .npz grasp files; JSON results go to standard output "
                          "with --json")
+    if args.epsilon:
+        raise InputError("--epsilon is for .npz grasp files; a JSON grasp file's analysis "
+                         "reports epsilon unless --no-quality")
     grasp_file = parse_grasp_file(_read(args.file), args.file)
     return _analyze_file(grasp_file, args.json, not args.no_quality, sys.stdout)
 
@@ -100,7 +103,8 @@ def _analyze_arrays(args: argparse.Namespace) -> int:
     start = time.perf_counter()
     with tqdm(total=info.count, unit=" grasps", unit_scale=True, file=sys.stderr,
               disable=None, desc=os.path.basename(args.file)) as bar:
-        results = analyze_npz(args.file, chunk=args.chunk, progress=bar.update)
+        results = analyze_npz(args.file, chunk=args.chunk, epsilon=args.epsilon,
+                              progress=bar.update)
     seconds = time.perf_counter() - start
     shown = results.errors[:20]
     for line in shown:
@@ -116,6 +120,9 @@ def _analyze_arrays(args: argparse.Namespace) -> int:
                "seconds": round(seconds, 3),
                "grasps_per_second": round(info.count / seconds) if seconds > 0 else None,
                "out": args.out}
+    if results.epsilon is not None:
+        closed = results.epsilon[results.code == 2]
+        summary["epsilon_median"] = float(np.median(closed)) if len(closed) else None
     if args.json:
         json.dump(summary, sys.stdout, indent=2)
         sys.stdout.write("\n")
@@ -125,6 +132,9 @@ def _analyze_arrays(args: argparse.Namespace) -> int:
               f"{'/'.join(sorted(set(info.models)))} contacts ({kind}, {info.cone} cones)")
         print(f"  closure {counts['closure']:,}, marginal {counts['marginal']:,}, "
               f"none {counts['none']:,}, bad input {counts['errors']:,}")
+        if summary.get("epsilon_median") is not None:
+            print(f"  epsilon (L1, 8-edge pyramids) of the closed grasps: median "
+                  f"{summary['epsilon_median']:.4g}")
         print(f"  {seconds:.2f} s ({summary['grasps_per_second'] or 0:,} grasps/s)"
               + (f"; results in {args.out}" if args.out else ""))
     return 2 if results.errors else 0
@@ -315,6 +325,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="skip epsilon and least friction (faster)")
     p.add_argument("--out", metavar="RESULTS.npz",
                    help=".npz input: save verdict codes, ranks and margins here")
+    p.add_argument("--epsilon", action="store_true",
+                   help=".npz input: also the Ferrari-Canny epsilon of the closed grasps "
+                        "(saved as 'epsilon' with --out)")
     p.add_argument("--chunk", type=int, default=65_536,
                    help=".npz input: grasps read and analysed at a time (default 65536)")
     p.set_defaults(run=_cmd_analyze)

@@ -30,7 +30,7 @@ import numpy as np
 from numpy.lib import format as npy
 from numpy.typing import NDArray
 
-from .batch import CHUNK, analyze_batch
+from .batch import CHUNK, analyze_batch, epsilon_batch
 from .contacts import MODELS, Cone
 from .errors import InputError
 
@@ -199,12 +199,17 @@ def _problems(chunk: dict[str, NDArray], offset: int) -> tuple[NDArray[np.bool_]
 
 @dataclass(frozen=True, eq=False)
 class NpzResults:
-    """Verdict codes (``-1`` bad input, 0 none, 1 marginal, 2 closure), ranks and margins."""
+    """Verdict codes (``-1`` bad input, 0 none, 1 marginal, 2 closure), ranks and margins.
+
+    ``epsilon`` (when asked for) is each grasp's L1 Ferrari–Canny epsilon,
+    0 where it is not force-closure and NaN where its input was bad.
+    """
 
     code: NDArray[np.int8]
     rank: NDArray[np.int8]
     margin: NDArray[np.float64]
     errors: list[str]
+    epsilon: NDArray[np.float64] | None = None
 
     def counts(self) -> dict[str, int]:
         """How many grasps got each verdict, and how many were refused."""
@@ -212,14 +217,21 @@ class NpzResults:
                 for name, c in (("closure", 2), ("marginal", 1), ("none", 0), ("errors", ERROR))}
 
     def save(self, path: str) -> None:
-        """Write the results as an ``.npz`` (``verdict`` codes, ``rank``, ``margin``, ``names``)."""
+        """Write the results as an ``.npz``: ``verdict`` codes, ``rank``, ``margin``, ``names``
+        and, if computed, ``epsilon``."""
+        extra = {} if self.epsilon is None else {"epsilon": self.epsilon}
         np.savez(path, verdict=self.code, rank=self.rank, margin=self.margin,
-                 names=np.array(["none", "marginal", "closure"]))
+                 names=np.array(["none", "marginal", "closure"]), **extra)
 
 
 def analyze_npz(path: str, *, chunk: int = CHUNK, tol: float | None = None,
+                epsilon: bool = False,
                 progress: Callable[[int], object] | None = None) -> NpzResults:
     """Analyse every grasp of an ``.npz`` grasp file, a chunk at a time (Theorem 1).
+
+    With ``epsilon``, also the Ferrari–Canny epsilon of the grasps found
+    force-closure (:func:`forceclosure.batch.epsilon_batch`, L1, 8-edge
+    inscribed pyramids).
 
     Examples
     --------
@@ -234,10 +246,12 @@ def analyze_npz(path: str, *, chunk: int = CHUNK, tol: float | None = None,
     """
     from .closure import TOLERANCE
 
+    tol = TOLERANCE if tol is None else tol
     info = open_npz(path)
     code = np.full(info.count, ERROR, dtype=np.int8)
     rank = np.zeros(info.count, dtype=np.int8)
     margin = np.full(info.count, np.nan)
+    eps = np.full(info.count, np.nan) if epsilon else None
     errors: list[str] = []
     lo = 0
     parts = iter_chunks(info, chunk)
@@ -258,13 +272,19 @@ def analyze_npz(path: str, *, chunk: int = CHUNK, tol: float | None = None,
             torsion = part.get("torsion")
             if torsion is not None:
                 torsion = np.broadcast_to(torsion, (rows, info.contacts))[good]
-            r = analyze_batch(part["points"][good], part["normals"][good], mu=mu,
-                              model=info.models, torsion=torsion, cone=info.cone,
-                              tol=TOLERANCE if tol is None else tol)
+            P, N = part["points"][good], part["normals"][good]
+            r = analyze_batch(P, N, mu=mu, model=info.models, torsion=torsion, cone=info.cone,
+                              tol=tol)
             code[lo + good] = r.code
             rank[lo + good] = r.rank
             margin[lo + good] = r.margin
+            if eps is not None:
+                eps[lo + good] = 0.0
+                closed = np.flatnonzero(r.code == 2)
+                eps[lo + good[closed]] = epsilon_batch(
+                    P[closed], N[closed], mu=mu[closed], model=info.models,
+                    torsion=None if torsion is None else torsion[closed], tol=tol)
         lo += rows
         if progress is not None:
             progress(rows)
-    return NpzResults(code, rank, margin, errors)
+    return NpzResults(code, rank, margin, errors, eps)

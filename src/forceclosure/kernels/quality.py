@@ -1,0 +1,50 @@
+"""Ferrari–Canny epsilon compiled, for many grasps at once (``quality.epsilon``).
+
+A grasp's epsilon is 0 unless it is force-closure, both with exact cones and
+with the inscribed pyramid the value is measured on (as the reference
+decides it); then it is the distance from the origin to the nearest facet of
+the hull of the generating wrenches (:func:`.hull.hull_radius`; the ``L1``
+epsilon). Grasps whose verdict the kernel defers, or whose hull it cannot
+build and check, are left to the reference path.
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+
+from .hull import hull_radius
+from .theorem1 import BLOCK, CLOSURE, DEFER, EXACT_EDGES, _decide, _work, grasp, wrenches
+
+
+@nb.njit(parallel=True, cache=True, nogil=True)
+def epsilon_kernel(points, normals, mu, tors, model, edges, tol, maxm,
+                   out, deferred):  # pragma: no cover - compiled
+    """Epsilon of ``(N, k, d)`` grasps into ``out``; ``deferred[g]`` where the kernel cannot say."""
+    n_grasps, _, d = points.shape
+    D = 3 if d == 2 else 6
+    n_blocks = (n_grasps + BLOCK - 1) // BLOCK
+    for blk in nb.prange(n_blocks):
+        work = _work(maxm, max(edges, EXACT_EDGES[-1]))
+        ref = np.empty(d)
+        y = np.empty(D)
+        X = np.empty((maxm, D))
+        for g in range(blk * BLOCK, min(n_grasps, (blk + 1) * BLOCK)):
+            out[g] = 0.0
+            deferred[g] = False
+            P, N, M, T = points[g], normals[g], mu[g], tors[g]
+            c, _, _, scale = grasp(P, N, M, T, model, 8, 0, True, tol, work, ref, y)
+            if c == CLOSURE:  # and with the pyramid epsilon is measured on
+                c = _decide(P, N, M, T, model, edges, 1.0, ref, scale, tol, work, y)[0]
+            if c != CLOSURE:
+                deferred[g] = c == DEFER
+                continue
+            m = wrenches(P, N, M, T, model, edges, 1.0, ref, scale, work.W, work.two, work.rim)
+            for col in range(m):
+                for j in range(D):
+                    X[col, j] = work.W[j, col]
+            radius = hull_radius(X, m)
+            if np.isnan(radius):
+                deferred[g] = True
+            else:
+                out[g] = max(0.0, radius)
