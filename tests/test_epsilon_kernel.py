@@ -128,13 +128,13 @@ def test_epsilon_agrees_with_the_reference_on_every_family():
     """Qhull per grasp (the reference) and the kernel, on the agreement families, degenerate ones
     included; where a verdict is too near the boundary the kernel defers, so values match."""
     total = 0
-    for name, P, N, mu, model, torsion, _ in _families(1200, seed=31):
+    for name, P, N, mu, model, torsion, _ in _families(800, seed=31):
         ours = epsilon_batch(P, N, mu=mu, model=model, torsion=torsion)
         theirs = epsilon_batch(P, N, mu=mu, model=model, torsion=torsion, engine="reference")
         assert np.all(ours >= 0), name
         np.testing.assert_allclose(ours, theirs, rtol=0, atol=1e-9, err_msg=name)
         total += int(np.sum(theirs > 0))
-    assert total > 100  # enough closed grasps to mean something
+    assert total > 60  # enough closed grasps to mean something
 
 
 @given(st.integers(0, 2**32 - 1), st.floats(0, 2 * np.pi), st.floats(0.01, 100),
