@@ -37,41 +37,47 @@ FLAT = 1e-9
 
 
 @nb.njit(cache=True, nogil=True)
+def _reject(v, basis, k):  # pragma: no cover - compiled
+    """``v`` less its projection on the first ``k`` rows of ``basis`` (orthonormal); ``|v|^2``.
+
+    Modified Gram–Schmidt, done twice ("twice is enough" for orthogonality).
+    """
+    d = v.shape[0]
+    for _ in range(2):
+        for r in range(k):
+            dot = 0.0
+            for j in range(d):
+                dot += v[j] * basis[r, j]
+            for j in range(d):
+                v[j] -= dot * basis[r, j]
+    length = 0.0
+    for j in range(d):
+        length += v[j] ** 2
+    return length
+
+
+@nb.njit(cache=True, nogil=True)
 def _plane(X, verts, f, inner, normal):  # pragma: no cover - compiled
     """Unit normal (pointing away from ``inner``) and offset of the hyperplane through facet ``f``.
 
-    Writes ``normal[f]`` from the points ``X[verts[f]]``.
-
-    Modified Gram–Schmidt, twice, on the edge vectors from the first vertex,
-    then the coordinate axis with the largest remainder; returns the offset,
-    or NaN if the vertices are affinely dependent.
+    Writes ``normal[f]`` from the points ``X[verts[f]]``: the edge vectors
+    from the first vertex made orthonormal (:func:`_reject`), then the
+    coordinate axis with the largest remainder; returns the offset, or NaN
+    if the vertices are affinely dependent.
     """
     d = X.shape[1]
-    Q = np.empty((d, d))
+    Q = np.empty((d - 1, d))
     x0 = X[verts[f, 0]]
-    scale = 0.0
-    for i in range(1, d):
+    for i in range(d - 1):
+        scale = 0.0
         for j in range(d):
-            Q[i - 1, j] = X[verts[f, i], j] - x0[j]
-        length = 0.0
-        for j in range(d):
-            length += Q[i - 1, j] ** 2
-        scale = max(scale, math.sqrt(length))
-        for _ in range(2):
-            for r in range(i - 1):
-                dot = 0.0
-                for j in range(d):
-                    dot += Q[i - 1, j] * Q[r, j]
-                for j in range(d):
-                    Q[i - 1, j] -= dot * Q[r, j]
-        length = 0.0
-        for j in range(d):
-            length += Q[i - 1, j] ** 2
-        length = math.sqrt(length)
-        if length <= FLAT * scale or length == 0.0:
+            Q[i, j] = X[verts[f, i + 1], j] - x0[j]
+            scale += Q[i, j] ** 2
+        length = math.sqrt(_reject(Q[i], Q, i))
+        if length <= FLAT * math.sqrt(scale) or length == 0.0:
             return np.nan
         for j in range(d):
-            Q[i - 1, j] /= length
+            Q[i, j] /= length
     best = -1.0
     for axis in range(d):  # the axis least in the facet's span gives the best-conditioned normal
         rest = 1.0
@@ -81,17 +87,7 @@ def _plane(X, verts, f, inner, normal):  # pragma: no cover - compiled
             best = rest
             for j in range(d):
                 normal[f, j] = 1.0 if j == axis else 0.0
-    for _ in range(2):
-        for r in range(d - 1):
-            dot = 0.0
-            for j in range(d):
-                dot += normal[f, j] * Q[r, j]
-            for j in range(d):
-                normal[f, j] -= dot * Q[r, j]
-    length = 0.0
-    for j in range(d):
-        length += normal[f, j] ** 2
-    length = math.sqrt(length)
+    length = math.sqrt(_reject(normal[f], Q, d - 1))
     side = 0.0
     offset = 0.0
     for j in range(d):
@@ -165,41 +161,20 @@ def _first_simplex(X, m, chosen):  # pragma: no cover - compiled
     size = math.sqrt(size)
     rest = np.empty(d)
     for k in range(1, d + 1):
-        best, pick = -1.0, -1
-        for i in range(m):
+        best = -1.0
+        for i in range(m):  # the point farthest from the flat of those chosen
             for j in range(d):
-                rest[j] = X[i, j] - X[chosen[0], j]
-            for _ in range(2):
-                for r in range(k - 1):
-                    dot = 0.0
-                    for j in range(d):
-                        dot += rest[j] * basis[r, j]
-                    for j in range(d):
-                        rest[j] -= dot * basis[r, j]
-            length = 0.0
-            for j in range(d):
-                length += rest[j] ** 2
+                rest[j] = X[i, j] - X[far, j]
+            length = _reject(rest, basis, k - 1)
             if length > best:
-                best, pick = length, i
+                best = length
+                chosen[k] = i
+                basis[k - 1] = rest
         best = math.sqrt(best)
         if best <= FLAT * max(size, 1e-300):
             return False
-        chosen[k] = pick
         for j in range(d):
-            rest[j] = X[pick, j] - X[chosen[0], j]
-        for _ in range(2):
-            for r in range(k - 1):
-                dot = 0.0
-                for j in range(d):
-                    dot += rest[j] * basis[r, j]
-                for j in range(d):
-                    rest[j] -= dot * basis[r, j]
-        length = 0.0
-        for j in range(d):
-            length += rest[j] ** 2
-        length = math.sqrt(length)
-        for j in range(d):
-            basis[k - 1, j] = rest[j] / length
+            basis[k - 1, j] /= best
     return True
 
 
