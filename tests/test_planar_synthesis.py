@@ -153,7 +153,12 @@ def test_synthesize_command(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("argv,message", [
-    (["synthesize", "cube"], "polyhedra is not implemented yet"),
+    (["synthesize", "cube", "--contact", "hard"], "at least 3 hard fingers"),
+    (["synthesize", "cube", "--fingers", "6", "--contact", "frictionless"],
+     "at least 7 frictionless fingers"),
+    (["synthesize", "cube", "--fingers", "4", "--method", "faces"], "use --method mesh"),
+    (["synthesize", "cube", "--fingers", "3", "--construction", "nguyen"],
+     "two soft fingers"),
     (["synthesize", "square", "--fingers", "4"], "implemented so far are two or three"),
     (["synthesize", "square", "--contact", "frictionless"], "the plane needs four"),
     (["synthesize", "square", "--mu", "-1"], "--mu must be a positive number"),

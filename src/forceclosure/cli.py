@@ -156,6 +156,8 @@ def _cmd_demo(args: argparse.Namespace) -> int:
           "forceclosure inspect OBJECT --plot out.png")
     print("Find grasps and their regions: forceclosure synthesize OBJECT --mu 0.3 "
           "--plot out.png")
+    print("  on a polyhedron or mesh: forceclosure synthesize OBJECT.stl --fingers 3 "
+          "--contact hard --mu 0.5 --plot out.png")
     return status
 
 
@@ -185,6 +187,17 @@ def _demo_objects() -> None:
         i, j = np.unravel_index(np.argmin(normals @ normals.T), (len(sites),) * 2)
         grasp = [point_contact(*sites[k], "soft", 0.3) for k in (i, j)]
         print(f"  {name:17} faces {i} + {j}: {analyze(grasp).verdict.value}")
+    from .synthesis import soft_pair_regions, three_hard_regions
+
+    cube = bundled("cube")
+    print("== the cube: independent regions on its faces, mu 0.5 ==")
+    pair = soft_pair_regions(cube, 0, 1, 0.5)
+    print(f"  two soft fingers, top and bottom (§5.2): regions of area {pair.min_area:.3g} "
+          f"each; certified: {pair.certify().holds} ({pair.certify().method})")
+    three = three_hard_regions(cube, (0, 1, 1), 0.5)
+    print(f"  three hard fingers, one on top, two below (§5.3, class "
+          f"{three.grasp_class.number}): smallest region {three.min_area:.3g}; certified: "
+          f"{three.certify().holds} ({three.certify().method})")
 
 
 def _cmd_objects(args: argparse.Namespace) -> int:
@@ -238,8 +251,7 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
 
     obj = load_object(args.object)
     if obj.dim == 3:
-        raise InputError(f"{obj.name}: synthesis on polyhedra is not implemented yet; "
-                         "planar objects only")
+        return _synthesize_spatial(args, obj)
     frictionless = args.contact == "frictionless"
     if (args.fingers, frictionless) not in ((2, False), (3, False), (4, True)):
         raise InputError(f"--fingers {args.fingers} --contact {args.contact}: implemented so "
@@ -306,6 +318,91 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
     return 0
 
 
+#: The paper's constructions on faces (§5.2, §5.3, §5.5), by (fingers, contact).
+_ON_FACES = {(2, "soft"): "§5.2", (3, "hard"): "§5.3", (7, "frictionless"): "§5.5"}
+
+
+def _synthesize_spatial(args: argparse.Namespace, obj) -> int:
+    """Regions on a polyhedron: the paper's constructions on faces, or grown on a mesh."""
+    from . import synthesis as syn
+
+    key = (args.fingers, args.contact)
+    frictionless = args.contact == "frictionless"
+    if not frictionless and not (args.mu > 0 and np.isfinite(args.mu)):
+        raise InputError(f"--mu must be a positive number, got {args.mu:g}")
+    if args.top < 1:
+        raise InputError(f"--top must be at least 1, got {args.top}")
+    minimum = {"soft": 2, "hard": 3, "frictionless": 7}[args.contact]
+    if args.fingers < minimum:
+        why = {"soft": "", "hard": " (two cannot resist rotation about the line between "
+               "them)", "frictionless": " (Lakshminarayana 1978)"}[args.contact]
+        raise InputError(f"--fingers {args.fingers} --contact {args.contact}: a spatial "
+                         f"grasp needs at least {minimum} {args.contact} fingers{why}")
+    if args.vertices:
+        raise InputError("--vertices is for polygons; on a polyhedron every finger is on a face")
+    mu = 0.0 if frictionless else args.mu
+    curved = np.mean([len(f.triangles) == 1 for f in obj.faces]) > 0.5
+    method = args.method
+    if method == "auto":
+        method = "faces" if key in _ON_FACES and not curved else "mesh"
+    if method == "faces" and key not in _ON_FACES:
+        raise InputError(f"--method faces: the paper constructs two soft, three hard or seven "
+                         f"frictionless fingers on faces, not {args.fingers} {args.contact}; "
+                         "use --method mesh")
+    if args.construction == "nguyen" and key != (2, "soft"):
+        raise InputError("--construction nguyen: in space the paper's two-sided cone is for "
+                         "two soft fingers (§5.2)")
+    if method == "faces" and key == (2, "soft"):
+        found = syn.best_soft_pair_regions(obj, mu, top=args.top, margin=args.margin,
+                                           construction=args.construction)
+    elif method == "faces" and key == (3, "hard"):
+        found = syn.best_three_hard_regions(obj, mu, top=args.top, seed=args.seed)
+    elif method == "faces":
+        found = syn.best_seven_frictionless_regions(obj, top=args.top, samples=args.samples,
+                                                    seed=args.seed)
+    else:
+        found = []
+        for p in syn.prototype_grasps(obj, args.fingers, args.contact, mu, count=args.top,
+                                      samples=args.samples, seed=args.seed):
+            try:
+                found.append(syn.zone_regions(obj, p, args.contact, mu, grow=True))
+            except InputError:  # a prototype on the boundary of closure: skip it
+                continue
+        found.sort(key=lambda r: -r.min_area)
+    if args.json:
+        record = {"object": obj.name, "fingers": args.fingers, "contact": args.contact,
+                  "mu": mu, "size": obj.size, "method": method,
+                  "grasps": [r.to_dict() for r in found]}
+        json.dump(record, sys.stdout, indent=2)
+        sys.stdout.write("\n")
+    else:
+        friction = "frictionless" if frictionless else f"{args.contact} fingers, mu {mu:g}"
+        how = (f"on faces ({_ON_FACES[key]})" if method == "faces"
+               else "grown on the mesh around sampled prototypes")
+        print(f"{obj.name}: {len(found)} best {args.fingers}-finger grasps ({friction}), "
+              f"regions {how}, ranked by the smallest region")
+        if not found:
+            print("  no force-closure grasp found" + (
+                "" if method == "faces" else f" in {args.samples:,} random grasps "
+                "(try --samples)"))
+        for rank, r in enumerate(found, start=1):
+            faces = "; ".join(f"finger {k + 1} on face{'s' if len(set(f)) > 1 else ''} "
+                              f"{', '.join(map(str, sorted(set(f))))}"
+                              for k, f in enumerate(r.faces))
+            print(f"  {rank}. {faces}")
+            cert = r.certify()
+            extra = (f"; class {r.grasp_class.number}" if hasattr(r, "grasp_class") else "")
+            print(f"     region areas {', '.join(f'{a:.4g}' for a in r.areas)} (smallest "
+                  f"{r.min_area / obj.size ** 2:.2%} of size^2){extra}; certified: "
+                  f"{cert.holds} ({cert.method})")
+    if args.plot and found:
+        from .plot import plot_spatial_regions
+
+        plot_spatial_regions(found[0], args.plot)
+        print(f"  picture: {args.plot}", file=sys.stderr if args.json else sys.stdout)
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``forceclosure`` command."""
     parser = argparse.ArgumentParser(
@@ -351,7 +448,8 @@ def build_parser() -> argparse.ArgumentParser:
                                    "independent regions of contact around them (Nguyen 1988, "
                                    "§5): every choice of one point per region is "
                                    "force-closure.")
-    y.add_argument("object", metavar="OBJECT", help="a polygon file or a bundled name")
+    y.add_argument("object", metavar="OBJECT",
+                   help="a polygon or mesh file, or a bundled name")
     y.add_argument("--fingers", type=int, default=2, help="number of fingers (default 2)")
     y.add_argument("--contact", choices=("hard", "soft", "frictionless"), default="hard",
                    help="contact model (in the plane a soft finger acts as a hard one)")
@@ -364,6 +462,14 @@ def build_parser() -> argparse.ArgumentParser:
                         "constructions (§5.1, §5.4)")
     y.add_argument("--vertices", action="store_true",
                    help="also grasp with a soft finger on a convex vertex (a wider cone)")
+    y.add_argument("--method", choices=("auto", "faces", "mesh"), default="auto",
+                   help="polyhedra: the paper's constructions on faces (two soft, three hard, "
+                        "seven frictionless fingers), or regions grown over a mesh around "
+                        "sampled prototype grasps (any hand); auto: faces unless the object "
+                        "is curved")
+    y.add_argument("--samples", type=int, default=20_000,
+                   help="polyhedra: random grasps sampled for prototypes (default 20000)")
+    y.add_argument("--seed", type=int, default=0, help="random seed of the sampling")
     y.add_argument("--json", action="store_true", help="print JSON for machines")
     y.add_argument("--plot", metavar="OUT", help="save a picture (.png or .svg)")
     y.set_defaults(run=_cmd_synthesize)

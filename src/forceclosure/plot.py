@@ -175,3 +175,70 @@ def plot_regions(regions: list, path: str | Path | None = None, title: str | Non
                  f"{friction} (bold: independent regions)", fontsize=10)
     _save(fig, path)
     return fig
+
+
+def plot_spatial_regions(regions, path: str | Path | None = None, title: str | None = None,
+                         cones: bool = True):
+    """Independent regions on a polyhedron, as in the paper's Fig. 1 and 8.
+
+    The object in light grey, each finger's region in its own colour, and
+    (with friction) the friction cone at the middle of each region, drawn as
+    a ring of rays into the object. ``regions`` is one region set (e.g. the
+    best of :func:`forceclosure.synthesis.best_soft_pair_regions`).
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> from forceclosure.synthesis import soft_pair_regions
+    >>> fig = plot_spatial_regions(soft_pair_regions(bundled("cube"), 0, 1, 0.5))
+    >>> len(fig.axes)
+    1
+    """
+    poly = regions.polyhedron
+    fig = plt.figure(figsize=(6.5, 6.5))
+    ax = fig.add_subplot(projection="3d")
+    ax.view_init(elev=24, azim=-58)
+    V, T = poly.vertices, poly.triangles
+    normals = np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]])
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    light = np.array([0.4, 0.3, 0.85]) / np.linalg.norm([0.4, 0.3, 0.85])
+    grey = 0.55 + 0.4 * np.clip(normals @ light, 0, 1)
+    ax.add_collection3d(Poly3DCollection(V[T], facecolors=np.column_stack(
+        [grey, grey, grey, np.full(len(T), 0.35)]), edgecolors="none", linewidths=0))
+    cmap = plt.get_cmap("tab10")
+    lift = poly.size * 2e-3
+    reach = poly.size * 0.2
+    for k, region in enumerate(regions.regions):
+        colour = cmap(k % 10)
+        for patch in region:
+            n = poly.faces[patch.face].normal
+            ax.add_collection3d(Poly3DCollection([patch.points + lift * n], facecolors=[colour],
+                                                 edgecolors=[colour], linewidths=1.2,
+                                                 alpha=0.9))
+        centre = np.mean([p.points.mean(axis=0) for p in region], axis=0)
+        n = poly.faces[region[0].face].normal
+        ax.text(*(centre + n * poly.size * 0.06), str(k + 1), color=colour, fontsize=11,
+                fontweight="bold")
+        if cones and regions.mu > 0:
+            from .contacts import tangent_basis
+
+            t1, t2 = tangent_basis(n[None])
+            for a in np.linspace(0, 2 * np.pi, 12, endpoint=False):
+                ray = -n + regions.mu * (np.cos(a) * t1[0] + np.sin(a) * t2[0])
+                ray *= reach / np.linalg.norm(ray)
+                ax.plot(*np.array([centre, centre + ray]).T, color=colour, linewidth=0.7,
+                        alpha=0.8)
+        elif cones:
+            ax.plot(*np.array([centre, centre - n * reach]).T, color=colour, linewidth=1.2)
+    lo, hi = poly.bounds
+    mid, half = (lo + hi) / 2, (hi - lo).max() / 2
+    for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), mid, strict=True):
+        setter(c - half, c + half)
+    ax.set_box_aspect((1, 1, 1))
+    friction = f"{regions.model} fingers, mu {regions.mu:g}" if regions.mu > 0 else \
+        "frictionless fingers"
+    ax.set_title(title or f"{poly.name}: independent regions for {len(regions.regions)} "
+                 f"{friction}\n{regions.construction}; smallest region "
+                 f"{regions.min_area:.3g}", fontsize=9)
+    _save(fig, path)
+    return fig

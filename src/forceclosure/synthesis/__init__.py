@@ -7,6 +7,7 @@ from .frictionless import (
     nguyen_frictionless_regions,
 )
 from .nguyen import nguyen_regions
+from .patches import FacePatch, SpatialRegions, convex_pieces, sampling_check
 from .planar import (
     IndependentRegions,
     PairGrasps,
@@ -17,28 +18,74 @@ from .planar import (
     pair_grasps,
 )
 from .regions import Certificate, Regions
+from .seven import SevenRegions, best_seven_frictionless_regions, seven_frictionless_regions
+from .soft_pair import (
+    CircularCone,
+    SoftPairRegions,
+    best_soft_pair_regions,
+    counter_overlapping_cone,
+    soft_pair_regions,
+)
 from .three_fingers import ThreeFingerRegions, best_three_finger_regions, three_finger_regions
+from .three_hard import (
+    GraspClass,
+    ThreeHardRegions,
+    best_three_hard_regions,
+    classify_three,
+    counter_overlap,
+    three_hard_regions,
+)
 from .vertices import VertexGrasp, convex_vertices, vertex_grasps
+from .zones import (
+    SearchZones,
+    ZoneRegions,
+    prototype_grasps,
+    search_zones,
+    zone_regions,
+)
 
 __all__ = [
     "Certificate",
+    "CircularCone",
+    "FacePatch",
     "FrictionlessRegions",
+    "GraspClass",
     "IndependentRegions",
     "PairGrasps",
     "Regions",
+    "SearchZones",
     "Sector",
+    "SevenRegions",
+    "SoftPairRegions",
+    "SpatialRegions",
     "ThreeFingerRegions",
+    "ThreeHardRegions",
     "VertexGrasp",
+    "ZoneRegions",
     "best_frictionless_regions",
     "best_regions",
+    "best_seven_frictionless_regions",
+    "best_soft_pair_regions",
     "best_three_finger_regions",
+    "best_three_hard_regions",
+    "classify_three",
+    "convex_pieces",
     "convex_vertices",
+    "counter_overlap",
+    "counter_overlapping_cone",
     "counter_overlapping_sector",
     "maximal_frictionless_regions",
     "maximal_regions",
     "nguyen_frictionless_regions",
     "nguyen_regions",
     "pair_grasps",
+    "prototype_grasps",
+    "sampling_check",
+    "search_zones",
+    "seven_frictionless_regions",
+    "soft_pair_regions",
     "three_finger_regions",
+    "three_hard_regions",
     "vertex_grasps",
+    "zone_regions",
 ]

@@ -1,0 +1,266 @@
+"""Independent regions on polyhedra: patches of faces, and their proof by sampling.
+
+A finger's region on a polyhedron is a set of :class:`FacePatch` objects,
+convex polygons on planar faces (one patch for the paper's constructions on
+faces, §5.2–§5.5; several across neighbouring faces for regions grown on a
+mesh). :class:`SpatialRegions` holds one region per finger; each
+construction subclasses it with its own exact :meth:`~SpatialRegions.certify`.
+:func:`sampling_check` is the independent check every construction must
+also survive: thousands of point tuples drawn from the regions, each
+analysed with exact friction cones by the general analysis (§3).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
+from ..objects.polyhedron import PlanarFace, Polyhedron
+from .regions import Certificate
+
+#: Relative tolerance (of the face's size) for calling a union of triangles convex.
+CONVEX_RTOL = 1e-9
+
+
+@dataclass(frozen=True, eq=False)
+class FacePatch:
+    """A convex polygon on a planar face: where one finger may touch.
+
+    Attributes
+    ----------
+    face : int
+        Index of the face in ``Polyhedron.faces``.
+    uv : (k, 2) array
+        Vertices in the face's own frame, counter-clockwise seen from outside.
+    points : (k, 3) array
+        The same vertices in object coordinates.
+    """
+
+    face: int
+    uv: NDArray[np.float64]
+    points: NDArray[np.float64]
+
+    @classmethod
+    def on(cls, face: PlanarFace, uv) -> FacePatch:
+        """The patch with plane coordinates ``uv`` on ``face``."""
+        uv = _corners(np.asarray(uv, dtype=float), 1e-12 * face.polygon.size)
+        return cls(face.index, uv, face.to_world(uv))
+
+    @property
+    def area(self) -> float:
+        """Area of the patch."""
+        x, y = self.uv[:, 0], self.uv[:, 1]
+        return 0.5 * abs(float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)))
+
+    def sample(self, count: int, rng: np.random.Generator) -> NDArray[np.float64]:
+        """``count`` points uniformly distributed over the patch, in object coordinates."""
+        fan = [(self.uv[0], self.uv[k], self.uv[k + 1]) for k in range(1, len(self.uv) - 1)]
+        areas = np.array([abs((b - a)[0] * (c - a)[1] - (b - a)[1] * (c - a)[0])
+                          for a, b, c in fan]) / 2
+        which = rng.choice(len(fan), size=count, p=areas / areas.sum())
+        r1, r2 = rng.random(count), rng.random(count)
+        flip = r1 + r2 > 1
+        r1[flip], r2[flip] = 1 - r1[flip], 1 - r2[flip]
+        a, b, c = (np.array([fan[k][i] for k in which]) for i in range(3))
+        uv = a + r1[:, None] * (b - a) + r2[:, None] * (c - a)
+        return _to_world_affine(self, uv)
+
+    def to_dict(self) -> dict[str, object]:
+        """The JSON record: face, polygon in object coordinates, area."""
+        return {"face": self.face, "polygon": self.points.tolist(), "area": self.area}
+
+
+def _to_world_affine(patch: FacePatch, uv: NDArray) -> NDArray:
+    """Object coordinates of plane points, by the affine map that takes the patch's plane
+    coordinates to its object coordinates (fitted to all its vertices)."""
+    basis = np.column_stack([patch.uv, np.ones(len(patch.uv))])
+    M = np.linalg.lstsq(basis, patch.points, rcond=None)[0]
+    return np.column_stack([uv, np.ones(len(uv))]) @ M
+
+
+def _corners(ring: NDArray, tol: float) -> NDArray[np.float64]:
+    """A convex ring without repeated or straight-through vertices."""
+    keep = np.ones(len(ring), dtype=bool)
+    changed = True
+    while changed and keep.sum() > 3:
+        changed = False
+        idx = np.flatnonzero(keep)
+        r = ring[idx]
+        prev, nxt = np.roll(r, 1, axis=0), np.roll(r, -1, axis=0)
+        a, b = r - prev, nxt - r
+        cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+        flat = np.abs(cross) <= tol * (np.linalg.norm(a, axis=1) + np.linalg.norm(b, axis=1))
+        if flat.any():
+            keep[idx[int(np.argmax(flat))]] = False
+            changed = True
+    return ring[keep]
+
+
+def convex_pieces(face: PlanarFace) -> list[NDArray[np.float64]]:
+    """The face as convex polygons (plane coordinates, counter-clockwise) that cover it.
+
+    A convex face is one piece. A non-convex face, or one with holes, is cut
+    into its mesh triangles, and neighbouring pieces are merged while their
+    union stays convex (Hertel and Mehlhorn's greedy merge): the paper's
+    "local convex regions" of a face (§5.2).
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> block = bundled("holed-block")
+    >>> top = max(block.faces, key=lambda f: f.normal[2])
+    >>> side = max(block.faces, key=lambda f: f.normal[0])
+    >>> len(convex_pieces(top)) > 1, len(convex_pieces(side))
+    (True, 1)
+    """
+    shape = face.polygon.to_shapely()
+    tol = CONVEX_RTOL * max(face.polygon.size, 1e-300) ** 2
+    if shape.convex_hull.area - shape.area <= tol:
+        return [_ccw(np.asarray(shape.exterior.coords)[:-1])]
+    V, T = face._vertices, face._mesh
+    pieces = [shapely.Polygon(face.to_plane(V[T[t]])) for t in face.triangles]
+    merged = True
+    while merged:
+        merged = False
+        for i in range(len(pieces)):
+            for j in range(i + 1, len(pieces)):
+                a, b = pieces[i], pieces[j]
+                if a.intersection(b).length <= tol:  # not sharing an edge
+                    continue
+                union = a.union(b)
+                if union.geom_type == "Polygon" and union.convex_hull.area - union.area <= tol:
+                    pieces[i] = shapely.Polygon(union.convex_hull.exterior)
+                    del pieces[j]
+                    merged = True
+                    break
+            if merged:
+                break
+    return [_ccw(np.asarray(shapely.simplify(p, 0).exterior.coords)[:-1]) for p in pieces]
+
+
+def _ccw(ring: NDArray) -> NDArray[np.float64]:
+    x, y = ring[:, 0], ring[:, 1]
+    area = float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+    return np.ascontiguousarray(ring if area > 0 else ring[::-1], dtype=float)
+
+
+@dataclass(frozen=True, eq=False)
+class SpatialRegions:
+    """One region per finger on a polyhedron, such that every choice of one point per
+    region is force-closure. Subclasses give :meth:`certify`, the proof.
+
+    Attributes
+    ----------
+    polyhedron : Polyhedron
+    model : str
+        Contact model of every finger: ``"frictionless"``, ``"hard"`` or ``"soft"``.
+    mu : float
+        Friction coefficient (0 for frictionless fingers).
+    regions : tuple of tuple of FacePatch
+        Each finger's region: one or more convex patches.
+    construction : str
+    """
+
+    polyhedron: Polyhedron
+    model: str
+    mu: float
+    regions: tuple[tuple[FacePatch, ...], ...]
+    construction: str
+
+    @property
+    def faces(self) -> tuple[tuple[int, ...], ...]:
+        """The faces each finger's region touches."""
+        return tuple(tuple(p.face for p in region) for region in self.regions)
+
+    @cached_property
+    def areas(self) -> tuple[float, ...]:
+        """Area of each finger's region."""
+        return tuple(sum(p.area for p in region) for region in self.regions)
+
+    @property
+    def min_area(self) -> float:
+        """The smallest region: the placement error the grasp tolerates."""
+        return min(self.areas)
+
+    def certify(self) -> Certificate:  # pragma: no cover - every subclass defines it
+        raise NotImplementedError
+
+    def sample(self, count: int, seed: int = 0) -> NDArray[np.float64]:
+        """``(count, fingers, 3)`` point tuples, each finger's point uniform over its region."""
+        rng = np.random.default_rng(seed)
+        out = np.empty((count, len(self.regions), 3))
+        for k, region in enumerate(self.regions):
+            areas = np.array([p.area for p in region])
+            which = rng.choice(len(region), size=count, p=areas / areas.sum())
+            for i, patch in enumerate(region):
+                rows = np.flatnonzero(which == i)
+                if len(rows):
+                    out[rows, k] = patch.sample(len(rows), rng)
+        return out
+
+    def normals_of(self, points: NDArray) -> NDArray[np.float64]:
+        """The outward normal of each finger's region (per patch), broadcast like ``points``."""
+        normals = np.empty_like(points)
+        for k, region in enumerate(self.regions):
+            face_normals = np.array([self.polyhedron.faces[p.face].normal for p in region])
+            if len(region) == 1:
+                normals[:, k] = face_normals[0]
+            else:  # which patch each point came from: the nearest plane
+                offsets = np.array([self.polyhedron.faces[p.face].normal
+                                    @ self.polyhedron.faces[p.face].origin for p in region])
+                gap = np.abs(points[:, k] @ face_normals.T - offsets)
+                normals[:, k] = face_normals[np.argmin(gap, axis=1)]
+        return normals
+
+    def to_dict(self) -> dict[str, object]:
+        """The JSON record: each finger's faces and patches, areas, construction, certificate."""
+        cert = self.certify()
+        size = self.polyhedron.size
+        return {"faces": [sorted(set(f)) for f in self.faces],
+                "regions": [[p.to_dict() for p in region] for region in self.regions],
+                "areas": list(self.areas), "min_area": self.min_area,
+                "relative_min_area": self.min_area / size**2,
+                "construction": self.construction,
+                "certificate": {"holds": cert.holds, "method": cert.method,
+                                "detail": cert.detail}}
+
+
+def sampling_check(regions: SpatialRegions, samples: int = 2000, seed: int = 0,
+                   corners: bool = True) -> Certificate:
+    """Check a region set independently: random point tuples through the general analysis.
+
+    Every finger's point is drawn uniformly from its region; with ``corners``
+    the tuples of patch vertices (each finger at one of its region's
+    vertices, all combinations up to ``samples``) are added, since the
+    conditions are tightest there. Each tuple is analysed with exact
+    circular friction cones (Theorem 1, :func:`forceclosure.batch.analyze_batch`).
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> from forceclosure.synthesis import soft_pair_regions
+    >>> r = soft_pair_regions(bundled("cube"), 0, 1, mu=0.5)   # two opposite faces
+    >>> sampling_check(r, samples=500).holds
+    True
+    """
+    from ..batch import analyze_batch
+
+    points = regions.sample(samples, seed)
+    if corners:
+        rng = np.random.default_rng(seed + 1)
+        verts = [np.vstack([p.points for p in region]) for region in regions.regions]
+        picks = np.stack([rng.integers(len(v), size=samples) for v in verts], axis=1)
+        points = np.concatenate([points, np.stack(
+            [verts[k][picks[:, k]] for k in range(len(verts))], axis=1)])
+    normals = regions.normals_of(points)
+    result = analyze_batch(points, normals, mu=regions.mu, model=regions.model, cone="exact")
+    bad = np.flatnonzero(result.code != 2)
+    detail = (f"{len(points)} point tuples, each force-closure with exact cones"
+              if not len(bad) else
+              f"{len(bad)} of {len(points)} point tuples are not force-closure, e.g. "
+              f"{np.round(points[bad[0]], 6).tolist()} ({result.verdict[bad[0]]})")
+    return Certificate(not len(bad), "sampling", detail)

@@ -1,0 +1,201 @@
+"""Three hard fingers on faces of a polyhedron (Nguyen 1988, §5.3).
+
+**Classification.** Two friction cones ``C_i`` (around ``-n_i``) and ``C_j``
+*counter-overlap* when ``C_i ∩ -C_j`` has an interior: the angle between
+``-n_i`` and ``n_j`` is below ``alpha_i + alpha_j``. Then the two fingers can
+squeeze against each other along the segment between them. The paper sorts
+three-finger grasps into four classes by how many of the three pairs
+counter-overlap (Fig. 9): none (three fingers around a ball), one (a pinch
+plus a finger that stops the spin about the pinch axis), two (the middle
+finger is a pivot), and three, in which any finger may leave while the other
+two hold on.
+
+**The fourth class needs mu > tan 30°.** With equal friction ``alpha``,
+three counter-overlapping pairs need ``angle(n_i, n_j) > 180° - 2 alpha``
+for all three pairs. Three unit vectors cannot be pairwise more than 120°
+apart: ``|n1 + n2 + n3|^2 >= 0`` gives ``sum n_i . n_j >= -3/2``, while each
+term below ``cos 120° = -1/2`` makes the sum less. So ``180° - 2 alpha <
+120°``, ``alpha > 30°``.
+
+**Regions.** The force-closure condition for three hard fingers is not
+linear in the contacts (it couples the cones through the torques), so the
+regions come from the search zones of a prototype grasp on the three faces
+(:mod:`.zones`), found by sampling and kept on the faces' convex pieces.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..closure import Verdict, vector_closure
+from ..errors import InputError
+from ..objects.polyhedron import Polyhedron
+from .soft_pair import _check_faces, _check_mu
+from .zones import EDGES, ZoneRegions, prototype_grasps, zone_regions
+
+#: The paper's names for the four classes (Fig. 9), by number of counter-overlapping pairs.
+CLASSES = {
+    0: "no counter-overlapping pair: the three cones together hold the object",
+    1: "one counter-overlapping pair: a pinch, and a finger that stops the spin about it",
+    2: "two counter-overlapping pairs: the shared finger is a pivot",
+    3: "three counter-overlapping pairs: any finger may leave, the other two hold",
+}
+
+
+@dataclass(frozen=True)
+class GraspClass:
+    """Nguyen's class of a three-finger grasp (§5.3, Fig. 9).
+
+    Attributes
+    ----------
+    pairs : tuple of (int, int)
+        The finger pairs whose friction cones counter-overlap.
+    number : int
+        The class, 1 to 4 (one more than the number of pairs).
+    description : str
+    """
+
+    pairs: tuple[tuple[int, int], ...]
+    number: int
+    description: str
+
+
+def counter_overlap(n_i: ArrayLike, n_j: ArrayLike, mu_i: float, mu_j: float | None = None
+                    ) -> bool:
+    """Whether the friction cones at two contacts counter-overlap (``C_i ∩ -C_j`` has an
+    interior): the angle between ``-n_i`` and ``n_j`` is below ``alpha_i + alpha_j``.
+
+    Examples
+    --------
+    >>> counter_overlap([0, 0, 1], [0, 0, -1], 0.1)   # opposite faces
+    True
+    >>> counter_overlap([0, 0, 1], [1, 0, 0], 0.9)    # at right angles: needs mu > 1
+    False
+    """
+    a = -np.asarray(n_i, dtype=float)
+    b = np.asarray(n_j, dtype=float)
+    cos = float(a @ b) / float(np.linalg.norm(a) * np.linalg.norm(b))
+    mu_j = mu_i if mu_j is None else mu_j
+    return math.acos(max(-1.0, min(1.0, cos))) < math.atan(mu_i) + math.atan(mu_j)
+
+
+def classify_three(normals: ArrayLike, mu: float) -> GraspClass:
+    """Nguyen's class (1 to 4) of a grasp by three hard fingers with these outward normals.
+
+    Examples
+    --------
+    >>> up, down = [0, 0, 1], [0, 0, -1]
+    >>> classify_three([up, down, [1, 0, 0]], 0.5).number   # pinch plus a side finger
+    2
+    >>> classify_three([up, down, down], 0.5).number        # two fingers on one face
+    3
+    >>> t = np.radians([90, 210, 330])
+    >>> ring = np.column_stack([np.cos(t), np.sin(t), np.zeros(3)])  # three around a prism
+    >>> classify_three(ring, 0.57).number, classify_three(ring, 0.58).number  # tan 30° = 0.577
+    (1, 4)
+    """
+    N = np.asarray(normals, dtype=float)
+    if N.shape != (3, 3):
+        raise InputError(f"three fingers need three normals (3, 3), got shape {N.shape}")
+    pairs = tuple((i, j) for i, j in itertools.combinations(range(3), 2)
+                  if counter_overlap(N[i], N[j], mu))
+    return GraspClass(pairs, len(pairs) + 1, CLASSES[len(pairs)])
+
+
+@dataclass(frozen=True, eq=False)
+class ThreeHardRegions(ZoneRegions):
+    """Independent regions for three hard fingers on faces, with the grasp's class."""
+
+    @property
+    def grasp_class(self) -> GraspClass:
+        """Nguyen's class of every grasp in the regions (the faces fix the normals)."""
+        normals = [self.polyhedron.faces[r[0].face].normal for r in self.regions]
+        return classify_three(normals, self.mu)
+
+    def to_dict(self) -> dict[str, object]:
+        record = super().to_dict()
+        c = self.grasp_class
+        record["class"] = {"number": c.number, "pairs": [list(p) for p in c.pairs],
+                           "description": c.description}
+        return record
+
+
+def force_direction_closure_of_faces(normals: ArrayLike, mu: float, edges: int = EDGES) -> bool:
+    """Theorem 2 for hard fingers on faces: do the friction pyramids together push the
+    object in every direction? Depends on the normals only."""
+    from ..contacts import tangent_basis
+
+    N = np.asarray(normals, dtype=float)
+    t1, t2 = tangent_basis(N)
+    theta = 2 * np.pi * np.arange(edges) / edges
+    F = (-N[:, None, :] + mu * (np.cos(theta)[None, :, None] * t1[:, None, :]
+                                + np.sin(theta)[None, :, None] * t2[:, None, :]))
+    return vector_closure(F.reshape(-1, 3).T).verdict is Verdict.CLOSURE
+
+
+def three_hard_regions(polyhedron: Polyhedron, faces: tuple[int, int, int], mu: float,
+                       samples: int = 2000, seed: int = 0) -> ThreeHardRegions | None:
+    """Independent regions for three hard fingers on three faces (§5.3), or None.
+
+    A prototype grasp on the faces is found by sampling (the one with the
+    largest epsilon); its search zones cut each face's convex piece around
+    the prototype contact. Two fingers may share a face.
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> cube = bundled("cube")   # faces 0 (top) and 1 (bottom)
+    >>> r = three_hard_regions(cube, (0, 1, 1), 0.5)
+    >>> r.certify().holds, r.grasp_class.number
+    (True, 3)
+    """
+    faces = _check_faces(polyhedron, faces, 3)
+    _check_mu(mu, 0.0)
+    normals = [polyhedron.faces[f].normal for f in faces]
+    if not force_direction_closure_of_faces(normals, mu):
+        return None
+    found = prototype_grasps(polyhedron, 3, "hard", mu, samples=samples, seed=seed,
+                             faces=faces)
+    if not found:
+        return None
+    r = zone_regions(polyhedron, found[0], "hard", mu, grow=False,
+                     construction="search zones on faces (§5.3)")
+    return ThreeHardRegions(**{f: getattr(r, f) for f in r.__dataclass_fields__})
+
+
+def best_three_hard_regions(polyhedron: Polyhedron, mu: float, top: int = 5,
+                            max_faces: int = 12, samples: int = 500,
+                            seed: int = 0) -> list[ThreeHardRegions]:
+    """The ``top`` face triples with the largest independent regions for three hard fingers.
+
+    The ``max_faces`` largest faces are combined in triples (two fingers may
+    share a face), screened by force-direction closure of their friction
+    cones, and given regions by :func:`three_hard_regions`; ranked by the
+    smallest region. Nguyen's cost for ``c`` required contacts on ``n``
+    faces is ``O(n^c c 2^c)``; the screening removes most triples first.
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> found = best_three_hard_regions(bundled("cube"), 0.5, top=2, max_faces=6)
+    >>> all(r.certify().holds for r in found), len(found)
+    (True, 2)
+    """
+    _check_mu(mu, 0.0)
+    if top < 1:
+        raise InputError(f"top must be at least 1, got {top}")
+    order = sorted(range(len(polyhedron.faces)), key=lambda f: -polyhedron.faces[f].area)
+    chosen = order[:max_faces]
+    found = []
+    for triple in itertools.combinations_with_replacement(chosen, 3):
+        if triple[0] == triple[2]:
+            continue  # all three on one face
+        r = three_hard_regions(polyhedron, triple, mu, samples=samples, seed=seed)
+        if r is not None:
+            found.append(r)
+    return sorted(found, key=lambda r: -r.min_area)[:top]

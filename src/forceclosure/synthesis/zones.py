@@ -1,0 +1,510 @@
+"""Independent regions around a prototype grasp, on any mesh, for any hand (beyond §5).
+
+After Roa and Suárez (2009) and Krug et al. (2010): the prototype grasp is
+force-closure, so the convex hull ``H`` of its generating wrenches holds the
+origin inside. Shift every facet of ``H`` parallel to itself until it
+passes through the origin. For each vertex ``v`` of ``H`` (a generating
+wrench of some finger) the **search zone** is the open polyhedral cone
+
+    ``Z_v = {w : a_k . w > 0 for every facet k of H at v}``,
+
+``a_k`` the facet's outward normal. **Any grasp with a wrench in every
+search zone is force-closure**: every direction ``a`` lies in the normal
+cone of some vertex ``v``, ``a = sum lambda_k a_k`` over the facets at ``v``
+with ``lambda >= 0``, so the wrench ``w`` in ``Z_v`` has ``a . w > 0``; no
+direction is left unresisted, which is Theorem 1.
+
+Each zone is assigned to the finger that made its vertex. On a planar face
+a finger's generating wrenches are affine in the contact point (fixed
+normal, torque ``p x f``), so the points where a chosen generator lies in
+``Z_v`` form a convex polygon: the face cut by half-planes. A finger's
+region grows from the prototype contact over neighbouring faces of the
+mesh, patch by patch, while the patches stay connected; the proof checks
+each patch's vertices (linear conditions, so that is exact).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+
+import numpy as np
+import shapely
+from numpy.typing import ArrayLike, NDArray
+from scipy.spatial import ConvexHull, QhullError
+
+from ..contacts import Cone, primitive_wrenches
+from ..errors import InputError
+from ..objects.polyhedron import PlanarFace, Polyhedron
+from .patches import FacePatch, SpatialRegions, convex_pieces
+from .regions import Certificate
+
+#: Edges of the inscribed friction pyramid (an inner approximation: regions stay valid
+#: for the true circular cones).
+EDGES = 8
+#: Every zone condition holds with at least this margin, ``a_k . w >= ZONE_MARGIN``.
+ZONE_MARGIN = 1e-6
+MODELS = ("frictionless", "hard", "soft")
+
+
+@dataclass(frozen=True, eq=False)
+class SearchZones:
+    """The search zones of a force-closure prototype grasp.
+
+    Attributes
+    ----------
+    wrenches : (m, 6) array
+        The prototype's generating wrenches (torques about ``reference``,
+        divided by ``length_scale``).
+    finger, generator : (m,) int arrays
+        Which finger, and which of its generators, made each wrench.
+    facets : (K, 6) array
+        Outward unit normals ``a_k`` of the wrench hull's facets.
+    offsets : (K,) array
+        ``b_k > 0``: the hull is ``{w : a_k . w <= b_k}``.
+    at_vertex : tuple of int arrays
+        For each wrench, the facets it lies on (empty: not a hull vertex).
+    reference : (3,) array
+    length_scale : float
+    """
+
+    wrenches: NDArray[np.float64]
+    finger: NDArray[np.int64]
+    generator: NDArray[np.int64]
+    facets: NDArray[np.float64]
+    offsets: NDArray[np.float64]
+    at_vertex: tuple[NDArray[np.int64], ...]
+    reference: NDArray[np.float64]
+    length_scale: float
+
+    def owned(self, finger: int) -> list[int]:
+        """The hull vertices (wrench indices) whose zones ``finger`` must reach."""
+        return [k for k in np.flatnonzero(self.finger == finger) if len(self.at_vertex[k])]
+
+
+def _generators(points: NDArray, normals: NDArray, model: str, mu: float, edges: int,
+                reference: NDArray, scale: float) -> NDArray[np.float64]:
+    """``(k, g, 6)`` generating wrenches of ``k`` contacts, inscribed pyramids."""
+    k = len(points)
+    W = primitive_wrenches(points, normals, model, np.full(k, mu), None,
+                           np.broadcast_to(reference, (k, 3)), np.full(k, scale),
+                           Cone(edges, "inscribed"))
+    return np.transpose(W, (0, 2, 1))
+
+
+def search_zones(points: ArrayLike, normals: ArrayLike, model: str = "hard", mu: float = 0.5,
+                 edges: int = EDGES, reference: ArrayLike | None = None,
+                 length_scale: float | None = None) -> SearchZones:
+    """The search zones of a prototype grasp (Roa and Suárez 2009).
+
+    Parameters
+    ----------
+    points, normals : (k, 3) arrays
+        The prototype's contacts and outward normals.
+    model : {"frictionless", "hard", "soft"}
+    mu : float
+    edges : int
+        Edges of the inscribed friction pyramids.
+    reference, length_scale :
+        Torques are taken about ``reference`` (default: the contacts'
+        centroid) and divided by ``length_scale`` (default: the largest
+        distance from it), so the zones do not depend on units.
+
+    Raises
+    ------
+    InputError
+        If the prototype is not force-closure with the inscribed pyramids.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> p = np.array([[1, 0, 0], [-1, 0.5, 0], [-1, -0.5, 0]])  # three fingers on a box
+    >>> n = np.array([[1, 0, 0], [-1, 0, 0], [-1, 0, 0]])
+    >>> z = search_zones(p, n, "hard", 0.5)
+    >>> bool(np.all(z.offsets > 0)), len(z.owned(0)) > 0
+    (True, True)
+    """
+    P = np.asarray(points, dtype=float)
+    N = np.asarray(normals, dtype=float)
+    if P.ndim != 2 or P.shape[1] != 3 or N.shape != P.shape:
+        raise InputError(f"points and normals must both be (k, 3), got {P.shape} and {N.shape}")
+    if model not in MODELS:
+        raise InputError(f"model must be one of {', '.join(MODELS)}, got {model!r}")
+    N = N / np.linalg.norm(N, axis=1, keepdims=True)
+    ref = P.mean(axis=0) if reference is None else np.asarray(reference, dtype=float)
+    scale = (float(np.linalg.norm(P - ref, axis=1).max()) if length_scale is None
+             else float(length_scale)) or 1.0
+    G = _generators(P, N, model, 0.0 if model == "frictionless" else mu, edges, ref, scale)
+    k, g, _ = G.shape
+    W = G.reshape(-1, 6)
+    finger = np.repeat(np.arange(k), g)
+    generator = np.tile(np.arange(g), k)
+    try:
+        hull = ConvexHull(W, qhull_options="Qt")
+    except QhullError:
+        raise InputError("the prototype grasp is not force-closure: its wrenches do not "
+                         "span the six dimensions of wrench space") from None
+    normal, offset = hull.equations[:, :6], -hull.equations[:, 6]
+    if offset.min() <= 1e-9:
+        raise InputError("the prototype grasp is not force-closure: the origin is not "
+                         f"inside its wrench hull (closest facet at {offset.min():.3g})")
+    at = [[] for _ in range(len(W))]
+    for f, simplex in enumerate(hull.simplices):
+        for v in simplex:
+            at[v].append(f)
+    return SearchZones(W, finger, generator, normal, offset,
+                       tuple(np.array(a, dtype=np.int64) for a in at), ref, scale)
+
+
+def _affine_wrenches(face: PlanarFace, zones: SearchZones, model: str, mu: float,
+                     edges: int) -> tuple[NDArray, NDArray, NDArray]:
+    """A finger's generators on ``face`` as affine maps of plane coordinates:
+    ``w(uv) = w0 + u wu + v wv``, each ``(g, 6)``."""
+    corners = face.to_world(np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]))
+    G = _generators(corners, np.repeat(face.normal[None], 3, axis=0), model, mu, edges,
+                    zones.reference, zones.length_scale)
+    return G[0], G[1] - G[0], G[2] - G[0]
+
+
+def _clip(ring: NDArray, a: NDArray, b: NDArray) -> NDArray:
+    """The convex polygon ``ring`` cut by the half-planes ``a . y >= b`` (Sutherland–Hodgman,
+    only with the half-planes that some vertex violates)."""
+    values = ring @ a.T - b  # (k, h)
+    for h in np.flatnonzero((values < 0).any(axis=0)):
+        if len(ring) == 0:
+            break
+        s = ring @ a[h] - b[h]
+        out = []
+        for i in range(len(ring)):
+            j = (i + 1) % len(ring)
+            if s[i] >= 0:
+                out.append(ring[i])
+            if (s[i] >= 0) != (s[j] >= 0):
+                t = s[i] / (s[i] - s[j])
+                out.append(ring[i] + t * (ring[j] - ring[i]))
+        ring = np.array(out).reshape(-1, 2)
+    return ring
+
+
+@dataclass(frozen=True)
+class _Choice:
+    """For one patch: the generator chosen for each owned zone."""
+
+    finger: int
+    zone: int
+    generator: int
+
+
+@dataclass(frozen=True, eq=False)
+class ZoneRegions(SpatialRegions):
+    """Independent regions from a prototype grasp's search zones.
+
+    Attributes
+    ----------
+    prototype : (k, 3) array
+        The prototype grasp's contact points.
+    zones : SearchZones
+    choices : tuple of tuple of tuple of (int, int)
+        For each finger and patch, the (zone, generator) pairs: which of the
+        finger's generators reaches which zone there.
+    edges : int
+        Edges of the inscribed friction pyramids.
+    """
+
+    prototype: NDArray[np.float64] | None = None
+    zones: SearchZones | None = None
+    choices: tuple = ()
+    edges: int = EDGES
+
+    def certify(self) -> Certificate:
+        """Exact on the pyramids: the prototype's hull is closed with the origin inside;
+        at every vertex of every patch the chosen generator lies in its zone.
+
+        The zone conditions are linear in the contact point on a face, so the
+        vertices decide them; values too close to zero for floating point are
+        decided in rational arithmetic.
+        """
+        return _zone_certificate(self)
+
+    def to_dict(self) -> dict[str, object]:
+        record = super().to_dict()
+        record["prototype"] = None if self.prototype is None else self.prototype.tolist()
+        return record
+
+
+def _hull_checks(z: SearchZones) -> str | None:
+    """Why the hull does not describe a polytope around the origin, or None."""
+    if z.offsets.min() <= 0:
+        return "the origin is not strictly inside the prototype's wrench hull"
+    slack = z.wrenches @ z.facets.T - z.offsets
+    if slack.max() > 1e-9 * max(1.0, float(np.abs(z.wrenches).max())):
+        return "a prototype wrench lies outside a facet of its hull"
+    return None
+
+
+def _zone_certificate(r: ZoneRegions) -> Certificate:
+    z = r.zones
+    problem = _hull_checks(z)
+    if problem:
+        return Certificate(False, "search zones", problem)
+    checked = 0
+    for finger, (region, choices) in enumerate(zip(r.regions, r.choices, strict=True)):
+        for patch, chosen in zip(region, choices, strict=True):
+            face = r.polyhedron.faces[patch.face]
+            G = _generators(patch.points, np.repeat(face.normal[None], len(patch.points), 0),
+                            r.model, r.mu, r.edges, z.reference, z.length_scale)
+            for zone, gen in chosen:
+                values = G[:, gen, :] @ z.facets[z.at_vertex[zone]].T  # (vertices, facets)
+                checked += values.size
+                if values.min() > 1e-9:
+                    continue
+                for (vi, fi) in np.argwhere(values <= 1e-9):
+                    if not _exact_positive(patch.points[vi], face.normal, gen, r, z,
+                                           z.at_vertex[zone][fi]):
+                        return Certificate(False, "search zones",
+                                           f"finger {finger + 1}: at {patch.points[vi].tolist()}"
+                                           f" on face {patch.face} a wrench leaves its zone")
+    return Certificate(True, "search zones",
+                       f"prototype hull closed around the origin; {checked} linear zone "
+                       "conditions hold at the patch vertices")
+
+
+def _exact_positive(point, normal, gen, r, z, facet) -> bool:
+    """``a_k . w > 0`` in rationals, for the generator's wrench at ``point``."""
+    G = _generators(point[None], normal[None], r.model, r.mu, r.edges, z.reference,
+                    z.length_scale)[0, gen]
+    force = [Fraction(x) for x in G[:3]]
+    arm = [(Fraction(p) - Fraction(c)) / Fraction(z.length_scale)
+           for p, c in zip(point, z.reference, strict=True)]
+    torque = [arm[1] * force[2] - arm[2] * force[1], arm[2] * force[0] - arm[0] * force[2],
+              arm[0] * force[1] - arm[1] * force[0]]
+    if np.allclose(G[:3], 0):  # a pure torque (soft finger): no lever
+        torque = [Fraction(x) for x in G[3:]]
+    a = [Fraction(x) for x in z.facets[facet]]
+    return sum(x * y for x, y in zip(a, force + torque, strict=True)) > 0
+
+
+def _patch_for(face: PlanarFace, piece: NDArray, zones: SearchZones, finger: int, model: str,
+               mu: float, edges: int, hint: NDArray | None):
+    """The part of a convex piece where the finger reaches all its zones, and the choices."""
+    w0, wu, wv = _affine_wrenches(face, zones, model, mu, edges)
+    centre = piece.mean(axis=0) if hint is None else hint
+    rows, rhs, chosen = [], [], []
+    for zone in zones.owned(finger):
+        A = zones.facets[zones.at_vertex[zone]]  # (f, 6)
+        at_centre = (w0 + centre[0] * wu + centre[1] * wv) @ A.T  # (g, f)
+        gen = int(np.argmax(at_centre.min(axis=1)))
+        if at_centre[gen].min() <= ZONE_MARGIN:
+            return None, ()
+        rows.append(np.column_stack([wu[gen] @ A.T, wv[gen] @ A.T]))
+        rhs.append(ZONE_MARGIN - w0[gen] @ A.T)
+        chosen.append((int(zone), gen))
+    ring = _clip(piece, np.vstack(rows), np.concatenate(rhs)) if rows else piece
+    if len(ring) < 3 or shapely.Polygon(ring).area <= 1e-12 * face.polygon.size ** 2:
+        return None, ()
+    return ring, tuple(chosen)
+
+
+def _face_graph(poly: Polyhedron) -> dict[int, set[int]]:
+    T, label = poly.triangles, poly.face_of_triangle
+    edges = np.sort(T[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+    owner = np.repeat(label, 3)
+    order = np.lexsort((edges[:, 1], edges[:, 0]))
+    e, o = edges[order], owner[order]
+    same = np.flatnonzero(np.all(e[1:] == e[:-1], axis=1))
+    graph: dict[int, set[int]] = {}
+    for a, b in zip(o[same].tolist(), o[same + 1].tolist(), strict=True):
+        if a != b:
+            graph.setdefault(a, set()).add(b)
+            graph.setdefault(b, set()).add(a)
+    return graph
+
+
+def _touch(a: FacePatch, b: FacePatch, tol: float) -> bool:
+    """Whether two patches share a stretch of boundary (or, on one face, overlap)."""
+    if a.face == b.face:
+        return shapely.Polygon(a.uv).buffer(tol).intersection(shapely.Polygon(b.uv)).area > 0
+    close = 0
+    for p in a.points:
+        d = _segment_distance(p, b.points)
+        close += d <= tol
+    for p in b.points:
+        close += _segment_distance(p, a.points) <= tol
+    return close >= 2
+
+
+def _segment_distance(p: NDArray, ring: NDArray) -> float:
+    q = np.roll(ring, -1, axis=0)
+    d = q - ring
+    t = np.clip(np.einsum("ij,ij->i", p - ring, d) / np.maximum(np.einsum("ij,ij->i", d, d),
+                                                                1e-300), 0, 1)
+    return float(np.linalg.norm(ring + t[:, None] * d - p, axis=1).min())
+
+
+def zone_regions(polyhedron: Polyhedron, points: ArrayLike, model: str = "hard",
+                 mu: float = 0.5, grow: bool = True, edges: int = EDGES,
+                 max_patches: int = 5000, construction: str = "search zones") -> ZoneRegions:
+    """Independent regions around a force-closure prototype grasp on a polyhedron or mesh.
+
+    Parameters
+    ----------
+    polyhedron : Polyhedron
+        Any triangle mesh (its planar faces merged).
+    points : (k, 3) array
+        The prototype's contact points, on the surface (snapped to the nearest face).
+    model : {"frictionless", "hard", "soft"}
+    mu : float
+    grow : bool
+        Grow each region over neighbouring faces (curved meshes); otherwise
+        each region stays on the convex piece of the prototype's face.
+    edges : int
+        Edges of the inscribed friction pyramids.
+    max_patches : int
+        Stop growing a region after this many patches.
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> cube = bundled("cube")
+    >>> p = [[0, 0, 1], [0.3, 0.3, -1], [-0.3, -0.3, -1]]   # one finger on top, two below
+    >>> r = zone_regions(cube, p, "hard", 0.5, grow=False)
+    >>> r.certify().holds, [len(x) for x in r.regions]
+    (True, [1, 1, 1])
+    """
+    P = np.asarray(points, dtype=float)
+    if P.ndim != 2 or P.shape[1] != 3:
+        raise InputError(f"points must be (k, 3), got shape {P.shape}")
+    located = [_locate(polyhedron, p) for p in P]
+    tol = 1e-6 * polyhedron.size
+    for i, (_, _, dist) in enumerate(located):
+        if dist > 1e-3 * polyhedron.size:
+            raise InputError(f"prototype contact {i + 1} at {P[i].tolist()} is "
+                             f"{dist:.3g} away from the surface")
+    faces = [polyhedron.faces[f] for f, _, _ in located]
+    P = np.array([f.to_world(uv) for f, (_, uv, _) in zip(faces, located, strict=True)])
+    N = np.array([f.normal for f in faces])
+    mu = 0.0 if model == "frictionless" else float(mu)
+    zones = search_zones(P, N, model, mu, edges)
+    graph = _face_graph(polyhedron) if grow else {}
+    regions, choices = [], []
+    for finger, (face, (_, uv, _)) in enumerate(zip(faces, located, strict=True)):
+        pieces = convex_pieces(face)
+        start = _containing(pieces, uv)
+        ring, chosen = _patch_for(face, pieces[start], zones, finger, model, mu, edges, uv)
+        if ring is None:  # the prototype point itself sits on a zone's boundary
+            raise InputError(f"finger {finger + 1}: the prototype is too close to the "
+                             "boundary of force closure to grow regions around it")
+        patches = [FacePatch.on(face, ring)]
+        picks = [chosen]
+        by_face = {face.index: [patches[0]]}
+        frontier = [(face.index, k) for k in range(len(pieces)) if k != start] if grow else []
+        frontier += [(g, None) for g in sorted(graph.get(face.index, ()))]
+        seen = {face.index}
+        while frontier and grow and len(patches) < max_patches:
+            f_index, which = frontier.pop(0)
+            if which is None and f_index in seen:
+                continue
+            f = polyhedron.faces[f_index]
+            if which is None:
+                seen.add(f_index)
+            f_pieces = convex_pieces(f)
+            added = False
+            for k in (range(len(f_pieces)) if which is None else [which]):
+                ring, chosen = _patch_for(f, f_pieces[k], zones, finger, model, mu, edges,
+                                          None)
+                if ring is None:
+                    continue
+                patch = FacePatch.on(f, ring)
+                near = [q for g in (f_index, *graph.get(f_index, ())) for q in by_face.get(g, ())]
+                if any(_touch(patch, q, tol) for q in near):
+                    patches.append(patch)
+                    picks.append(chosen)
+                    by_face.setdefault(f_index, []).append(patch)
+                    added = True
+            if added:
+                frontier += [(g, None) for g in sorted(graph.get(f_index, ())) if g not in seen]
+        regions.append(tuple(patches))
+        choices.append(tuple(picks))
+    return ZoneRegions(polyhedron, model, mu, tuple(regions), construction, P, zones,
+                       tuple(choices), edges)
+
+
+def _locate(poly: Polyhedron, p: NDArray) -> tuple[int, NDArray, float]:
+    """``Polyhedron.locate`` for a point on (or very near) the surface, vectorised over the
+    triangles: the triangle whose plane is nearest among those whose projection holds it."""
+    V, T = poly.vertices, poly.triangles
+    a, b, c = V[T[:, 0]], V[T[:, 1]], V[T[:, 2]]
+    n = np.cross(b - a, c - a)
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    gap = np.abs(np.einsum("ij,ij->i", p - a, n))
+    q = p - np.einsum("ij,ij->i", p - a, n)[:, None] * n
+    tol = 1e-9 * poly.size
+    inside = np.ones(len(T), dtype=bool)
+    for x, y in ((a, b), (b, c), (c, a)):
+        inside &= np.einsum("ij,ij->i", np.cross(y - x, q - x), n) >= -tol * np.linalg.norm(
+            y - x, axis=1)
+    if not inside.any():
+        return poly.locate(p)
+    t = np.flatnonzero(inside)[np.argmin(gap[inside])]
+    face = poly.faces[int(poly.face_of_triangle[t])]
+    return face.index, face.to_plane(p), float(gap[t])
+
+
+def _containing(pieces: list[NDArray], uv: NDArray) -> int:
+    point = shapely.Point(uv)
+    return int(np.argmin([shapely.Polygon(p).distance(point) for p in pieces]))
+
+
+def surface_samples(polyhedron: Polyhedron, count: int, rng: np.random.Generator,
+                    faces: ArrayLike | None = None) -> tuple[NDArray, NDArray]:
+    """``count`` points uniformly distributed over the surface (or over ``faces``), and
+    the outward normal of the face each lies on."""
+    V, T = polyhedron.vertices, polyhedron.triangles
+    label = polyhedron.face_of_triangle
+    tris = np.arange(len(T)) if faces is None else np.flatnonzero(np.isin(label, faces))
+    a, b, c = V[T[tris, 0]], V[T[tris, 1]], V[T[tris, 2]]
+    area = np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    pick = rng.choice(len(tris), size=count, p=area / area.sum())
+    r1, r2 = rng.random(count), rng.random(count)
+    flip = r1 + r2 > 1
+    r1[flip], r2[flip] = 1 - r1[flip], 1 - r2[flip]
+    points = a[pick] + r1[:, None] * (b - a)[pick] + r2[:, None] * (c - a)[pick]
+    normals = np.array([f.normal for f in polyhedron.faces])[label[tris[pick]]]
+    return points, normals
+
+
+def prototype_grasps(polyhedron: Polyhedron, fingers: int, model: str = "hard",
+                     mu: float = 0.5, count: int = 1, samples: int = 20_000, seed: int = 0,
+                     faces: ArrayLike | None = None) -> list[NDArray[np.float64]]:
+    """Force-closure prototype grasps found by sampling, best Ferrari–Canny epsilon first.
+
+    ``samples`` random grasps (each finger uniform over the surface, or over
+    its own face when ``faces`` gives one per finger) are analysed in a batch
+    (:func:`forceclosure.batch.epsilon_batch`), and the ``count`` with the
+    largest epsilon are returned as ``(fingers, 3)`` arrays of points.
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> [p] = prototype_grasps(bundled("cube"), 2, "soft", 0.5, samples=2000)
+    >>> float(abs(p[0] - p[1]).max()) == 2.0   # on opposite faces
+    True
+    """
+    from ..batch import epsilon_batch
+
+    if fingers < 1:
+        raise InputError(f"fingers must be at least 1, got {fingers}")
+    rng = np.random.default_rng(seed)
+    if faces is None:
+        P, N = surface_samples(polyhedron, samples * fingers, rng)
+        P, N = P.reshape(samples, fingers, 3), N.reshape(samples, fingers, 3)
+    else:
+        faces = [int(f) for f in faces]
+        if len(faces) != fingers:
+            raise InputError(f"{fingers} fingers need {fingers} faces, got {len(faces)}")
+        parts = [surface_samples(polyhedron, samples, rng, [f]) for f in faces]
+        P = np.stack([p for p, _ in parts], axis=1)
+        N = np.stack([n for _, n in parts], axis=1)
+    eps = epsilon_batch(P, N, mu=0.0 if model == "frictionless" else mu, model=model)
+    order = np.argsort(-eps, kind="stable")
+    return [P[g] for g in order[:count] if eps[g] > 0]

@@ -1,0 +1,344 @@
+"""Spatial synthesis (§5.2, §5.3, §5.5, and regions on meshes): every region set certified,
+and the certificate checked again, independently, by sampling with the general analysis."""
+
+from __future__ import annotations
+
+import math
+import os
+from fractions import Fraction
+
+import numpy as np
+import pybullet_data
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from forceclosure.errors import InputError
+from forceclosure.objects import Polyhedron, bundled
+from forceclosure.objects.io import load_object
+from forceclosure.synthesis import (
+    FacePatch,
+    SevenRegions,
+    best_seven_frictionless_regions,
+    best_soft_pair_regions,
+    best_three_hard_regions,
+    classify_three,
+    counter_overlap,
+    counter_overlapping_cone,
+    prototype_grasps,
+    sampling_check,
+    seven_frictionless_regions,
+    soft_pair_regions,
+    three_hard_regions,
+    zone_regions,
+)
+from forceclosure.synthesis.seven import cofactor_signs
+from forceclosure.synthesis.soft_pair import ANGLE_MARGIN, PYRAMID_EDGES
+
+TAN30 = math.tan(math.radians(30))
+
+
+def _unit(v):
+    v = np.asarray(v, dtype=float)
+    return v / np.linalg.norm(v)
+
+
+def _angle(a, b):
+    return math.acos(max(-1.0, min(1.0, float(_unit(a) @ _unit(b)))))
+
+
+unit_vectors = st.tuples(*[st.floats(-1, 1)] * 3).filter(
+    lambda v: np.linalg.norm(v) > 0.1).map(_unit)
+
+
+# ---------------------------------------------------------------- §5.2 two soft fingers
+
+
+@settings(max_examples=200, deadline=None)
+@given(unit_vectors, unit_vectors, st.floats(0.05, 2.0), st.floats(0.05, 2.0),
+       st.integers(0, 10**6))
+def test_counter_overlapping_cone_is_inside_both_cones(n1, n2, mu1, mu2, seed):
+    """The cone lies in C1 ∩ -C2 (checked on its rim), and exists iff the cones overlap."""
+    k = counter_overlapping_cone(n1, mu1, n2, mu2)
+    a1, a2 = math.atan(mu1), math.atan(mu2)
+    overlap = _angle(-n1, n2) < a1 + a2
+    assert (k is not None) == overlap
+    if k is None:
+        return
+    rng = np.random.default_rng(seed)
+    side = np.cross(k.axis, rng.normal(size=3))
+    side /= np.linalg.norm(side)
+    for t in np.linspace(0, 2 * np.pi, 16, endpoint=False):
+        rot = side * math.cos(t) + np.cross(k.axis, side) * math.sin(t)
+        rim = math.cos(k.half_angle) * k.axis + math.sin(k.half_angle) * rot
+        assert _angle(rim, -n1) <= a1 + 1e-9 and _angle(rim, n2) <= a2 + 1e-9
+    # and it is the largest: half of what is left of the two half-angles
+    theta = _angle(-n1, n2)
+    expected = min(a1, a2, (a1 + a2 - theta) / 2)
+    assert k.half_angle == pytest.approx(expected, abs=1e-9)
+
+
+def test_soft_pair_on_opposite_cube_faces_has_the_closed_form_size():
+    """Cube of side 2, mu 0.5: centred regular polygons of circumradius r have opposite
+    vertices 2r apart sideways over a height 2, so r <= tan(alpha'); the inscribed pyramids
+    cost at most a factor cos(pi / edges)."""
+    cube = bundled("cube")
+    r = soft_pair_regions(cube, 0, 1, 0.5)
+    assert r.certify().holds
+    radius = np.linalg.norm(r.regions[0][0].uv - r.regions[0][0].uv.mean(axis=0), axis=1).max()
+    top = math.tan(math.atan(0.5) - ANGLE_MARGIN)
+    assert top * math.cos(math.pi / PYRAMID_EDGES) ** 2 - 1e-9 <= radius <= top + 1e-9
+    assert sampling_check(r, samples=3000).holds
+
+
+def test_nguyen_two_sided_cone_matches_the_disk_bound():
+    """The paper's construction on the cube: the cone from the centre cuts disks of radius
+    tan(alpha) out of both faces, so each region is at most pi tan^2(alpha)."""
+    r = soft_pair_regions(bundled("cube"), 0, 1, 0.5, construction="nguyen")
+    assert r.certify().holds and sampling_check(r, samples=2000).holds
+    bound = math.pi * 0.5**2
+    assert 0.95 * bound <= r.min_area <= bound
+    assert np.allclose(r.apex, [0, 0, 0], atol=0.05)
+
+
+@pytest.mark.parametrize("name,construction", [
+    ("l-prism", "maximal"), ("holed-block", "maximal"), ("hexagonal-prism", "maximal"),
+    ("triangular-prism", "maximal"), ("l-prism", "nguyen"), ("hexagonal-prism", "nguyen")])
+def test_best_soft_pairs_on_bundled_polyhedra_survive_sampling(name, construction):
+    found = best_soft_pair_regions(bundled(name), 0.5, top=2, construction=construction)
+    assert found
+    for r in found:
+        assert r.certify().holds
+        check = sampling_check(r, samples=1500)
+        assert check.holds, check.detail
+
+
+def test_regions_on_a_face_with_a_hole_stay_off_the_hole():
+    block = bundled("holed-block")
+    top = max(block.faces, key=lambda f: f.normal[2]).index
+    bottom = min(block.faces, key=lambda f: f.normal[2]).index
+    r = soft_pair_regions(block, top, bottom, 0.5)
+    assert r.certify().holds
+    face = block.faces[top].polygon.to_shapely()
+    import shapely
+
+    assert shapely.Polygon(r.regions[0][0].uv).difference(face.buffer(1e-9)).area == 0
+
+
+def test_soft_pair_certificate_rejects_an_oversized_region():
+    """The exact certificate can fail: a region grown past the cone is caught, and the
+    sampling check agrees."""
+    cube = bundled("cube")
+    r = soft_pair_regions(cube, 0, 1, 0.5)
+    big = FacePatch.on(cube.faces[0], r.regions[0][0].uv * 2.5)
+    from dataclasses import replace
+
+    bad = replace(r, regions=((big,), r.regions[1]))
+    assert not bad.certify().holds
+    assert not sampling_check(bad, samples=2000).holds
+
+
+def test_soft_pair_exact_check_by_hand_in_rationals():
+    """Independent of the certificate's code: every region vertex pair, in Fractions,
+    makes an angle with each inward normal below atan(mu) (tan^2 < mu^2)."""
+    cube = bundled("cube")
+    r = soft_pair_regions(cube, 2, 4, 0.3)
+    n1 = [Fraction(x) for x in cube.faces[2].normal]
+    for a in r.regions[0][0].points:
+        for b in r.regions[1][0].points:
+            x = [Fraction(q) - Fraction(p) for p, q in zip(a, b, strict=True)]
+            along = -sum(u * v for u, v in zip(x, n1, strict=True))
+            across2 = sum(u * u for u in x) - along * along
+            assert along > 0 and across2 < Fraction(0.3) ** 2 * along * along
+
+
+@settings(max_examples=12, deadline=None)
+@given(st.floats(0.2, 5.0), st.tuples(*[st.floats(-3, 3)] * 3), unit_vectors,
+       st.floats(0, 2 * np.pi))
+def test_soft_pair_invariance(scale, shift, axis, angle):
+    """Rotating, translating and scaling the object moves the regions with it: the best
+    region's area scales with the square of the scale. Up to discretisation: the 16-gons
+    and the 32-edge pyramids are oriented in the faces' own frames, which turn with the
+    object only up to a rotation, so the area may differ by the polygon's and the
+    pyramid's factors cos^2(pi/16) cos^2(pi/32), about 5%."""
+    cube = bundled("hexagonal-prism")
+    K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    R = np.eye(3) + math.sin(angle) * K + (1 - math.cos(angle)) * K @ K
+    moved = Polyhedron.from_arrays(cube.vertices @ R.T * scale + shift, cube.triangles)
+    base = best_soft_pair_regions(cube, 0.4, top=1)[0].min_area
+    found = best_soft_pair_regions(moved, 0.4, top=1)[0]
+    bound = (math.cos(math.pi / 16) * math.cos(math.pi / 32)) ** 2
+    assert bound <= found.min_area / (base * scale**2) <= 1 / bound
+    assert found.certify().holds
+
+
+def test_soft_pair_bad_input():
+    cube = bundled("cube")
+    with pytest.raises(InputError, match="no face 9"):
+        soft_pair_regions(cube, 0, 9, 0.5)
+    with pytest.raises(InputError, match="two different faces"):
+        soft_pair_regions(cube, 1, 1, 0.5)
+    with pytest.raises(InputError, match="mu must be a positive"):
+        soft_pair_regions(cube, 0, 1, -1)
+    assert soft_pair_regions(cube, 0, 2, 0.5) is None  # at right angles: no closure
+
+
+# ---------------------------------------------------------------- §5.3 three hard fingers
+
+
+@settings(max_examples=300, deadline=None)
+@given(unit_vectors, unit_vectors, unit_vectors, st.floats(0.01, TAN30))
+def test_the_fourth_class_needs_mu_above_tan_30(n1, n2, n3, mu):
+    assert classify_three([n1, n2, n3], mu).number < 4
+
+
+@settings(max_examples=200, deadline=None)
+@given(unit_vectors, unit_vectors, unit_vectors, st.floats(0.01, 3.0))
+def test_classification_counts_counter_overlapping_pairs(n1, n2, n3, mu):
+    """Independently: C_i ∩ -C_j has an interior iff some direction is within alpha of
+    both -n_i and n_j, i.e. the axes are less than 2 alpha apart."""
+    N = [n1, n2, n3]
+    c = classify_three(N, mu)
+    pairs = [(i, j) for i in range(3) for j in range(i + 1, 3)
+             if _angle(-N[i], N[j]) < 2 * math.atan(mu)]
+    assert list(c.pairs) == pairs and c.number == len(pairs) + 1
+
+
+def test_fourth_class_just_above_tan_30():
+    t = np.radians([90, 210, 330])
+    ring = np.column_stack([np.cos(t), np.sin(t), np.zeros(3)])
+    assert classify_three(ring, TAN30 * 1.001).number == 4
+    assert classify_three(ring, TAN30 * 0.999).number == 1
+    assert counter_overlap([0, 0, 1], [0, 0, -1], 0.01)
+
+
+@pytest.mark.parametrize("faces,cls", [((0, 1, 1), 3), ((2, 4, 5), 2)])
+def test_three_hard_regions_on_the_cube(faces, cls):
+    r = three_hard_regions(bundled("cube"), faces, 0.5)
+    assert r.grasp_class.number == cls
+    assert r.certify().holds
+    check = sampling_check(r, samples=3000)
+    assert check.holds, check.detail
+    assert r.to_dict()["class"]["number"] == cls
+
+
+def test_best_three_hard_on_a_prism_survive_sampling():
+    found = best_three_hard_regions(bundled("triangular-prism"), 0.6, top=2, max_faces=5)
+    assert found
+    for r in found:
+        assert r.certify().holds and sampling_check(r, samples=1500).holds
+
+
+# ---------------------------------------------------------------- §5.5 seven frictionless
+
+
+def test_seven_frictionless_regions_exact_and_sampled():
+    found = best_seven_frictionless_regions(bundled("cube"), top=2, samples=8000)
+    assert found
+    for r in found:
+        cert = r.certify()
+        assert cert.holds and "multi-affine" in cert.method
+        assert all(len(region[0].points) <= 6 for region in r.regions)
+        check = sampling_check(r, samples=2000)
+        assert check.holds, check.detail
+
+
+def test_seven_certificate_fails_on_a_region_too_large():
+    """Widen one region to its whole face: the minors change sign at some vertex tuple,
+    and sampling finds grasps that are not force-closure too."""
+    from dataclasses import replace
+
+    cube = bundled("cube")
+    r = best_seven_frictionless_regions(cube, top=1, samples=8000)[0]
+    face = cube.faces[r.regions[0][0].face]
+    whole = FacePatch.on(face, face.polygon.outer)
+    bad = SevenRegions(**{**{f: getattr(r, f) for f in r.__dataclass_fields__},
+                          "regions": ((whole,), *r.regions[1:])})
+    assert not bad.certify().holds
+    assert not sampling_check(replace(bad), samples=4000).holds
+
+
+def test_cofactor_signs_are_exact_on_degenerate_grasps():
+    """Seven contacts on the top and bottom faces have wrenches of rank 3: every minor is
+    exactly zero, which floating point alone would not say."""
+    cube = bundled("cube")
+    rng = np.random.default_rng(3)
+    regions, normals = [], []
+    for k in range(7):
+        z = 1.0 if k % 2 else -1.0
+        corners = np.column_stack([rng.uniform(-0.9, 0.9, (3, 2)), np.full(3, z)])
+        regions.append(corners)
+        normals.append([0, 0, z])
+    pos, neg, zero = cofactor_signs(tuple(regions), np.array(normals, dtype=float))
+    assert pos == neg == 0 and zero == 7 * 3**6
+    assert cube is not None
+
+
+# ---------------------------------------------------------------- regions on meshes
+
+
+@pytest.mark.parametrize("name,fingers,model,mu", [
+    ("duck.obj", 3, "hard", 0.5), ("bunny.obj", 2, "soft", 0.5),
+    ("teddy2_VHACD_CHs.obj", 4, "hard", 0.4)])
+def test_mesh_regions_on_pybullet_objects(name, fingers, model, mu):
+    obj = load_object(os.path.join(pybullet_data.getDataPath(), name))
+    [p] = prototype_grasps(obj, fingers, model, mu, samples=3000)
+    r = zone_regions(obj, p, model, mu)
+    assert r.certify().holds
+    assert all(a > 0 for a in r.areas)
+    check = sampling_check(r, samples=2000)
+    assert check.holds, check.detail
+
+
+def test_mesh_regions_grow_across_faces():
+    """On a curved mesh a region spans many one-triangle faces, and stays connected."""
+    obj = load_object(os.path.join(pybullet_data.getDataPath(), "duck.obj"))
+    [p] = prototype_grasps(obj, 3, "soft", 0.8, samples=2000, seed=1)
+    r = zone_regions(obj, p, "soft", 0.8)
+    assert max(len(region) for region in r.regions) > 3
+
+
+def test_zone_regions_bad_input():
+    cube = bundled("cube")
+    with pytest.raises(InputError, match="away from the surface"):
+        zone_regions(cube, [[0, 0, 3], [0, 0, -1], [1, 0, 0]], "hard", 0.5)
+    with pytest.raises(InputError, match="not force-closure"):
+        zone_regions(cube, [[0, 0, 1], [0, 0, -1], [0.5, 0, -1]], "frictionless")
+    with pytest.raises(InputError, match="seven points"):
+        seven_frictionless_regions(cube, [[0, 0, 1]])
+
+
+# ---------------------------------------------------------------- the command
+
+
+def test_synthesize_spatial_json(tmp_path, capsys):
+    import json
+
+    from forceclosure.cli import main
+
+    png = tmp_path / "regions.png"
+    assert main(["synthesize", "cube", "--fingers", "3", "--contact", "hard", "--mu", "0.5",
+                 "--top", "2", "--json", "--plot", str(png)]) == 0
+    record = json.loads(capsys.readouterr().out)
+    assert record["method"] == "faces" and len(record["grasps"]) == 2
+    grasp = record["grasps"][0]
+    assert set(grasp) >= {"faces", "regions", "areas", "min_area", "construction",
+                          "certificate", "class", "prototype"}
+    assert grasp["certificate"]["holds"] is True
+    patch = grasp["regions"][0][0]
+    assert set(patch) == {"face", "polygon", "area"} and len(patch["polygon"][0]) == 3
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_synthesize_spatial_text_and_mesh(capsys):
+    from forceclosure.cli import main
+
+    assert main(["synthesize", "cube", "--fingers", "2", "--contact", "soft", "--mu", "0.5",
+                 "--top", "1"]) == 0
+    out = capsys.readouterr().out
+    assert "regions on faces (§5.2)" in out and "certified: True (exact vertex pairs)" in out
+    bunny = os.path.join(pybullet_data.getDataPath(), "bunny.obj")
+    assert main(["synthesize", bunny, "--fingers", "3", "--contact", "hard", "--mu", "0.6",
+                 "--top", "1", "--samples", "2000"]) == 0
+    out = capsys.readouterr().out
+    assert "grown on the mesh" in out and "certified: True (search zones)" in out
