@@ -20,8 +20,9 @@ certificate** (done here in rational arithmetic). Two constructions:
   ``c_i + r_i Q`` in the faces, ``K`` is replaced by inscribed pyramids
   (an inner approximation), and then every condition is linear in
   ``(c1, r1, c2, r2)``: the largest pair of equal regions is one linear
-  program. Any two-sided cone's regions of the same shape are feasible for
-  it, so it is never smaller than the paper's.
+  program: the best regions of that shape, found about 200 times faster
+  than the paper's vertex search. The two shapes differ (a polygon, a cut
+  disk), so either may come out slightly larger (docs/synthesis.md).
 
 Non-convex faces and faces with holes are covered by convex pieces
 (:func:`~forceclosure.synthesis.patches.convex_pieces`) and every pair of
@@ -313,7 +314,7 @@ def _ccw_ring(region) -> NDArray | None:
 
 
 def soft_pair_regions(polyhedron: Polyhedron, face1: int, face2: int, mu: float,
-                      mu2: float | None = None, margin: float = ANGLE_MARGIN,
+                      margin: float = ANGLE_MARGIN,
                       construction: str = "maximal", sides: int = SIDES
                       ) -> SoftPairRegions | None:
     """Independent regions for two soft fingers on two faces (§5.2), or None.
@@ -323,9 +324,8 @@ def soft_pair_regions(polyhedron: Polyhedron, face1: int, face2: int, mu: float,
     polyhedron : Polyhedron
     face1, face2 : int
         The faces, indices into ``polyhedron.faces``.
-    mu, mu2 : float
-        Friction at each finger (``mu2`` defaults to ``mu``); the certificate
-        uses ``mu`` for both unless they differ.
+    mu : float
+        Friction coefficient of both fingers.
     margin : float
         Radians taken off each cone's half-angle, so that every grasp in the
         regions is strictly force-closure.
@@ -354,11 +354,6 @@ def soft_pair_regions(polyhedron: Polyhedron, face1: int, face2: int, mu: float,
     if face1 == face2:
         raise InputError(f"two fingers need two different faces, got {face1} twice")
     _check_mu(mu, margin)
-    mu2 = mu if mu2 is None else mu2
-    _check_mu(mu2, margin)
-    if mu2 != mu:
-        raise InputError("different friction at the two fingers is not supported yet; "
-                         f"got {mu} and {mu2}")
     if construction not in ("maximal", "nguyen"):
         raise InputError(f"construction must be 'maximal' or 'nguyen', got {construction!r}")
     f1, f2 = polyhedron.faces[face1], polyhedron.faces[face2]

@@ -186,15 +186,6 @@ def _clip(ring: NDArray, a: NDArray, b: NDArray) -> NDArray:
     return ring
 
 
-@dataclass(frozen=True)
-class _Choice:
-    """For one patch: the generator chosen for each owned zone."""
-
-    finger: int
-    zone: int
-    generator: int
-
-
 @dataclass(frozen=True, eq=False)
 class ZoneRegions(SpatialRegions):
     """Independent regions from a prototype grasp's search zones.
