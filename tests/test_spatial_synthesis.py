@@ -298,6 +298,38 @@ def test_mesh_regions_grow_across_faces():
     assert max(len(region) for region in r.regions) > 3
 
 
+def test_zone_certificate_needs_a_closed_hull():
+    """Drop one facet of the prototype's hull: the facets no longer close up around the
+    origin, so the zones prove nothing, and the certificate says so."""
+    from dataclasses import replace
+
+    r = zone_regions(bundled("cube"), [[0, 0, 1], [0.3, 0.3, -1], [-0.3, -0.3, -1]], "hard",
+                     0.5, grow=False)
+    z = r.zones
+    keep = np.arange(1, len(z.facets))
+    renumber = np.full(len(z.facets), -1)
+    renumber[keep] = np.arange(len(keep))
+    open_hull = replace(z, facets=z.facets[keep], offsets=z.offsets[keep],
+                        simplices=z.simplices[keep], neighbors=renumber[z.neighbors[keep]])
+    cert = replace(r, zones=open_hull).certify()
+    assert not cert.holds and "close up" in cert.detail
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.tuples(*[st.floats(-3, 3)] * 3))
+def test_locate_on_the_cube_matches_the_closed_form(p):
+    """Distance to the surface of the cube [-1, 1]^3: outside, the length of the excess
+    over the box; inside, the distance to the nearest face."""
+    p = np.array(p)
+    cube = bundled("cube")
+    face, uv, dist = cube.locate(p)
+    excess = np.maximum(np.abs(p) - 1, 0)
+    expected = np.linalg.norm(excess) if excess.any() else 1 - np.abs(p).max()
+    assert dist == pytest.approx(expected, abs=1e-12)
+    n = cube.faces[face].normal
+    assert np.allclose(cube.faces[face].to_world(uv), p - (p @ n - 1) * n)
+
+
 def test_zone_regions_bad_input():
     cube = bundled("cube")
     with pytest.raises(InputError, match="away from the surface"):
@@ -306,6 +338,8 @@ def test_zone_regions_bad_input():
         zone_regions(cube, [[0, 0, 1], [0, 0, -1], [0.5, 0, -1]], "frictionless")
     with pytest.raises(InputError, match="seven points"):
         seven_frictionless_regions(cube, [[0, 0, 1]])
+    with pytest.raises(InputError, match="samples must be at least 1"):
+        prototype_grasps(cube, 3, "hard", 0.5, samples=0)
 
 
 # ---------------------------------------------------------------- the command

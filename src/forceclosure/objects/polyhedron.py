@@ -361,17 +361,10 @@ class Polyhedron:
         ([1.0, 0.0, 0.0], 0.1)
         """
         p = np.asarray(p, dtype=float)
-        best = (0, np.zeros(2), np.inf)
-        for f in self.faces:
-            uv = f.to_plane(p)
-            along = float((p - f.origin) @ f.normal)
-            poly = f.polygon.to_shapely()
-            gap = 0.0 if shapely.contains_xy(poly, *uv) else float(
-                shapely.distance(poly, shapely.Point(uv)))
-            dist = float(np.hypot(along, gap))
-            if dist < best[2]:
-                best = (f.index, uv, dist)
-        return best
+        dist = _triangle_distances(p, *(self.vertices[self.triangles[:, k]] for k in range(3)))
+        t = int(np.argmin(dist))
+        face = self.faces[int(self.face_of_triangle[t])]
+        return face.index, face.to_plane(p), float(dist[t])
 
     def summary(self) -> dict[str, object]:
         """Counts and sizes, for people and JSON."""
@@ -385,6 +378,23 @@ class Polyhedron:
                 "merged_faces": merged, "shells": self.shells, "watertight": self.watertight,
                 "volume": self.volume if self.watertight else None, "area": self.area,
                 "size": self.size, "bounds": self.bounds.tolist(), "warnings": notes}
+
+
+def _triangle_distances(p: NDArray, a: NDArray, b: NDArray, c: NDArray) -> NDArray:
+    """Distance from point ``p`` to each triangle ``(a, b, c)``: to its plane where ``p``
+    projects inside it, else to the nearest of its three edges."""
+    n = np.cross(b - a, c - a)
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    height = np.einsum("ij,ij->i", p - a, n)
+    foot = p - height[:, None] * n
+    inside = np.ones(len(a), dtype=bool)
+    edge = np.full(len(a), np.inf)
+    for x, y in ((a, b), (b, c), (c, a)):
+        d = y - x
+        inside &= np.einsum("ij,ij->i", np.cross(d, foot - x), n) >= 0
+        s = np.clip(np.einsum("ij,ij->i", p - x, d) / np.einsum("ij,ij->i", d, d), 0, 1)
+        edge = np.minimum(edge, np.linalg.norm(x + s[:, None] * d - p, axis=1))
+    return np.where(inside, np.abs(height), edge)
 
 
 def _planar_faces(V, T, normals, areas, directed, ids, counts, size):

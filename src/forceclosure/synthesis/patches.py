@@ -19,6 +19,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
+from ..objects.polygon import _signed_area
 from ..objects.polyhedron import PlanarFace, Polyhedron
 from .regions import Certificate
 
@@ -53,33 +54,51 @@ class FacePatch:
     @property
     def area(self) -> float:
         """Area of the patch."""
-        x, y = self.uv[:, 0], self.uv[:, 1]
-        return 0.5 * abs(float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)))
+        return abs(_signed_area(self.uv))
 
     def sample(self, count: int, rng: np.random.Generator) -> NDArray[np.float64]:
         """``count`` points uniformly distributed over the patch, in object coordinates."""
-        fan = [(self.uv[0], self.uv[k], self.uv[k + 1]) for k in range(1, len(self.uv) - 1)]
-        areas = np.array([abs((b - a)[0] * (c - a)[1] - (b - a)[1] * (c - a)[0])
-                          for a, b, c in fan]) / 2
-        which = rng.choice(len(fan), size=count, p=areas / areas.sum())
-        r1, r2 = rng.random(count), rng.random(count)
-        flip = r1 + r2 > 1
-        r1[flip], r2[flip] = 1 - r1[flip], 1 - r2[flip]
-        a, b, c = (np.array([fan[k][i] for k in which]) for i in range(3))
-        uv = a + r1[:, None] * (b - a) + r2[:, None] * (c - a)
-        return _to_world_affine(self, uv)
+        k = len(self.points)
+        fan = self.points[np.column_stack([np.zeros(k - 2, dtype=int), np.arange(1, k - 1),
+                                           np.arange(2, k)])]
+        return uniform_in_triangles(fan[:, 0], fan[:, 1], fan[:, 2], count, rng)[0]
 
     def to_dict(self) -> dict[str, object]:
         """The JSON record: face, polygon in object coordinates, area."""
         return {"face": self.face, "polygon": self.points.tolist(), "area": self.area}
 
 
-def _to_world_affine(patch: FacePatch, uv: NDArray) -> NDArray:
-    """Object coordinates of plane points, by the affine map that takes the patch's plane
-    coordinates to its object coordinates (fitted to all its vertices)."""
-    basis = np.column_stack([patch.uv, np.ones(len(patch.uv))])
-    M = np.linalg.lstsq(basis, patch.points, rcond=None)[0]
-    return np.column_stack([uv, np.ones(len(uv))]) @ M
+def uniform_in_triangles(a: NDArray, b: NDArray, c: NDArray, count: int,
+                         rng: np.random.Generator) -> tuple[NDArray, NDArray]:
+    """``count`` points uniformly distributed over triangles ``(a, b, c)`` (each ``(t, 3)``),
+    and the triangle each came from."""
+    area = np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    pick = rng.choice(len(a), size=count, p=area / area.sum())
+    r1, r2 = rng.random(count), rng.random(count)
+    flip = r1 + r2 > 1
+    r1[flip], r2[flip] = 1 - r1[flip], 1 - r2[flip]
+    points = a[pick] + r1[:, None] * (b - a)[pick] + r2[:, None] * (c - a)[pick]
+    return points, pick
+
+
+def clip(ring: NDArray, a: NDArray, b: NDArray) -> NDArray[np.float64]:
+    """The convex polygon ``ring`` cut by the half-planes ``a . y >= b`` (Sutherland–Hodgman,
+    only with the half-planes that some vertex violates); ``(0, 2)`` when nothing is left."""
+    values = ring @ a.T - b  # (k, h)
+    for h in np.flatnonzero((values < 0).any(axis=0)):
+        if len(ring) == 0:
+            break
+        s = ring @ a[h] - b[h]
+        out = []
+        for i in range(len(ring)):
+            j = (i + 1) % len(ring)
+            if s[i] >= 0:
+                out.append(ring[i])
+            if (s[i] >= 0) != (s[j] >= 0):
+                t = s[i] / (s[i] - s[j])
+                out.append(ring[i] + t * (ring[j] - ring[i]))
+        ring = np.array(out).reshape(-1, 2)
+    return ring
 
 
 def _corners(ring: NDArray, tol: float) -> NDArray[np.float64]:
@@ -118,7 +137,8 @@ def convex_pieces(face: PlanarFace) -> list[NDArray[np.float64]]:
     (True, 1)
     """
     shape = face.polygon.to_shapely()
-    tol = CONVEX_RTOL * max(face.polygon.size, 1e-300) ** 2
+    length = CONVEX_RTOL * max(face.polygon.size, 1e-300)
+    tol = length * face.polygon.size  # an area
     if shape.convex_hull.area - shape.area <= tol:
         return [_ccw(np.asarray(shape.exterior.coords)[:-1])]
     V, T = face._vertices, face._mesh
@@ -129,7 +149,7 @@ def convex_pieces(face: PlanarFace) -> list[NDArray[np.float64]]:
         for i in range(len(pieces)):
             for j in range(i + 1, len(pieces)):
                 a, b = pieces[i], pieces[j]
-                if a.intersection(b).length <= tol:  # not sharing an edge
+                if a.intersection(b).length <= length:  # not sharing an edge
                     continue
                 union = a.union(b)
                 if union.geom_type == "Polygon" and union.convex_hull.area - union.area <= tol:
@@ -143,9 +163,7 @@ def convex_pieces(face: PlanarFace) -> list[NDArray[np.float64]]:
 
 
 def _ccw(ring: NDArray) -> NDArray[np.float64]:
-    x, y = ring[:, 0], ring[:, 1]
-    area = float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
-    return np.ascontiguousarray(ring if area > 0 else ring[::-1], dtype=float)
+    return np.ascontiguousarray(ring if _signed_area(ring) > 0 else ring[::-1], dtype=float)
 
 
 @dataclass(frozen=True, eq=False)
@@ -189,32 +207,21 @@ class SpatialRegions:
     def certify(self) -> Certificate:  # pragma: no cover - every subclass defines it
         raise NotImplementedError
 
-    def sample(self, count: int, seed: int = 0) -> NDArray[np.float64]:
-        """``(count, fingers, 3)`` point tuples, each finger's point uniform over its region."""
+    def sample(self, count: int, seed: int = 0) -> tuple[NDArray[np.float64],
+                                                          NDArray[np.float64]]:
+        """``(count, fingers, 3)`` point tuples, each finger's point uniform over its region,
+        and the outward normal of the face each point lies on."""
         rng = np.random.default_rng(seed)
-        out = np.empty((count, len(self.regions), 3))
+        points = np.empty((count, len(self.regions), 3))
+        normals = np.empty_like(points)
         for k, region in enumerate(self.regions):
             areas = np.array([p.area for p in region])
             which = rng.choice(len(region), size=count, p=areas / areas.sum())
             for i, patch in enumerate(region):
                 rows = np.flatnonzero(which == i)
-                if len(rows):
-                    out[rows, k] = patch.sample(len(rows), rng)
-        return out
-
-    def normals_of(self, points: NDArray) -> NDArray[np.float64]:
-        """The outward normal of each finger's region (per patch), broadcast like ``points``."""
-        normals = np.empty_like(points)
-        for k, region in enumerate(self.regions):
-            face_normals = np.array([self.polyhedron.faces[p.face].normal for p in region])
-            if len(region) == 1:
-                normals[:, k] = face_normals[0]
-            else:  # which patch each point came from: the nearest plane
-                offsets = np.array([self.polyhedron.faces[p.face].normal
-                                    @ self.polyhedron.faces[p.face].origin for p in region])
-                gap = np.abs(points[:, k] @ face_normals.T - offsets)
-                normals[:, k] = face_normals[np.argmin(gap, axis=1)]
-        return normals
+                points[rows, k] = patch.sample(len(rows), rng)
+                normals[rows, k] = self.polyhedron.faces[patch.face].normal
+        return points, normals
 
     def to_dict(self) -> dict[str, object]:
         """The JSON record: each finger's faces and patches, areas, construction, certificate."""
@@ -249,14 +256,18 @@ def sampling_check(regions: SpatialRegions, samples: int = 2000, seed: int = 0,
     """
     from ..batch import analyze_batch
 
-    points = regions.sample(samples, seed)
+    points, normals = regions.sample(samples, seed)
     if corners:
         rng = np.random.default_rng(seed + 1)
+        faces = regions.polyhedron.faces
         verts = [np.vstack([p.points for p in region]) for region in regions.regions]
-        picks = np.stack([rng.integers(len(v), size=samples) for v in verts], axis=1)
+        vert_normals = [np.vstack([np.tile(faces[p.face].normal, (len(p.points), 1))
+                                   for p in region]) for region in regions.regions]
+        picks = [rng.integers(len(v), size=samples) for v in verts]
         points = np.concatenate([points, np.stack(
-            [verts[k][picks[:, k]] for k in range(len(verts))], axis=1)])
-    normals = regions.normals_of(points)
+            [v[pick] for v, pick in zip(verts, picks, strict=True)], axis=1)])
+        normals = np.concatenate([normals, np.stack(
+            [n[pick] for n, pick in zip(vert_normals, picks, strict=True)], axis=1)])
     result = analyze_batch(points, normals, mu=regions.mu, model=regions.model, cone="exact")
     bad = np.flatnonzero(result.code != 2)
     detail = (f"{len(points)} point tuples, each force-closure with exact cones"

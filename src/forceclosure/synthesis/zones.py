@@ -25,8 +25,10 @@ each patch's vertices (linear conditions, so that is exact).
 
 from __future__ import annotations
 
+from collections import deque
 from dataclasses import dataclass
 from fractions import Fraction
+from functools import cached_property
 
 import numpy as np
 import shapely
@@ -35,8 +37,9 @@ from scipy.spatial import ConvexHull, QhullError
 
 from ..contacts import Cone, primitive_wrenches
 from ..errors import InputError
+from ..objects.polygon import _signed_area
 from ..objects.polyhedron import PlanarFace, Polyhedron
-from .patches import FacePatch, SpatialRegions, convex_pieces
+from .patches import FacePatch, SpatialRegions, clip, convex_pieces, uniform_in_triangles
 from .regions import Certificate
 
 #: Edges of the inscribed friction pyramid (an inner approximation: regions stay valid
@@ -62,8 +65,10 @@ class SearchZones:
         Outward unit normals ``a_k`` of the wrench hull's facets.
     offsets : (K,) array
         ``b_k > 0``: the hull is ``{w : a_k . w <= b_k}``.
-    at_vertex : tuple of int arrays
-        For each wrench, the facets it lies on (empty: not a hull vertex).
+    simplices : (K, 6) int array
+        The wrenches spanning each facet (Qhull's triangulated hull).
+    neighbors : (K, 6) int array
+        For each facet, the facet across the ridge opposite each of its wrenches.
     reference : (3,) array
     length_scale : float
     """
@@ -73,9 +78,19 @@ class SearchZones:
     generator: NDArray[np.int64]
     facets: NDArray[np.float64]
     offsets: NDArray[np.float64]
-    at_vertex: tuple[NDArray[np.int64], ...]
+    simplices: NDArray[np.int64]
+    neighbors: NDArray[np.int64]
     reference: NDArray[np.float64]
     length_scale: float
+
+    @cached_property
+    def at_vertex(self) -> tuple[NDArray[np.int64], ...]:
+        """For each wrench, the facets it lies on (empty: not a hull vertex)."""
+        at: list[list[int]] = [[] for _ in range(len(self.wrenches))]
+        for f, simplex in enumerate(self.simplices.tolist()):
+            for v in simplex:
+                at[v].append(f)
+        return tuple(np.array(a, dtype=np.int64) for a in at)
 
     def owned(self, finger: int) -> list[int]:
         """The hull vertices (wrench indices) whose zones ``finger`` must reach."""
@@ -148,12 +163,8 @@ def search_zones(points: ArrayLike, normals: ArrayLike, model: str = "hard", mu:
     if offset.min() <= 1e-9:
         raise InputError("the prototype grasp is not force-closure: the origin is not "
                          f"inside its wrench hull (closest facet at {offset.min():.3g})")
-    at = [[] for _ in range(len(W))]
-    for f, simplex in enumerate(hull.simplices):
-        for v in simplex:
-            at[v].append(f)
-    return SearchZones(W, finger, generator, normal, offset,
-                       tuple(np.array(a, dtype=np.int64) for a in at), ref, scale)
+    return SearchZones(W, finger, generator, normal, offset, hull.simplices, hull.neighbors,
+                       ref, scale)
 
 
 def _affine_wrenches(face: PlanarFace, zones: SearchZones, model: str, mu: float,
@@ -164,26 +175,6 @@ def _affine_wrenches(face: PlanarFace, zones: SearchZones, model: str, mu: float
     G = _generators(corners, np.repeat(face.normal[None], 3, axis=0), model, mu, edges,
                     zones.reference, zones.length_scale)
     return G[0], G[1] - G[0], G[2] - G[0]
-
-
-def _clip(ring: NDArray, a: NDArray, b: NDArray) -> NDArray:
-    """The convex polygon ``ring`` cut by the half-planes ``a . y >= b`` (Sutherland–Hodgman,
-    only with the half-planes that some vertex violates)."""
-    values = ring @ a.T - b  # (k, h)
-    for h in np.flatnonzero((values < 0).any(axis=0)):
-        if len(ring) == 0:
-            break
-        s = ring @ a[h] - b[h]
-        out = []
-        for i in range(len(ring)):
-            j = (i + 1) % len(ring)
-            if s[i] >= 0:
-                out.append(ring[i])
-            if (s[i] >= 0) != (s[j] >= 0):
-                t = s[i] / (s[i] - s[j])
-                out.append(ring[i] + t * (ring[j] - ring[i]))
-        ring = np.array(out).reshape(-1, 2)
-    return ring
 
 
 @dataclass(frozen=True, eq=False)
@@ -224,12 +215,31 @@ class ZoneRegions(SpatialRegions):
 
 
 def _hull_checks(z: SearchZones) -> str | None:
-    """Why the hull does not describe a polytope around the origin, or None."""
+    """Why the facets do not bound a polytope around the origin, or None.
+
+    Checked, not taken from Qhull on trust: every facet's plane passes
+    through its own six wrenches and has every wrench on its inner side, the
+    origin strictly inside; and the facets close up: across each ridge (a
+    facet's wrenches but one) lies a neighbour that holds the ridge and names
+    the facet back (the acceptance check of :mod:`forceclosure.kernels.hull`).
+    Then the normals' cones at the vertices cover every direction, which is
+    what the zones need.
+    """
     if z.offsets.min() <= 0:
         return "the origin is not strictly inside the prototype's wrench hull"
+    tol = 1e-9 * max(1.0, float(np.abs(z.wrenches).max()))
     slack = z.wrenches @ z.facets.T - z.offsets
-    if slack.max() > 1e-9 * max(1.0, float(np.abs(z.wrenches).max())):
+    if slack.max() > tol:
         return "a prototype wrench lies outside a facet of its hull"
+    if np.abs(np.take_along_axis(slack.T, z.simplices, axis=1)).max() > tol:
+        return "a facet's plane misses one of its own wrenches"
+    simplices = [set(s) for s in z.simplices.tolist()]
+    for f, (simplex, across) in enumerate(zip(z.simplices.tolist(), z.neighbors.tolist(),
+                                              strict=True)):
+        for k, g in enumerate(across):
+            ridge = set(simplex[:k] + simplex[k + 1:])
+            if not (0 <= g < len(simplices) and f in z.neighbors[g] and ridge <= simplices[g]):
+                return "the hull's facets do not close up (a ridge without its neighbour)"
     return None
 
 
@@ -256,8 +266,8 @@ def _zone_certificate(r: ZoneRegions) -> Certificate:
                                            f"finger {finger + 1}: at {patch.points[vi].tolist()}"
                                            f" on face {patch.face} a wrench leaves its zone")
     return Certificate(True, "search zones",
-                       f"prototype hull closed around the origin; {checked} linear zone "
-                       "conditions hold at the patch vertices")
+                       f"prototype hull closed around the origin ({len(z.facets)} facets); "
+                       f"{checked} linear zone conditions hold at the patch vertices")
 
 
 def _exact_positive(point, normal, gen, r, z, facet) -> bool:
@@ -275,10 +285,11 @@ def _exact_positive(point, normal, gen, r, z, facet) -> bool:
     return sum(x * y for x, y in zip(a, force + torque, strict=True)) > 0
 
 
-def _patch_for(face: PlanarFace, piece: NDArray, zones: SearchZones, finger: int, model: str,
-               mu: float, edges: int, hint: NDArray | None):
-    """The part of a convex piece where the finger reaches all its zones, and the choices."""
-    w0, wu, wv = _affine_wrenches(face, zones, model, mu, edges)
+def _patch_for(face: PlanarFace, piece: NDArray, zones: SearchZones, finger: int,
+               affine: tuple[NDArray, NDArray, NDArray], hint: NDArray | None):
+    """The part of a convex piece where the finger reaches all its zones, and the choices;
+    ``affine`` is the finger's generators on the face (:func:`_affine_wrenches`)."""
+    w0, wu, wv = affine
     centre = piece.mean(axis=0) if hint is None else hint
     rows, rhs, chosen = [], [], []
     for zone in zones.owned(finger):
@@ -290,8 +301,8 @@ def _patch_for(face: PlanarFace, piece: NDArray, zones: SearchZones, finger: int
         rows.append(np.column_stack([wu[gen] @ A.T, wv[gen] @ A.T]))
         rhs.append(ZONE_MARGIN - w0[gen] @ A.T)
         chosen.append((int(zone), gen))
-    ring = _clip(piece, np.vstack(rows), np.concatenate(rhs)) if rows else piece
-    if len(ring) < 3 or shapely.Polygon(ring).area <= 1e-12 * face.polygon.size ** 2:
+    ring = clip(piece, np.vstack(rows), np.concatenate(rhs)) if rows else piece
+    if len(ring) < 3 or _signed_area(ring) <= 1e-12 * face.polygon.size ** 2:
         return None, ()
     return ring, tuple(chosen)
 
@@ -365,7 +376,7 @@ def zone_regions(polyhedron: Polyhedron, points: ArrayLike, model: str = "hard",
     P = np.asarray(points, dtype=float)
     if P.ndim != 2 or P.shape[1] != 3:
         raise InputError(f"points must be (k, 3), got shape {P.shape}")
-    located = [_locate(polyhedron, p) for p in P]
+    located = [polyhedron.locate(p) for p in P]
     tol = 1e-6 * polyhedron.size
     for i, (_, _, dist) in enumerate(located):
         if dist > 1e-3 * polyhedron.size:
@@ -381,28 +392,32 @@ def zone_regions(polyhedron: Polyhedron, points: ArrayLike, model: str = "hard",
     for finger, (face, (_, uv, _)) in enumerate(zip(faces, located, strict=True)):
         pieces = convex_pieces(face)
         start = _containing(pieces, uv)
-        ring, chosen = _patch_for(face, pieces[start], zones, finger, model, mu, edges, uv)
+        affine = _affine_wrenches(face, zones, model, mu, edges)
+        ring, chosen = _patch_for(face, pieces[start], zones, finger, affine, uv)
         if ring is None:  # the prototype point itself sits on a zone's boundary
             raise InputError(f"finger {finger + 1}: the prototype is too close to the "
                              "boundary of force closure to grow regions around it")
         patches = [FacePatch.on(face, ring)]
         picks = [chosen]
         by_face = {face.index: [patches[0]]}
-        frontier = [(face.index, k) for k in range(len(pieces)) if k != start] if grow else []
+        # the other pieces of the prototype's face, then neighbouring faces, breadth first
+        frontier = deque([(face.index, k) for k in range(len(pieces)) if k != start]
+                         if grow else [])
         frontier += [(g, None) for g in sorted(graph.get(face.index, ()))]
         seen = {face.index}
         while frontier and grow and len(patches) < max_patches:
-            f_index, which = frontier.pop(0)
+            f_index, which = frontier.popleft()
             if which is None and f_index in seen:
                 continue
             f = polyhedron.faces[f_index]
             if which is None:
                 seen.add(f_index)
             f_pieces = convex_pieces(f)
+            f_affine = affine if f_index == face.index else _affine_wrenches(
+                f, zones, model, mu, edges)
             added = False
             for k in (range(len(f_pieces)) if which is None else [which]):
-                ring, chosen = _patch_for(f, f_pieces[k], zones, finger, model, mu, edges,
-                                          None)
+                ring, chosen = _patch_for(f, f_pieces[k], zones, finger, f_affine, None)
                 if ring is None:
                     continue
                 patch = FacePatch.on(f, ring)
@@ -420,27 +435,6 @@ def zone_regions(polyhedron: Polyhedron, points: ArrayLike, model: str = "hard",
                        tuple(choices), edges)
 
 
-def _locate(poly: Polyhedron, p: NDArray) -> tuple[int, NDArray, float]:
-    """``Polyhedron.locate`` for a point on (or very near) the surface, vectorised over the
-    triangles: the triangle whose plane is nearest among those whose projection holds it."""
-    V, T = poly.vertices, poly.triangles
-    a, b, c = V[T[:, 0]], V[T[:, 1]], V[T[:, 2]]
-    n = np.cross(b - a, c - a)
-    n /= np.linalg.norm(n, axis=1, keepdims=True)
-    gap = np.abs(np.einsum("ij,ij->i", p - a, n))
-    q = p - np.einsum("ij,ij->i", p - a, n)[:, None] * n
-    tol = 1e-9 * poly.size
-    inside = np.ones(len(T), dtype=bool)
-    for x, y in ((a, b), (b, c), (c, a)):
-        inside &= np.einsum("ij,ij->i", np.cross(y - x, q - x), n) >= -tol * np.linalg.norm(
-            y - x, axis=1)
-    if not inside.any():
-        return poly.locate(p)
-    t = np.flatnonzero(inside)[np.argmin(gap[inside])]
-    face = poly.faces[int(poly.face_of_triangle[t])]
-    return face.index, face.to_plane(p), float(gap[t])
-
-
 def _containing(pieces: list[NDArray], uv: NDArray) -> int:
     point = shapely.Point(uv)
     return int(np.argmin([shapely.Polygon(p).distance(point) for p in pieces]))
@@ -453,13 +447,8 @@ def surface_samples(polyhedron: Polyhedron, count: int, rng: np.random.Generator
     V, T = polyhedron.vertices, polyhedron.triangles
     label = polyhedron.face_of_triangle
     tris = np.arange(len(T)) if faces is None else np.flatnonzero(np.isin(label, faces))
-    a, b, c = V[T[tris, 0]], V[T[tris, 1]], V[T[tris, 2]]
-    area = np.linalg.norm(np.cross(b - a, c - a), axis=1)
-    pick = rng.choice(len(tris), size=count, p=area / area.sum())
-    r1, r2 = rng.random(count), rng.random(count)
-    flip = r1 + r2 > 1
-    r1[flip], r2[flip] = 1 - r1[flip], 1 - r2[flip]
-    points = a[pick] + r1[:, None] * (b - a)[pick] + r2[:, None] * (c - a)[pick]
+    points, pick = uniform_in_triangles(V[T[tris, 0]], V[T[tris, 1]], V[T[tris, 2]], count,
+                                        rng)
     normals = np.array([f.normal for f in polyhedron.faces])[label[tris[pick]]]
     return points, normals
 
@@ -485,6 +474,8 @@ def prototype_grasps(polyhedron: Polyhedron, fingers: int, model: str = "hard",
 
     if fingers < 1:
         raise InputError(f"fingers must be at least 1, got {fingers}")
+    if samples < 1:
+        raise InputError(f"samples must be at least 1, got {samples}")
     rng = np.random.default_rng(seed)
     if faces is None:
         P, N = surface_samples(polyhedron, samples * fingers, rng)
