@@ -34,6 +34,7 @@ from forceclosure.synthesis import (
 )
 from forceclosure.synthesis.seven import cofactor_signs
 from forceclosure.synthesis.soft_pair import ANGLE_MARGIN, PYRAMID_EDGES
+from forceclosure.synthesis.zones import surface_samples
 
 TAN30 = math.tan(math.radians(30))
 
@@ -288,6 +289,22 @@ def test_mesh_regions_on_pybullet_objects(name, fingers, model, mu):
     assert all(a > 0 for a in r.areas)
     check = sampling_check(r, samples=2000)
     assert check.holds, check.detail
+
+
+def test_prototypes_keep_their_side_of_a_fin():
+    """random_urdfs/002 has a fin of zero thickness: two faces back to back, normals +x
+    and -x, so a point on it is on both. The top prototypes keep the face they were drawn
+    on, and their regions are certified (snapping to the nearest face picked the wrong side
+    for one in fifteen surface points here, and no longer can)."""
+    obj = load_object(os.path.join(pybullet_data.getDataPath(), "random_urdfs", "002",
+                                   "002.obj"))
+    points, faces = surface_samples(obj, 3000, np.random.default_rng(0))
+    snapped = np.array([obj.locate(p)[0] for p in points])
+    normal = np.array([f.normal for f in obj.faces])
+    assert np.any(np.einsum("ij,ij->i", normal[snapped], normal[faces]) < -0.99)
+    for p in prototype_grasps(obj, 3, "hard", 0.5, count=3, samples=3000):
+        r = zone_regions(obj, p, "hard", 0.5)
+        assert r.certify().holds and sampling_check(r, samples=1000).holds
 
 
 def test_mesh_regions_grow_across_faces():

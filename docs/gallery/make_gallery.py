@@ -10,12 +10,15 @@ import pybullet_data
 
 from forceclosure.objects import bundled, glyph
 from forceclosure.objects.io import load_object
-from forceclosure.plot import plot_object, plot_regions
+from forceclosure.plot import plot_object, plot_regions, plot_spatial_regions
 from forceclosure.synthesis import (
     best_frictionless_regions,
     best_regions,
+    best_soft_pair_regions,
     best_three_finger_regions,
+    best_three_hard_regions,
 )
+from forceclosure.synthesis.best import synthesize
 
 HERE = Path(__file__).parent
 
@@ -37,6 +40,13 @@ def main() -> None:
         "holed-block.png": lambda: plot_object(bundled("holed-block")),
         "pybullet-duck.png": lambda: plot_object(
             load_object(Path(pybullet_data.getDataPath()) / "duck.obj")),
+        "l-prism-two-soft.png": lambda: plot_spatial_regions(
+            best_soft_pair_regions(bundled("l-prism"), 0.5, top=1)[0]),
+        "cube-three-hard.png": lambda: plot_spatial_regions(
+            best_three_hard_regions(bundled("cube"), 0.5, top=1)[0]),
+        "duck-three-hard.png": lambda: plot_spatial_regions(synthesize(
+            load_object(Path(pybullet_data.getDataPath()) / "duck.obj"), 3, "hard", 0.5,
+            top=1).found[0]),
     }
     for name, draw in pictures.items():
         fig = draw()

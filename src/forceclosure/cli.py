@@ -157,7 +157,9 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     print("Find grasps and their regions: forceclosure synthesize OBJECT --mu 0.3 "
           "--plot out.png")
     print("  on a polyhedron or mesh: forceclosure synthesize OBJECT.stl --fingers 3 "
-          "--contact hard --mu 0.5 --plot out.png")
+          "--contact hard --mu 0.5 --plot out.png --html out.html")
+    print("Whole object sets, resumable, on all cores or a Dask cluster: "
+          "forceclosure dataset FOLDER --out results/")
     return status
 
 
@@ -247,36 +249,25 @@ def _cmd_inspect(args: argparse.Namespace) -> int:
 
 def _cmd_synthesize(args: argparse.Namespace) -> int:
     from .objects.io import load_object
-    from .synthesis import best_frictionless_regions, best_regions
+    from .synthesis.best import synthesize
 
+    if args.html and not args.html.lower().endswith((".html", ".htm")):
+        raise InputError(f"--html {args.html}: an interactive view is saved as .html")
     obj = load_object(args.object)
+    if obj.dim == 3 and args.vertices:
+        raise InputError("--vertices is for polygons; on a polyhedron every finger is on a face")
+    if args.vertices and args.contact == "frictionless":
+        raise InputError("--vertices puts soft fingers, with friction, on vertices; it "
+                         "does not go with --contact frictionless")
+    result = synthesize(obj, args.fingers, args.contact, args.mu, top=args.top,
+                        margin=args.margin, construction=args.construction,
+                        method=args.method, samples=args.samples, seed=args.seed)
     if obj.dim == 3:
-        return _synthesize_spatial(args, obj)
+        return _synthesize_spatial(args, obj, result)
+    found, mu = result.found, result.mu
     frictionless = args.contact == "frictionless"
-    if (args.fingers, frictionless) not in ((2, False), (3, False), (4, True)):
-        raise InputError(f"--fingers {args.fingers} --contact {args.contact}: implemented so "
-                         "far are two or three fingers with friction (hard or soft) and four "
-                         "frictionless fingers (the plane needs four without friction)")
-    if not frictionless and not (args.mu > 0 and np.isfinite(args.mu)):
-        raise InputError(f"--mu must be a positive number, got {args.mu:g}")
-    mu = 0.0 if frictionless else args.mu
-    if args.construction == "nguyen" and args.fingers == 3:
-        raise InputError("--construction nguyen: the paper constructs two- and four-finger "
-                         "regions; three fingers use a common centre of equilibrium")
-    if frictionless:
-        found = best_frictionless_regions(obj, top=args.top, construction=args.construction)
-    elif args.fingers == 3:
-        from .synthesis import best_three_finger_regions
-
-        found = best_three_finger_regions(obj, mu, top=args.top)
-    else:
-        found = best_regions(obj, mu, top=args.top, margin=args.margin,
-                             construction=args.construction)
     corners = []
     if args.vertices:
-        if frictionless:
-            raise InputError("--vertices puts soft fingers, with friction, on vertices; it "
-                             "does not go with --contact frictionless")
         from .synthesis import vertex_grasps
 
         corners = vertex_grasps(obj, mu, top=args.top)
@@ -309,66 +300,17 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
                          f"({g.min_length:.4g} long)" if kind == "edge" else f"vertex {k}")
                 print(f"  {rank}. vertex {g.vertex} at {vx} with {where}; certified: "
                       f"{g.certify().holds}")
-    if args.plot:
-        from .plot import plot_regions
-
-        if found:
-            plot_regions(found, args.plot)
-            print(f"  picture: {args.plot}", file=sys.stderr if args.json else sys.stdout)
+    _save_views(args, found)
     return 0
 
 
-#: The paper's constructions on faces (§5.2, §5.3, §5.5), by (fingers, contact).
-_ON_FACES = {(2, "soft"): "§5.2", (3, "hard"): "§5.3", (7, "frictionless"): "§5.5"}
+def _synthesize_spatial(args: argparse.Namespace, obj, result) -> int:
+    """Print regions on a polyhedron: the paper's constructions on faces, or grown on a mesh."""
+    from .synthesis.best import ON_FACES
 
-
-def _synthesize_spatial(args: argparse.Namespace, obj) -> int:
-    """Regions on a polyhedron: the paper's constructions on faces, or grown on a mesh."""
-    from . import synthesis as syn
-
-    key = (args.fingers, args.contact)
+    found, mu, method = result.found, result.mu, result.method
     frictionless = args.contact == "frictionless"
-    if not frictionless and not (args.mu > 0 and np.isfinite(args.mu)):
-        raise InputError(f"--mu must be a positive number, got {args.mu:g}")
-    if args.top < 1:
-        raise InputError(f"--top must be at least 1, got {args.top}")
-    minimum = {"soft": 2, "hard": 3, "frictionless": 7}[args.contact]
-    if args.fingers < minimum:
-        why = {"soft": "", "hard": " (two cannot resist rotation about the line between "
-               "them)", "frictionless": " (Lakshminarayana 1978)"}[args.contact]
-        raise InputError(f"--fingers {args.fingers} --contact {args.contact}: a spatial "
-                         f"grasp needs at least {minimum} {args.contact} fingers{why}")
-    if args.vertices:
-        raise InputError("--vertices is for polygons; on a polyhedron every finger is on a face")
-    mu = 0.0 if frictionless else args.mu
-    curved = np.mean([len(f.triangles) == 1 for f in obj.faces]) > 0.5
-    method = args.method
-    if method == "auto":
-        method = "faces" if key in _ON_FACES and not curved else "mesh"
-    if method == "faces" and key not in _ON_FACES:
-        raise InputError(f"--method faces: the paper constructs two soft, three hard or seven "
-                         f"frictionless fingers on faces, not {args.fingers} {args.contact}; "
-                         "use --method mesh")
-    if args.construction == "nguyen" and key != (2, "soft"):
-        raise InputError("--construction nguyen: in space the paper's two-sided cone is for "
-                         "two soft fingers (§5.2)")
-    if method == "faces" and key == (2, "soft"):
-        found = syn.best_soft_pair_regions(obj, mu, top=args.top, margin=args.margin,
-                                           construction=args.construction)
-    elif method == "faces" and key == (3, "hard"):
-        found = syn.best_three_hard_regions(obj, mu, top=args.top, seed=args.seed)
-    elif method == "faces":
-        found = syn.best_seven_frictionless_regions(obj, top=args.top, samples=args.samples,
-                                                    seed=args.seed)
-    else:
-        found = []
-        for p in syn.prototype_grasps(obj, args.fingers, args.contact, mu, count=args.top,
-                                      samples=args.samples, seed=args.seed):
-            try:
-                found.append(syn.zone_regions(obj, p, args.contact, mu, grow=True))
-            except InputError:  # a prototype on the boundary of closure: skip it
-                continue
-        found.sort(key=lambda r: -r.min_area)
+    key = (args.fingers, args.contact)
     if args.json:
         record = {"object": obj.name, "fingers": args.fingers, "contact": args.contact,
                   "mu": mu, "size": obj.size, "method": method,
@@ -377,7 +319,7 @@ def _synthesize_spatial(args: argparse.Namespace, obj) -> int:
         sys.stdout.write("\n")
     else:
         friction = "frictionless" if frictionless else f"{args.contact} fingers, mu {mu:g}"
-        how = (f"on faces ({_ON_FACES[key]})" if method == "faces"
+        how = (f"on faces ({ON_FACES[key]})" if method == "faces"
                else "grown on the mesh around sampled prototypes")
         print(f"{obj.name}: {len(found)} best {args.fingers}-finger grasps ({friction}), "
               f"regions {how}, ranked by the smallest region")
@@ -386,8 +328,7 @@ def _synthesize_spatial(args: argparse.Namespace, obj) -> int:
                 "" if method == "faces" else f" in {args.samples:,} random grasps "
                 "(try --samples)"))
         for rank, r in enumerate(found, start=1):
-            faces = "; ".join(f"finger {k + 1} on face{'s' if len(set(f)) > 1 else ''} "
-                              f"{', '.join(map(str, sorted(set(f))))}"
+            faces = "; ".join(f"finger {k + 1} on {_faces_text(f)}"
                               for k, f in enumerate(r.faces))
             print(f"  {rank}. {faces}")
             cert = r.certify()
@@ -395,12 +336,99 @@ def _synthesize_spatial(args: argparse.Namespace, obj) -> int:
             print(f"     region areas {', '.join(f'{a:.4g}' for a in r.areas)} (smallest "
                   f"{r.min_area / obj.size ** 2:.2%} of size^2){extra}; certified: "
                   f"{cert.holds} ({cert.method})")
-    if args.plot and found:
-        from .plot import plot_spatial_regions
-
-        plot_spatial_regions(found[0], args.plot)
-        print(f"  picture: {args.plot}", file=sys.stderr if args.json else sys.stdout)
+    _save_views(args, found)
     return 0
+
+
+def _faces_text(faces: tuple[int, ...]) -> str:
+    """``face 3``, ``faces 3, 4`` or, for a region grown over many triangles, ``112 faces
+    (3 to 2810)`` (the full list is in ``--json``)."""
+    faces = sorted(set(faces))
+    if len(faces) == 1:
+        return f"face {faces[0]}"
+    if len(faces) <= 6:
+        return f"faces {', '.join(map(str, faces))}"
+    return f"{len(faces)} faces ({faces[0]} to {faces[-1]})"
+
+
+def _save_views(args: argparse.Namespace, found: list) -> None:
+    """The PNG still (``--plot``) and the interactive page (``--html``) of the grasps found."""
+    if not found:
+        return
+    say = sys.stderr if args.json else sys.stdout
+    if args.plot:
+        from .plot import plot_regions, plot_spatial_regions
+        from .synthesis.patches import SpatialRegions
+
+        if isinstance(found[0], SpatialRegions):
+            plot_spatial_regions(found[0], args.plot)
+        else:
+            plot_regions(found, args.plot)
+        print(f"  picture: {args.plot}", file=say)
+    if args.html:
+        from .view import write_html
+
+        write_html(found, args.html)
+        print(f"  interactive view: {args.html}", file=say)
+
+
+def _cmd_dataset(args: argparse.Namespace) -> int:
+    from .dataset import Job, run_dataset
+
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"--workers must be at least 1, got {args.workers}")
+    if args.scheduler and args.workers is not None:
+        raise InputError("--workers is for the local pool; a Dask cluster has its own workers")
+    job = Job(mode="analyze" if args.analyze else "synthesize", fingers=args.fingers,
+              contact=args.contact, mu=args.mu, top=args.top, margin=args.margin,
+              construction=args.construction, method=args.method, samples=args.samples,
+              seed=args.seed, grasps=args.grasps, timeout=args.timeout)
+    if args.scheduler:
+        try:
+            from distributed import Client
+        except ImportError:
+            raise InputError("--scheduler needs Dask: pip install 'forceclosure[dask]'") from None
+        try:
+            client = Client(args.scheduler, timeout="20s")
+        except (OSError, TimeoutError) as e:
+            raise InputError(f"--scheduler {args.scheduler}: cannot connect "
+                             f"({str(e).splitlines()[0] if str(e) else type(e).__name__})"
+                             ) from None
+        with client:
+            workers = len(client.nthreads())
+            summary = run_dataset(args.inputs, args.out, job, executor=client.get_executor(),
+                                  workers=workers)
+    else:
+        summary = run_dataset(args.inputs, args.out, job, workers=args.workers)
+    if args.json:
+        json.dump(summary.to_dict(), sys.stdout, indent=2)
+        sys.stdout.write("\n")
+    else:
+        print(summary)
+    if summary.interrupted:
+        return 130
+    return 2 if summary.failed or summary.timeout else 0
+
+
+def _synthesis_options(p: argparse.ArgumentParser) -> None:
+    """The hand and the construction: options shared by ``synthesize`` and ``dataset``."""
+    p.add_argument("--contact", choices=("hard", "soft", "frictionless"), default="hard",
+                   help="contact model (in the plane a soft finger acts as a hard one)")
+    p.add_argument("--mu", type=float, default=0.3, help="friction coefficient (default 0.3)")
+    p.add_argument("--top", type=int, default=5, help="how many grasps (default 5)")
+    p.add_argument("--margin", type=float, default=1e-3,
+                   help="radians kept between every region grasp and the cone boundary")
+    p.add_argument("--construction", choices=("maximal", "nguyen"), default="maximal",
+                   help="maximal regions (an exact LP), or the paper's two-sided cone "
+                        "constructions (§5.1, §5.4)")
+    p.add_argument("--method", choices=("auto", "faces", "mesh"), default="auto",
+                   help="polyhedra: the paper's constructions on faces (two soft, three hard, "
+                        "seven frictionless fingers), or regions grown over a mesh around "
+                        "sampled prototype grasps (any hand); auto: faces unless the object "
+                        "is curved")
+    p.add_argument("--samples", type=int, default=20_000,
+                   help="polyhedra: random grasps sampled for prototypes (default 20000)")
+    p.add_argument("--seed", type=int, default=0, help="random seed of the sampling")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -451,28 +479,43 @@ def build_parser() -> argparse.ArgumentParser:
     y.add_argument("object", metavar="OBJECT",
                    help="a polygon or mesh file, or a bundled name")
     y.add_argument("--fingers", type=int, default=2, help="number of fingers (default 2)")
-    y.add_argument("--contact", choices=("hard", "soft", "frictionless"), default="hard",
-                   help="contact model (in the plane a soft finger acts as a hard one)")
-    y.add_argument("--mu", type=float, default=0.3, help="friction coefficient (default 0.3)")
-    y.add_argument("--top", type=int, default=5, help="how many grasps (default 5)")
-    y.add_argument("--margin", type=float, default=1e-3,
-                   help="radians kept between every region grasp and the cone boundary")
-    y.add_argument("--construction", choices=("maximal", "nguyen"), default="maximal",
-                   help="maximal regions (an exact LP), or the paper's two-sided cone "
-                        "constructions (§5.1, §5.4)")
+    _synthesis_options(y)
     y.add_argument("--vertices", action="store_true",
                    help="also grasp with a soft finger on a convex vertex (a wider cone)")
-    y.add_argument("--method", choices=("auto", "faces", "mesh"), default="auto",
-                   help="polyhedra: the paper's constructions on faces (two soft, three hard, "
-                        "seven frictionless fingers), or regions grown over a mesh around "
-                        "sampled prototype grasps (any hand); auto: faces unless the object "
-                        "is curved")
-    y.add_argument("--samples", type=int, default=20_000,
-                   help="polyhedra: random grasps sampled for prototypes (default 20000)")
-    y.add_argument("--seed", type=int, default=0, help="random seed of the sampling")
     y.add_argument("--json", action="store_true", help="print JSON for machines")
     y.add_argument("--plot", metavar="OUT", help="save a picture (.png or .svg)")
+    y.add_argument("--html", metavar="OUT",
+                   help="save an interactive view (.html, self-contained, works offline)")
     y.set_defaults(run=_cmd_synthesize)
+    t = sub.add_parser("dataset", help="synthesize or analyse over many objects, resumably",
+                       description="Run synthesize (or, with --analyze, the analysis of each "
+                                   "object's grasp file) on every object of a set: files, "
+                                   "folders (searched recursively) and glob patterns. Results "
+                                   "go to DIR: a record per object as it finishes, and "
+                                   "results.parquet. Re-running the same command resumes.")
+    t.add_argument("inputs", nargs="+", metavar="INPUT",
+                   help="object files, folders or glob patterns (polygons, meshes, URDFs)")
+    t.add_argument("--out", required=True, metavar="DIR", help="the results folder")
+    t.add_argument("--fingers", type=int, default=None,
+                   help="number of fingers (default: 2 on polygons; on polyhedra 2 soft, "
+                        "3 hard, 7 frictionless)")
+    _synthesis_options(t)
+    t.add_argument("--analyze", action="store_true",
+                   help="analyse the grasps given per object instead of synthesizing")
+    t.add_argument("--grasps", default="", metavar="PATTERN",
+                   help="with --analyze: each object's grasp file, with {dir}, {stem} and "
+                        "{name} filled in (default {dir}/{stem}.grasps.npz or .json)")
+    t.add_argument("--workers", type=int, default=None,
+                   help="local worker processes (default: all cores; 1 runs in this process)")
+    t.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run on a Dask cluster, e.g. tcp://host:8786 (its workers must see "
+                        "the input files at the same paths)")
+    t.add_argument("--timeout", type=float, default=None, metavar="SECONDS",
+                   help="time limit per object (default none)")
+    t.add_argument("--retry-failed", action="store_true",
+                   help="compute failed and timed-out objects again")
+    t.add_argument("--json", action="store_true", help="print the summary as JSON")
+    t.set_defaults(run=_cmd_dataset)
     parser.epilog = f"Verdicts within {TOLERANCE:g} of the boundary are 'marginal'."
     return parser
 

@@ -138,21 +138,14 @@ def plot_regions(regions: list, path: str | Path | None = None, title: str | Non
     for rank, r in enumerate(regions):
         colour = cmap(rank % 10)
         mus = r.friction()
-        for (a, b), e, mu in zip(r.points, (polygon.edges[k] for k in r.edges), mus,
-                                 strict=True):
+        for (a, b), e in zip(r.points, (polygon.edges[k] for k in r.edges), strict=True):
             ax.plot(*np.array([a, b]).T, color=colour, linewidth=4.5, solid_capstyle="butt",
                     zorder=3)
-            half = np.arctan(mu)
-            push = -e.normal
-            for corner in (a, b):  # the cone of forces the finger can push with
-                for s in ((-1, 1) if mu > 0 else (0,)):
-                    c, d = np.cos(s * half), np.sin(s * half)
-                    ray = np.array([c * push[0] - d * push[1], d * push[0] + c * push[1]])
-                    ax.plot(*np.array([corner, corner + reach * ray]).T, color=colour,
-                            linewidth=0.8, alpha=0.7, zorder=2)
             mid = (a + b) / 2 + e.normal * polygon.size * 0.05
             ax.text(*mid, str(rank + 1), color=colour, fontsize=10, fontweight="bold",
                     ha="center", va="center")
+        for ray in r.cone_rays(reach):  # the cones of forces the fingers can push with
+            ax.plot(*ray.T, color=colour, linewidth=0.8, alpha=0.7, zorder=2)
         apex = getattr(r, "apex", None)  # Nguyen's two-sided cone (Fig. 7)
         if apex is not None:
             from .synthesis import counter_overlapping_sector

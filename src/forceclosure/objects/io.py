@@ -8,7 +8,8 @@
   ``<path>`` of straight segments; several subpaths make holes), ``.csv``
   (``x,y`` per line; an empty line starts a hole);
 * polyhedra: ``.stl``, ``.obj``, ``.ply``, ``.off``, ``.glb``, ``.gltf``
-  (through trimesh, scenes flattened into one mesh).
+  (through trimesh, scenes flattened into one mesh), and ``.urdf`` (the
+  first link's collision mesh, with its scale, as robot simulators see it).
 
 A bundled example's name (``forceclosure objects``) works in place of a
 path. Every failure is an :class:`~forceclosure.errors.InputError` with one
@@ -26,6 +27,7 @@ from typing import Any
 
 import numpy as np
 import shapely
+from numpy.typing import NDArray
 
 from ..errors import InputError, parse_json
 from .examples import POLYGONS, POLYHEDRA, bundled
@@ -34,6 +36,7 @@ from .polyhedron import Polyhedron
 
 POLYGON_SUFFIXES = (".json", ".geojson", ".svg", ".csv")
 MESH_SUFFIXES = (".stl", ".obj", ".ply", ".off", ".glb", ".gltf")
+ROBOT_SUFFIXES = (".urdf",)
 
 
 def _first_line(error: BaseException) -> str:
@@ -225,6 +228,33 @@ def polyhedron_from_mesh_file(path: Path, allow_open: bool = False) -> Polyhedro
     return Polyhedron.from_arrays(loaded.vertices, loaded.faces, path.stem, allow_open)
 
 
+def urdf_mesh(path: Path) -> tuple[Path, NDArray[np.float64], str]:
+    """The collision mesh a URDF names (the first ``<collision>`` with a ``<mesh>``, else the
+    first ``<visual>`` one), its per-axis scale, and the robot's name."""
+    try:
+        root = ET.fromstring(path.read_text(encoding="utf-8"))
+    except (ET.ParseError, UnicodeDecodeError) as e:
+        raise InputError(f"{path.name}: not a URDF file: {_first_line(e)}") from None
+    mesh = root.find(".//collision/geometry/mesh")
+    if mesh is None:
+        mesh = root.find(".//visual/geometry/mesh")
+    if mesh is None or not mesh.get("filename"):
+        raise InputError(f"{path.name}: the URDF names no mesh file (boxes, cylinders and "
+                         "spheres are not read)")
+    filename = re.sub(r"^package://[^/]*/", "", mesh.get("filename", ""))
+    try:
+        scale = np.array([float(x) for x in mesh.get("scale", "1 1 1").split()])
+    except ValueError:
+        raise InputError(f"{path.name}: mesh scale {mesh.get('scale')!r} is not three "
+                         "numbers") from None
+    if scale.shape == (1,):
+        scale = np.repeat(scale, 3)
+    if scale.shape != (3,) or not np.all(np.isfinite(scale)) or np.any(scale <= 0):
+        raise InputError(f"{path.name}: mesh scale {mesh.get('scale')!r} is not three "
+                         "positive numbers")
+    return path.parent / filename, scale, root.get("name") or path.stem
+
+
 def load_object(source: str | Path | Any, allow_open: bool = False) -> Polygon | Polyhedron:
     """Load a polygon or polyhedron from a file, a bundled name, or a library object.
 
@@ -257,13 +287,22 @@ def load_object(source: str | Path | Any, allow_open: bool = False) -> Polygon |
     if path.is_dir():
         raise InputError(f"{source}: is a directory")
     suffix = path.suffix.lower()
+    if suffix in ROBOT_SUFFIXES:
+        mesh, scale, _ = urdf_mesh(path)
+        if not mesh.is_file():
+            raise InputError(f"{path.name}: its mesh {mesh.name} is missing")
+        poly = load_object(mesh, allow_open)
+        if isinstance(poly, Polygon):
+            raise InputError(f"{path.name}: its mesh {mesh.name} is not a mesh file")
+        return Polyhedron.from_arrays(poly.vertices * scale, poly.triangles, path.stem,
+                                      allow_open)
     if suffix in MESH_SUFFIXES:
         if path.stat().st_size == 0:
             raise InputError(f"{path.name}: the file is empty")
         return polyhedron_from_mesh_file(path, allow_open)
     if suffix not in POLYGON_SUFFIXES:
         raise InputError(f"{path.name}: unknown file type '{suffix}'; expected one of "
-                         f"{', '.join(POLYGON_SUFFIXES + MESH_SUFFIXES)}")
+                         f"{', '.join(POLYGON_SUFFIXES + MESH_SUFFIXES + ROBOT_SUFFIXES)}")
     try:
         text = path.read_text(encoding="utf-8")
     except UnicodeDecodeError:

@@ -37,6 +37,7 @@ from .three_hard import (
 )
 from .vertices import VertexGrasp, convex_vertices, vertex_grasps
 from .zones import (
+    Prototype,
     SearchZones,
     ZoneRegions,
     prototype_grasps,
@@ -52,6 +53,7 @@ __all__ = [
     "GraspClass",
     "IndependentRegions",
     "PairGrasps",
+    "Prototype",
     "Regions",
     "SearchZones",
     "Sector",

@@ -75,6 +75,20 @@ class Regions:
         """The friction coefficient at each finger (0 for frictionless fingers)."""
         return (0.0,) * len(self.edges)
 
+    def cone_rays(self, length: float) -> NDArray[np.float64]:
+        """``(r, 2, 2)`` segments of the given length, for drawing: from both ends of every
+        segment, the edges of the cone of forces its finger can push with (one ray along the
+        inward normal for a frictionless finger)."""
+        rays = []
+        for (a, b), e, mu in zip(self.points, (self.polygon.edges[k] for k in self.edges),
+                                 self.friction(), strict=True):
+            push = -e.normal
+            for s in ((-1, 1) if mu > 0 else (0,)):
+                c, d = np.cos(s * np.arctan(mu)), np.sin(s * np.arctan(mu))
+                ray = length * np.array([c * push[0] - d * push[1], d * push[0] + c * push[1]])
+                rays += [(a, a + ray), (b, b + ray)]
+        return np.array(rays)
+
     def certify(self) -> Certificate:  # pragma: no cover - every subclass defines it
         raise NotImplementedError
 

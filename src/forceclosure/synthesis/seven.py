@@ -36,7 +36,7 @@ from ..errors import InputError
 from ..objects.polyhedron import Polyhedron
 from .patches import FacePatch
 from .regions import Certificate
-from .zones import ZoneRegions, prototype_grasps, zone_regions
+from .zones import Prototype, ZoneRegions, prototype_grasps, zone_regions
 
 #: Corners kept per region, so that a minor is checked at ``MAX_CORNERS ** 6`` tuples.
 MAX_CORNERS = 6
@@ -132,13 +132,14 @@ class SevenRegions(ZoneRegions):
                            f"{neg} negative, {zero} zero")
 
 
-def seven_frictionless_regions(polyhedron: Polyhedron, points: ArrayLike) -> SevenRegions:
+def seven_frictionless_regions(polyhedron: Polyhedron,
+                               prototype: Prototype | ArrayLike) -> SevenRegions:
     """Independent regions for seven frictionless fingers around a prototype grasp (§5.5).
 
     Parameters
     ----------
     polyhedron : Polyhedron
-    points : (7, 3) array
+    prototype : Prototype or (7, 3) array
         A force-closure prototype: one contact per finger, on the surface.
 
     Examples
@@ -151,11 +152,12 @@ def seven_frictionless_regions(polyhedron: Polyhedron, points: ArrayLike) -> Sev
     >>> r.certify().holds, len({q[0].face for q in r.regions}) == 6   # Fig. 11: all faces
     (True, True)
     """
-    P = np.asarray(points, dtype=float)
+    P = np.asarray(prototype.points if isinstance(prototype, Prototype) else prototype,
+                   dtype=float)
     if P.shape != (7, 3):
         raise InputError(f"seven frictionless fingers need seven points (7, 3), got shape "
                          f"{P.shape}")
-    r = zone_regions(polyhedron, P, "frictionless", 0.0, grow=False,
+    r = zone_regions(polyhedron, prototype, "frictionless", 0.0, grow=False,
                      construction="search zones on faces, minors certified (§5.5)")
     regions = tuple((_fewer_corners(region[0], polyhedron.faces[region[0].face],
                                     MAX_CORNERS),) for region in r.regions)
@@ -184,7 +186,7 @@ def best_seven_frictionless_regions(polyhedron: Polyhedron, top: int = 3,
                                   samples=samples, seed=seed)
     found, seen = [], set()
     for p in candidates:
-        faces = tuple(sorted(polyhedron.locate(q)[0] for q in p))
+        faces = tuple(sorted(p.faces))
         if faces in seen:
             continue
         seen.add(faces)

@@ -343,7 +343,27 @@ def _segment_distance(p: NDArray, ring: NDArray) -> float:
     return float(np.linalg.norm(ring + t[:, None] * d - p, axis=1).min())
 
 
-def zone_regions(polyhedron: Polyhedron, points: ArrayLike, model: str = "hard",
+@dataclass(frozen=True, eq=False)
+class Prototype:
+    """A force-closure grasp found by sampling, around which regions are grown.
+
+    Attributes
+    ----------
+    points : (k, 3) array
+        The contact points.
+    faces : tuple of int
+        The face each point was drawn on. A point on a fin of zero thickness
+        lies on two faces with opposite normals; the face says which side.
+    epsilon : float
+        Its Ferrari–Canny epsilon (the ranking of :func:`prototype_grasps`).
+    """
+
+    points: NDArray[np.float64]
+    faces: tuple[int, ...]
+    epsilon: float
+
+
+def zone_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike, model: str = "hard",
                  mu: float = 0.5, grow: bool = True, edges: int = EDGES,
                  max_patches: int = 5000, construction: str = "search zones") -> ZoneRegions:
     """Independent regions around a force-closure prototype grasp on a polyhedron or mesh.
@@ -352,8 +372,10 @@ def zone_regions(polyhedron: Polyhedron, points: ArrayLike, model: str = "hard",
     ----------
     polyhedron : Polyhedron
         Any triangle mesh (its planar faces merged).
-    points : (k, 3) array
-        The prototype's contact points, on the surface (snapped to the nearest face).
+    prototype : Prototype or (k, 3) array
+        A force-closure grasp: a :class:`Prototype` (its points stay on its
+        faces), or contact points on the surface (each snapped to the
+        nearest face).
     model : {"frictionless", "hard", "soft"}
     mu : float
     grow : bool
@@ -373,10 +395,15 @@ def zone_regions(polyhedron: Polyhedron, points: ArrayLike, model: str = "hard",
     >>> r.certify().holds, [len(x) for x in r.regions]
     (True, [1, 1, 1])
     """
-    P = np.asarray(points, dtype=float)
+    pinned = isinstance(prototype, Prototype)
+    P = np.asarray(prototype.points if pinned else prototype, dtype=float)
     if P.ndim != 2 or P.shape[1] != 3:
         raise InputError(f"points must be (k, 3), got shape {P.shape}")
-    located = [polyhedron.locate(p) for p in P]
+    if pinned:
+        located = [(f, polyhedron.faces[f].to_plane(p), 0.0)
+                   for f, p in zip(prototype.faces, P, strict=True)]
+    else:
+        located = [polyhedron.locate(p) for p in P]
     tol = 1e-6 * polyhedron.size
     for i, (_, _, dist) in enumerate(located):
         if dist > 1e-3 * polyhedron.size:
@@ -443,31 +470,30 @@ def _containing(pieces: list[NDArray], uv: NDArray) -> int:
 def surface_samples(polyhedron: Polyhedron, count: int, rng: np.random.Generator,
                     faces: ArrayLike | None = None) -> tuple[NDArray, NDArray]:
     """``count`` points uniformly distributed over the surface (or over ``faces``), and
-    the outward normal of the face each lies on."""
+    the face each lies on."""
     V, T = polyhedron.vertices, polyhedron.triangles
     label = polyhedron.face_of_triangle
     tris = np.arange(len(T)) if faces is None else np.flatnonzero(np.isin(label, faces))
     points, pick = uniform_in_triangles(V[T[tris, 0]], V[T[tris, 1]], V[T[tris, 2]], count,
                                         rng)
-    normals = np.array([f.normal for f in polyhedron.faces])[label[tris[pick]]]
-    return points, normals
+    return points, label[tris[pick]]
 
 
 def prototype_grasps(polyhedron: Polyhedron, fingers: int, model: str = "hard",
                      mu: float = 0.5, count: int = 1, samples: int = 20_000, seed: int = 0,
-                     faces: ArrayLike | None = None) -> list[NDArray[np.float64]]:
+                     faces: ArrayLike | None = None) -> list[Prototype]:
     """Force-closure prototype grasps found by sampling, best Ferrari–Canny epsilon first.
 
     ``samples`` random grasps (each finger uniform over the surface, or over
     its own face when ``faces`` gives one per finger) are analysed in a batch
     (:func:`forceclosure.batch.epsilon_batch`), and the ``count`` with the
-    largest epsilon are returned as ``(fingers, 3)`` arrays of points.
+    largest epsilon are returned.
 
     Examples
     --------
     >>> from forceclosure.objects import bundled
     >>> [p] = prototype_grasps(bundled("cube"), 2, "soft", 0.5, samples=2000)
-    >>> float(abs(p[0] - p[1]).max()) == 2.0   # on opposite faces
+    >>> float(abs(p.points[0] - p.points[1]).max()) == 2.0   # on opposite faces
     True
     """
     from ..batch import epsilon_batch
@@ -478,15 +504,17 @@ def prototype_grasps(polyhedron: Polyhedron, fingers: int, model: str = "hard",
         raise InputError(f"samples must be at least 1, got {samples}")
     rng = np.random.default_rng(seed)
     if faces is None:
-        P, N = surface_samples(polyhedron, samples * fingers, rng)
-        P, N = P.reshape(samples, fingers, 3), N.reshape(samples, fingers, 3)
+        P, F = surface_samples(polyhedron, samples * fingers, rng)
+        P, F = P.reshape(samples, fingers, 3), F.reshape(samples, fingers)
     else:
         faces = [int(f) for f in faces]
         if len(faces) != fingers:
             raise InputError(f"{fingers} fingers need {fingers} faces, got {len(faces)}")
         parts = [surface_samples(polyhedron, samples, rng, [f]) for f in faces]
         P = np.stack([p for p, _ in parts], axis=1)
-        N = np.stack([n for _, n in parts], axis=1)
+        F = np.stack([f for _, f in parts], axis=1)
+    N = np.array([f.normal for f in polyhedron.faces])[F]
     eps = epsilon_batch(P, N, mu=0.0 if model == "frictionless" else mu, model=model)
     order = np.argsort(-eps, kind="stable")
-    return [P[g] for g in order[:count] if eps[g] > 0]
+    return [Prototype(P[g], tuple(int(f) for f in F[g]), float(eps[g]))
+            for g in order[:count] if eps[g] > 0]

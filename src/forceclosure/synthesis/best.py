@@ -1,0 +1,215 @@
+"""The best grasps on any object, by the construction that fits the hand (§5).
+
+:func:`synthesize` is what ``forceclosure synthesize`` and ``forceclosure
+dataset`` run: given an object and a hand (fingers, contact model,
+friction), it picks the paper's construction — two, three or four fingers
+on the edges of a polygon (§5.1, §5.4); two soft, three hard or seven
+frictionless fingers on the faces of a polyhedron (§5.2, §5.3, §5.5) — or
+grows regions on the mesh around sampled prototypes for any other hand or
+a curved object, and returns the best region sets, largest smallest region
+first. A hand it cannot construct is refused with one line that says why.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from ..objects import Polygon, Polyhedron
+
+#: The paper's constructions on faces (§5.2, §5.3, §5.5), by (fingers, contact).
+ON_FACES = {(2, "soft"): "§5.2", (3, "hard"): "§5.3", (7, "frictionless"): "§5.5"}
+CONTACTS = ("hard", "soft", "frictionless")
+
+
+@dataclass(frozen=True)
+class Synthesis:
+    """The best region sets found on one object, and how they were found.
+
+    Attributes
+    ----------
+    found : list
+        Region sets, best first (:class:`~forceclosure.synthesis.Regions` on
+        polygons, :class:`~forceclosure.synthesis.patches.SpatialRegions` on
+        polyhedra).
+    method : str
+        ``"edges"`` (polygons), ``"faces"`` (the paper's constructions on a
+        polyhedron) or ``"mesh"`` (regions grown around sampled prototypes).
+    fingers : int
+    contact : str
+    mu : float
+        0 for frictionless fingers.
+    """
+
+    found: list
+    method: str
+    fingers: int
+    contact: str
+    mu: float
+
+
+def default_fingers(dim: int, contact: str) -> int:
+    """The fewest fingers of a contact model that can hold an object: 2 with friction
+    in the plane (4 frictionless); in space 2 soft, 3 hard, 7 frictionless."""
+    if dim == 2:
+        return 4 if contact == "frictionless" else 2
+    return {"soft": 2, "hard": 3, "frictionless": 7}[contact]
+
+
+def check_hand(dim: int, fingers: int | None, contact: str = "hard", mu: float = 0.3, *,
+               top: int = 5, construction: str = "maximal", method: str = "auto") -> int:
+    """Refuse, in one line, a hand the constructions cannot serve on a ``dim``-D object;
+    return the number of fingers (``None``: :func:`default_fingers`).
+
+    Examples
+    --------
+    >>> check_hand(3, None, "frictionless")
+    7
+    >>> check_hand(3, 2, "hard")
+    Traceback (most recent call last):
+    ...
+    forceclosure.errors.InputError: --fingers 2 --contact hard: a spatial grasp needs at \
+least 3 hard fingers (two cannot resist rotation about the line between them)
+    """
+    if contact not in CONTACTS:
+        raise InputError(f"--contact must be one of {', '.join(CONTACTS)}, got {contact!r}")
+    if fingers is None:
+        fingers = default_fingers(dim, contact)
+    frictionless = contact == "frictionless"
+    if not frictionless and not (mu > 0 and np.isfinite(mu)):
+        raise InputError(f"--mu must be a positive number, got {mu:g}")
+    if construction not in ("maximal", "nguyen"):
+        raise InputError(f"--construction must be maximal or nguyen, got {construction!r}")
+    if method not in ("auto", "faces", "mesh"):
+        raise InputError(f"--method must be auto, faces or mesh, got {method!r}")
+    if dim == 2:
+        if (fingers, frictionless) not in ((2, False), (3, False), (4, True)):
+            raise InputError(f"--fingers {fingers} --contact "
+                             f"{'frictionless' if frictionless else 'hard'}: implemented so "
+                             "far are two or three fingers with friction (hard or soft) and "
+                             "four frictionless fingers (the plane needs four without "
+                             "friction)")
+        if construction == "nguyen" and fingers == 3:
+            raise InputError("--construction nguyen: the paper constructs two- and "
+                             "four-finger regions; three fingers use a common centre of "
+                             "equilibrium")
+        return fingers
+    if top < 1:
+        raise InputError(f"--top must be at least 1, got {top}")
+    minimum = {"soft": 2, "hard": 3, "frictionless": 7}[contact]
+    if fingers < minimum:
+        why = {"soft": "", "hard": " (two cannot resist rotation about the line between "
+               "them)", "frictionless": " (Lakshminarayana 1978)"}[contact]
+        raise InputError(f"--fingers {fingers} --contact {contact}: a spatial grasp needs at "
+                         f"least {minimum} {contact} fingers{why}")
+    key = (fingers, contact)
+    if method == "faces" and key not in ON_FACES:
+        raise InputError(f"--method faces: the paper constructs two soft, three hard or seven "
+                         f"frictionless fingers on faces, not {fingers} {contact}; use "
+                         "--method mesh")
+    if construction == "nguyen" and key != (2, "soft"):
+        raise InputError("--construction nguyen: in space the paper's two-sided cone is for "
+                         "two soft fingers (§5.2)")
+    return fingers
+
+
+def synthesize(obj: Polygon | Polyhedron, fingers: int | None = None, contact: str = "hard",
+               mu: float = 0.3, *, top: int = 5, margin: float = 1e-3,
+               construction: str = "maximal", method: str = "auto", samples: int = 20_000,
+               seed: int = 0) -> Synthesis:
+    """The ``top`` best force-closure grasps on ``obj`` with their independent regions.
+
+    Parameters
+    ----------
+    obj : Polygon or Polyhedron
+    fingers : int, optional
+        Default: the fewest that can hold the object (:func:`default_fingers`).
+    contact : {"hard", "soft", "frictionless"}
+        In the plane a soft finger acts as a hard one.
+    mu : float
+        Friction coefficient (ignored for frictionless fingers).
+    top : int
+    margin : float
+        Radians kept between every region grasp and the cone boundary
+        (two fingers with friction).
+    construction : {"maximal", "nguyen"}
+        Maximal regions, or the paper's two-sided cone constructions (two or
+        four fingers in the plane, two soft fingers in space).
+    method : {"auto", "faces", "mesh"}
+        Polyhedra: the paper's constructions on faces, or regions grown on
+        the mesh; ``auto`` takes faces unless the object is curved (most faces
+        one triangle) or the hand is not one the paper constructs.
+    samples, seed : int
+        Random grasps sampled for prototypes, and the seed.
+
+    Returns
+    -------
+    Synthesis
+
+    Raises
+    ------
+    InputError
+        For a hand that cannot be served (:func:`check_hand`).
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> s = synthesize(bundled("cube"), 2, "soft", 0.5, top=1)
+    >>> s.method, s.found[0].certify().holds
+    ('faces', True)
+    """
+    fingers = check_hand(obj.dim, fingers, contact, mu, top=top, construction=construction,
+                         method=method)
+    mu = 0.0 if contact == "frictionless" else float(mu)
+    if obj.dim == 2:
+        return Synthesis(_on_edges(obj, fingers, contact == "frictionless", mu, top, margin,
+                                   construction), "edges", fingers, contact, mu)
+    return _on_polyhedron(obj, fingers, contact, mu, top, margin, construction, method,
+                          samples, seed)
+
+
+def _on_edges(polygon: Polygon, fingers: int, frictionless: bool, mu: float, top: int,
+              margin: float, construction: str) -> list:
+    from . import best_frictionless_regions, best_regions, best_three_finger_regions
+
+    if frictionless:
+        return best_frictionless_regions(polygon, top=top, construction=construction)
+    if fingers == 3:
+        return best_three_finger_regions(polygon, mu, top=top)
+    return best_regions(polygon, mu, top=top, margin=margin, construction=construction)
+
+
+def _on_polyhedron(poly: Polyhedron, fingers: int, contact: str, mu: float, top: int,
+                   margin: float, construction: str, method: str, samples: int,
+                   seed: int) -> Synthesis:
+    from . import (
+        best_seven_frictionless_regions,
+        best_soft_pair_regions,
+        best_three_hard_regions,
+        prototype_grasps,
+        zone_regions,
+    )
+
+    key = (fingers, contact)
+    if method == "auto":
+        curved = np.mean([len(f.triangles) == 1 for f in poly.faces]) > 0.5
+        method = "faces" if key in ON_FACES and not curved else "mesh"
+    if method == "faces" and key == (2, "soft"):
+        found = best_soft_pair_regions(poly, mu, top=top, margin=margin,
+                                       construction=construction)
+    elif method == "faces" and key == (3, "hard"):
+        found = best_three_hard_regions(poly, mu, top=top, seed=seed)
+    elif method == "faces":
+        found = best_seven_frictionless_regions(poly, top=top, samples=samples, seed=seed)
+    else:
+        found = []
+        for p in prototype_grasps(poly, fingers, contact, mu, count=top, samples=samples,
+                                  seed=seed):
+            try:
+                found.append(zone_regions(poly, p, contact, mu, grow=True))
+            except InputError:  # a prototype on the boundary of closure: skip it
+                continue
+        found.sort(key=lambda r: -r.min_area)
+    return Synthesis(found, method, fingers, contact, mu)

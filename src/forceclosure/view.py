@@ -1,0 +1,272 @@
+"""Interactive views: independent regions in a web page that works offline.
+
+:func:`write_html` saves one self-contained HTML file (plotly.js is embedded,
+nothing is fetched) that a browser can turn, zoom and hover: the object, each
+finger's region of contact in its own colour, and at every region the cone of
+forces its finger can push with (the friction cone, drawn on the finger's
+side of the surface; a frictionless finger's single direction is a line).
+On polyhedra several grasps share one page with a menu to switch between
+them; on polygons they are drawn together, as in the PNG of
+:func:`forceclosure.plot.plot_regions`, and each can be hidden from the legend.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+import plotly.graph_objects as go
+from numpy.typing import NDArray
+
+from .contacts import tangent_basis
+from .errors import InputError
+from .objects import Polyhedron
+from .synthesis.patches import SpatialRegions
+from .synthesis.regions import Regions
+
+#: matplotlib's tab10, so the page and the PNG colour the fingers alike.
+COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2",
+           "#7f7f7f", "#bcbd22", "#17becf")
+
+#: Segments of a friction cone's rim.
+CONE_SIDES = 24
+
+
+def _lines(paths: Sequence[NDArray[np.float64]], closed: bool) -> NDArray[np.float64]:
+    """Polylines joined into one array with NaN rows between them (one plotly trace)."""
+    pieces = []
+    for p in paths:
+        pieces += [p, p[:1]] if closed else [p]
+        pieces.append(np.full((1, p.shape[1]), np.nan))
+    return np.concatenate(pieces) if pieces else np.empty((0, 3))
+
+
+def _object_traces(poly: Polyhedron) -> list:
+    """The object in grey; on polyhedra also the outlines of the planar faces, and their
+    numbers on hover."""
+    V, T = poly.vertices, poly.triangles
+    traces = [go.Mesh3d(x=V[:, 0], y=V[:, 1], z=V[:, 2], i=T[:, 0], j=T[:, 1], k=T[:, 2],
+                        color="#b8bcc4", opacity=0.55, flatshading=True, hoverinfo="skip",
+                        lighting={"ambient": 0.55, "diffuse": 0.7, "specular": 0.05},
+                        name=poly.name, showlegend=False)]
+    merged = [f for f in poly.faces if len(f.triangles) > 1]
+    if merged and len(merged) >= len(poly.faces) / 2:  # not on curved meshes: clutter
+        edge = _lines([f.boundary for f in merged], closed=True)
+        traces.append(go.Scatter3d(x=edge[:, 0], y=edge[:, 1], z=edge[:, 2], mode="lines",
+                                   line={"color": "#30343b", "width": 2}, hoverinfo="skip",
+                                   showlegend=False))
+        centres = np.array([f.to_world(np.asarray(f.polygon.centroid)) for f in merged])
+        traces.append(go.Scatter3d(x=centres[:, 0], y=centres[:, 1], z=centres[:, 2],
+                                   mode="markers", marker={"size": 2, "color": "#30343b",
+                                                           "opacity": 0.4},
+                                   text=[f"face {f.index}, area {f.area:.4g}" for f in merged],
+                                   hoverinfo="text", showlegend=False))
+    return traces
+
+
+def _cone(apex: NDArray, axis: NDArray, mu: float, height: float) -> go.Mesh3d:
+    """The friction cone at ``apex`` around ``axis`` as a surface of triangles."""
+    t1, t2 = tangent_basis(axis[None])
+    angles = np.linspace(0, 2 * np.pi, CONE_SIDES, endpoint=False)
+    rim = apex + height * (axis + mu * (np.cos(angles)[:, None] * t1 +
+                                        np.sin(angles)[:, None] * t2))
+    pts = np.vstack([apex, rim])
+    ring = np.arange(1, CONE_SIDES + 1)
+    return go.Mesh3d(x=pts[:, 0], y=pts[:, 1], z=pts[:, 2], i=np.zeros(CONE_SIDES, int),
+                     j=ring, k=np.roll(ring, -1), opacity=0.3, hoverinfo="skip")
+
+
+def _grasp_traces(regions: SpatialRegions) -> list:
+    """Each finger's patches (lifted off the surface so they are not hidden) and its cone."""
+    poly = regions.polyhedron
+    lift, height = poly.size * 2e-3, poly.size * 0.18
+    traces = []
+    for k, region in enumerate(regions.regions):
+        colour = COLOURS[k % len(COLOURS)]
+        pts, tri, offset = [], [], 0
+        for patch in region:
+            m = len(patch.points)
+            pts.append(patch.points + lift * poly.faces[patch.face].normal)
+            tri += [(offset, offset + a, offset + a + 1) for a in range(1, m - 1)]
+            offset += m
+        P, F = np.vstack(pts), np.array(tri)
+        faces = ", ".join(str(f) for f in sorted({p.face for p in region}))
+        label = (f"finger {k + 1}: area {regions.areas[k]:.4g} on face"
+                 f"{'s' if len(region) > 1 else ''} {faces}")
+        traces.append(go.Mesh3d(x=P[:, 0], y=P[:, 1], z=P[:, 2], i=F[:, 0], j=F[:, 1],
+                                k=F[:, 2], color=colour, opacity=1.0, flatshading=True,
+                                name=f"finger {k + 1}", hovertext=label, hoverinfo="text",
+                                showlegend=False))
+        outline = _lines([p.points + lift * poly.faces[p.face].normal for p in region], True)
+        traces.append(go.Scatter3d(x=outline[:, 0], y=outline[:, 1], z=outline[:, 2],
+                                   mode="lines", line={"color": colour, "width": 4},
+                                   hoverinfo="skip", showlegend=False))
+        largest = max(region, key=lambda p: p.area)
+        centre = largest.points.mean(axis=0)
+        n = poly.faces[largest.face].normal
+        if regions.mu > 0:
+            cone = _cone(centre, n, regions.mu, height)
+            cone.update(color=colour)
+            traces.append(cone)
+        else:
+            ray = np.array([centre, centre + height * n])
+            traces.append(go.Scatter3d(x=ray[:, 0], y=ray[:, 1], z=ray[:, 2], mode="lines",
+                                       line={"color": colour, "width": 5}, hoverinfo="skip",
+                                       showlegend=False))
+    return traces
+
+
+def spatial_figure(found: Sequence[SpatialRegions], title: str | None = None) -> go.Figure:
+    """The interactive figure of region sets on one polyhedron (§5.2–§5.5, or mesh regions).
+
+    Parameters
+    ----------
+    found : sequence of SpatialRegions
+        Region sets on the same polyhedron, best first (as returned by
+        :func:`forceclosure.synthesis.best_soft_pair_regions` and its kin).
+        The first is shown; a menu switches to the others.
+    title : str, optional
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> from forceclosure.synthesis import soft_pair_regions
+    >>> fig = spatial_figure([soft_pair_regions(bundled("cube"), 0, 1, 0.5)])
+    >>> sum(t.type == "mesh3d" for t in fig.data)  # object, two regions, two cones
+    5
+    """
+    if not found:
+        raise InputError("no regions to draw")
+    poly = found[0].polyhedron
+    if any(r.polyhedron is not poly for r in found):
+        raise InputError("all region sets of one view must be on the same object")
+    fig = go.Figure(_object_traces(poly))
+    always = len(fig.data)
+    groups = []
+    for rank, regions in enumerate(found):
+        traces = _grasp_traces(regions)
+        for t in traces:
+            t.visible = rank == 0
+        groups.append(range(len(fig.data), len(fig.data) + len(traces)))
+        fig.add_traces(traces)
+    first = found[0]
+    friction = (f"{first.model} fingers, mu {first.mu:g}" if first.mu > 0
+                else "frictionless fingers")
+    heading = title or (f"{poly.name}: independent regions for {len(first.regions)} "
+                        f"{friction}")
+
+    def caption(r: SpatialRegions, rank: int) -> str:
+        cert = r.certify()
+        return (f"{heading}<br><sub>grasp {rank + 1} of {len(found)}: {r.construction}; "
+                f"smallest region {r.min_area:.4g}; certified {cert.holds} "
+                f"({cert.method})</sub>")
+
+    buttons = []
+    for rank, r in enumerate(found):
+        visible = [True] * always + [False] * (len(fig.data) - always)
+        for i in groups[rank]:
+            visible[i] = True
+        buttons.append({"label": f"grasp {rank + 1}: smallest region {r.min_area:.3g}",
+                        "method": "update",
+                        "args": [{"visible": visible}, {"title.text": caption(r, rank)}]})
+    fig.update_layout(
+        title={"text": caption(first, 0), "x": 0.02, "font": {"size": 15}},
+        scene={"aspectmode": "data", "xaxis_title": "x", "yaxis_title": "y",
+               "zaxis_title": "z", "camera": {"eye": {"x": 1.5, "y": -1.6, "z": 1.0}}},
+        margin={"l": 0, "r": 0, "t": 60, "b": 0}, paper_bgcolor="white",
+        updatemenus=[{"buttons": buttons, "x": 0.02, "y": 0.93, "xanchor": "left",
+                      "yanchor": "top"}] if len(found) > 1 else [])
+    return fig
+
+
+def planar_figure(found: Sequence[Regions], title: str | None = None) -> go.Figure:
+    """The interactive figure of region sets on one polygon (§5.1, §5.4).
+
+    Every grasp's segments in its own colour, with the cones of forces its
+    fingers can push with at the segments' ends; clicking a grasp in the
+    legend hides it.
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> from forceclosure.synthesis import best_regions
+    >>> fig = planar_figure(best_regions(bundled("hexagon"), 0.3, top=2))
+    >>> sorted({t.legendgroup for t in fig.data if t.legendgroup})
+    ['grasp 1', 'grasp 2']
+    """
+    if not found:
+        raise InputError("no regions to draw")
+    polygon = found[0].polygon
+    outline = _lines(list(polygon.rings), closed=True)
+    fig = go.Figure(go.Scatter(x=outline[:, 0], y=outline[:, 1], mode="lines", fill="toself",
+                               fillcolor="#dfe7f2", line={"color": "#1f3b63", "width": 2},
+                               hoverinfo="skip", showlegend=False))
+    reach = polygon.size * 0.18
+    for rank, r in enumerate(found):
+        colour, group = COLOURS[rank % len(COLOURS)], f"grasp {rank + 1}"
+        segs = _lines(list(r.points), closed=False)
+        cone = _lines(list(r.cone_rays(reach)), closed=False)
+        fig.add_trace(go.Scatter(x=segs[:, 0], y=segs[:, 1], mode="lines", name=group,
+                                 legendgroup=group, line={"color": colour, "width": 7},
+                                 hovertext=f"{group}: edges {list(r.edges)}, shortest "
+                                           f"segment {r.min_length:.4g}", hoverinfo="text"))
+        fig.add_trace(go.Scatter(x=cone[:, 0], y=cone[:, 1], mode="lines", legendgroup=group,
+                                 line={"color": colour, "width": 1}, opacity=0.7,
+                                 hoverinfo="skip", showlegend=False))
+    fingers = len(found[0].edges)
+    mu = found[0].friction()[0]
+    friction = f"mu {mu:g}" if mu > 0 else "frictionless"
+    fig.update_layout(
+        title={"text": title or f"{polygon.name}: {len(found)} best {fingers}-finger grasps, "
+                                f"{friction} (bold: independent regions)", "x": 0.02},
+        xaxis={"scaleanchor": "y", "scaleratio": 1, "title": "x"}, yaxis={"title": "y"},
+        plot_bgcolor="white", paper_bgcolor="white", margin={"l": 40, "r": 20, "t": 60,
+                                                             "b": 40})
+    return fig
+
+
+def write_html(found: Sequence[SpatialRegions] | Sequence[Regions], path: str | Path,
+               title: str | None = None) -> Path:
+    """Save region sets as one self-contained, offline HTML page.
+
+    Parameters
+    ----------
+    found : sequence of SpatialRegions or of Regions
+        Region sets on one polyhedron (:func:`spatial_figure`) or on one
+        polygon (:func:`planar_figure`), best first.
+    path : str or Path
+        Where to write the page (plotly.js is embedded: about 5 MB).
+    title : str, optional
+
+    Returns
+    -------
+    Path
+        ``path``.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from forceclosure.objects import bundled
+    >>> from forceclosure.synthesis import soft_pair_regions
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "cube.html"
+    >>> write_html([soft_pair_regions(bundled("cube"), 0, 1, 0.5)], out).stat().st_size > 10**6
+    True
+    """
+    if not found:
+        raise InputError("no regions to draw")
+    path = Path(path)
+    if path.suffix.lower() not in (".html", ".htm"):
+        raise InputError(f"{path}: an interactive view is saved as .html")
+    fig = (spatial_figure(found, title) if isinstance(found[0], SpatialRegions)
+           else planar_figure(found, title))
+    try:
+        fig.write_html(path, include_plotlyjs=True, full_html=True,
+                       config={"displaylogo": False, "responsive": True})
+    except OSError as exc:
+        raise InputError(f"{path}: cannot write ({exc.strerror})") from None
+    return path
