@@ -14,7 +14,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..objects.polygon import Edge, Polygon
-from .planar import ANGLE_MARGIN, IndependentRegions, _clip, _shrunk_pair
+from .patches import clip
+from .planar import ANGLE_MARGIN, IndependentRegions, _shrunk_pair
 
 
 def _ray_hits(edge: Edge, direction: NDArray) -> tuple[NDArray, float]:
@@ -76,10 +77,10 @@ def nguyen_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | No
         across = np.array([-edge.direction[1], edge.direction[0]])
         side = float(np.sign(across @ towards))
         constraints.append((-side * across, side * float(across @ edge.start)))
-    for g, h in constraints:
-        region = _clip(region, np.asarray(g, float), float(h))
-        if len(region) == 0:
-            return None
+    region = clip(region, np.array([g for g, _ in constraints], dtype=float),
+                  -np.array([h for _, h in constraints], dtype=float))
+    if len(region) == 0:
+        return None
 
     def lengths(apex: NDArray) -> tuple[float, float]:
         return tuple(abs((hi[0] @ apex + hi[1]) - (lo[0] @ apex + lo[1])) for lo, hi in ends)

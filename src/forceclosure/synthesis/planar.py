@@ -32,6 +32,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..objects.polygon import Edge, Polygon
+from .patches import clip
 from .regions import Certificate, Regions, check_edges
 
 #: Default angular margin (radians) kept between region grasps and the cone boundary.
@@ -112,19 +113,6 @@ def _affine(e1: Edge, e2: Edge, mu_p: float, mu_q: float) -> tuple[NDArray, NDAr
     """``(A, b)`` with the conditions ``A @ (t1, t2) + b > 0`` (one row per functional)."""
     return _affine_arrays(e1.start, e1.direction, e1.normal, e2.start, e2.direction,
                           e2.normal, mu_p, mu_q)
-
-
-def _clip(poly: NDArray[np.float64], a: NDArray, b: float) -> NDArray[np.float64]:
-    """Sutherland–Hodgman: the part of a convex polygon where ``a . x + b >= 0``."""
-    out = []
-    for i in range(len(poly)):
-        p, q = poly[i], poly[(i + 1) % len(poly)]
-        fp, fq = a @ p + b, a @ q + b
-        if fp >= 0:
-            out.append(p)
-        if (fp >= 0) != (fq >= 0):
-            out.append(p + (q - p) * (fp / (fp - fq)))
-    return np.array(out).reshape(-1, 2)
 
 
 def _edges(polygon: Polygon, i: int, j: int) -> tuple[Edge, Edge]:
@@ -209,11 +197,7 @@ def pair_grasps(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | None 
         return PairGrasps((i, j), None, np.zeros((0, 2)), A, b,
                           "the friction cones do not counter-overlap (the normals are too "
                           "far from opposite for this friction)")
-    region = box
-    for row, off in zip(A, b, strict=True):
-        region = _clip(region, row, off)
-        if len(region) == 0:
-            break
+    region = clip(box.astype(float), A, -b)
     if len(region) < 3 or _area(region) <= 1e-12 * e1.length * e2.length:
         return PairGrasps((i, j), sector, np.zeros((0, 2)), A, b,
                           "the edges are placed so that no segment between them lies in the "
