@@ -10,6 +10,7 @@ import subprocess
 import sys
 import threading
 import time
+from contextlib import suppress
 from pathlib import Path
 
 import numpy as np
@@ -21,6 +22,7 @@ import pytest
 from forceclosure.cli import main
 from forceclosure.dataset import (
     Job,
+    ObjectTimeout,
     deadline,
     expand_inputs,
     process_object,
@@ -240,6 +242,24 @@ def test_time_limit(tmp_path):
     assert box[0]["status"] == "timeout"
     with deadline(5):  # a block that ends in time is left alone, and so is what follows
         pass
+    # no `except Exception` on the way (a file reader's, say) swallows the time limit
+    with pytest.raises(ObjectTimeout), deadline(0.05), suppress(Exception):
+        time.sleep(2)
+    escaped = []
+
+    def busy() -> None:
+        try:
+            with deadline(0.05):
+                while True:
+                    with suppress(Exception):
+                        sum(range(1000))
+        except ObjectTimeout:
+            escaped.append(True)
+
+    worker = threading.Thread(target=busy)
+    worker.start()
+    worker.join(timeout=30)
+    assert escaped == [True]
     time.sleep(0.01)
     summary = run_dataset(["cube", str(_objects(1)[0])], tmp_path,
                           Job(contact="soft", mu=0.5, top=1, samples=200_000, timeout=0.5),

@@ -237,8 +237,9 @@ def record_name(path: Path) -> str:
 
 # -- one object (runs on a worker) ----------------------------------------------------------
 
-class ObjectTimeout(Exception):
-    """An object ran over its time limit."""
+class ObjectTimeout(BaseException):
+    """An object ran over its time limit. A ``BaseException``, like ``KeyboardInterrupt``,
+    so that no ``except Exception`` on the way (in a file reader, say) swallows it."""
 
 
 @contextmanager
