@@ -324,3 +324,39 @@ def test_cli(tmp_path, capsys, corrupt):
                           (["--timeout", "-1"], "--timeout must be a positive")):
         assert main(["dataset", "cube", "--out", str(tmp_path / "y"), *argv]) == 2
         assert message in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("urdf,message", [
+    ("<robot><link/>", "not a URDF file"),
+    ("<robot><link><visual><geometry><box size='1 1 1'/></geometry></visual></link></robot>",
+     "names no mesh file"),
+    ("<robot><link><collision><geometry><mesh filename='gone.obj'/></geometry></collision>"
+     "</link></robot>", "its mesh gone.obj is missing"),
+    ("<robot><link><collision><geometry><mesh filename='m.obj' scale='1 -1 1'/></geometry>"
+     "</collision></link></robot>", "is not three positive numbers"),
+    ("<robot><link><collision><geometry><mesh filename='m.obj' scale='1 x 1'/></geometry>"
+     "</collision></link></robot>", "is not three numbers"),
+    ("<robot><link><collision><geometry><mesh filename='m.txt'/></geometry></collision>"
+     "</link></robot>", "its mesh m.txt is not a mesh file"),
+])
+def test_bad_urdfs_one_line(tmp_path, capsys, urdf, message):
+    (tmp_path / "m.obj").write_text((URDFS / "000" / "000.obj").read_text())
+    (tmp_path / "m.txt").write_text("")
+    (tmp_path / "r.urdf").write_text(urdf)
+    assert main(["inspect", str(tmp_path / "r.urdf")]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1
+
+
+def test_grasps_pattern_and_outer_alarm():
+    with pytest.raises(InputError, match="placeholders"):
+        Job(mode="analyze", grasps="{folder}/{stem}.npz")
+    # an alarm set around a deadline (pytest-timeout's, say) survives it
+    signal.setitimer(signal.ITIMER_REAL, 50)
+    try:
+        with deadline(5):
+            pass
+        remaining, _ = signal.getitimer(signal.ITIMER_REAL)
+        assert 45 < remaining <= 50
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)

@@ -113,13 +113,18 @@ class Job:
             raise InputError(f"--samples must be at least 1, got {self.samples}")
         if self.fingers is not None and self.fingers < 1:
             raise InputError(f"--fingers must be at least 1, got {self.fingers}")
+        try:
+            self.grasps.format(dir="", stem="", name="")
+        except (KeyError, IndexError, ValueError) as e:
+            raise InputError(f"--grasps {self.grasps}: {{dir}}, {{stem}} and {{name}} are "
+                             f"the placeholders it may use ({type(e).__name__}: {e})") from None
 
     def identity(self) -> dict[str, Any]:
         """The options that decide the results (the time limit does not)."""
+        if self.mode == "analyze":
+            return {"mode": "analyze", "grasps": self.grasps}
         record = asdict(self)
         record.pop("timeout")
-        if self.mode == "analyze":
-            record = {"mode": "analyze", "grasps": self.grasps}
         return record
 
 
@@ -259,12 +264,16 @@ def deadline(seconds: float | None) -> Iterator[None]:
             raise ObjectTimeout
 
         previous = signal.signal(signal.SIGALRM, alarm)
-        signal.setitimer(signal.ITIMER_REAL, seconds)
+        outer, _ = signal.setitimer(signal.ITIMER_REAL, seconds)
+        start = time.monotonic()
         try:
             yield
         finally:
             signal.setitimer(signal.ITIMER_REAL, 0)
             signal.signal(signal.SIGALRM, previous)
+            if outer > 0:  # an alarm set around ours (a test runner's time limit) goes on
+                signal.setitimer(signal.ITIMER_REAL,
+                                 max(outer - (time.monotonic() - start), 1e-3))
         return
     ident, lock, armed = threading.get_ident(), threading.Lock(), [True]
 
@@ -572,8 +581,7 @@ def run_dataset(inputs: Sequence[str | Path], out: str | Path, job: Job = Job(),
                 if n not in held or held[n].get("status") not in keep})
     skipped = len(names) - len(run.todo)
     records = {n: held[n] for n in names if n in held}
-    workers = 1 if executor is None and workers == 1 else (
-        workers or os.cpu_count() or 1)
+    workers = workers or os.cpu_count() or 1
     start = time.perf_counter()
     computed, interrupted = 0, False
     bar = tqdm(total=len(run.todo), unit="obj", desc="objects", file=sys.stderr,
@@ -597,7 +605,7 @@ def run_dataset(inputs: Sequence[str | Path], out: str | Path, job: Job = Job(),
         elif executor is None:
             _local_pool(workers, run, job, finish)
         else:
-            _drain(executor, run, job, finish)
+            _drain(executor, run, job, finish, width=0)
     except KeyboardInterrupt:
         interrupted = True
     finally:
@@ -617,12 +625,12 @@ def _failed(path: Path, error: str) -> dict[str, Any]:
 
 
 def _drain(executor: Executor, run: _Run, job: Job,
-           finish: Callable[[str, dict[str, Any]], None]) -> list[str]:
+           finish: Callable[[str, dict[str, Any]], None], width: int) -> list[str]:
     """Submit every pending object and finish each as its result arrives.
 
     Returns the objects a broken local pool (a worker killed) may have been
-    running: the first ``max_workers + 1`` still pending, as the pool hands
-    them out in order; everything else pending is simply submitted again. On
+    running: the first ``width`` still pending, as the pool hands them out in
+    order; everything else pending is simply submitted again. On
     other executors an object whose future fails (Dask's KilledWorker, after
     the scheduler's own retries) is recorded as failed.
     """
@@ -643,10 +651,7 @@ def _drain(executor: Executor, run: _Run, job: Job,
                                                  f"({type(e).__name__}: {why})"))
             continue
         finish(name, record)
-    if not broken:
-        return []
-    width = getattr(executor, "_max_workers", 1) + 1
-    return [n for n in order if n in run.todo][:width]
+    return [n for n in order if n in run.todo][:width] if broken else []
 
 
 def _context() -> multiprocessing.context.BaseContext:
@@ -678,7 +683,7 @@ def _local_pool(workers: int, run: _Run, job: Job,
         with ProcessPoolExecutor(workers, mp_context=_context(),
                                  initializer=_one_thread_each) as pool:
             if not suspects:
-                suspects = _drain(pool, run, job, finish)
+                suspects = _drain(pool, run, job, finish, width=workers + 1)
                 continue
             name = suspects[0]
             try:

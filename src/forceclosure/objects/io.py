@@ -213,10 +213,15 @@ def polygon_from_csv(text: str, name: str = "polygon") -> Polygon:
     return Polygon.from_points(rings[0], rings[1:], name=name)
 
 
-def polyhedron_from_mesh_file(path: Path, allow_open: bool = False) -> Polyhedron:
-    """A polyhedron from a mesh file, read by trimesh without its own processing."""
+def polyhedron_from_mesh_file(path: Path, allow_open: bool = False,
+                              scale: NDArray[np.float64] | None = None,
+                              name: str | None = None) -> Polyhedron:
+    """A polyhedron from a mesh file, read by trimesh without its own processing, its
+    vertices multiplied by ``scale`` (per axis) if given."""
     import trimesh
 
+    if path.stat().st_size == 0:
+        raise InputError(f"{path.name}: the file is empty")
     suffix = path.suffix.lower()
     try:
         loaded = trimesh.load(str(path), file_type=suffix[1:], force="mesh", process=False)
@@ -225,12 +230,13 @@ def polyhedron_from_mesh_file(path: Path, allow_open: bool = False) -> Polyhedro
                          f"{_first_line(e)}") from None
     if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
         raise InputError(f"{path.name}: the file holds no triangles")
-    return Polyhedron.from_arrays(loaded.vertices, loaded.faces, path.stem, allow_open)
+    vertices = loaded.vertices if scale is None else loaded.vertices * scale
+    return Polyhedron.from_arrays(vertices, loaded.faces, name or path.stem, allow_open)
 
 
-def urdf_mesh(path: Path) -> tuple[Path, NDArray[np.float64], str]:
+def urdf_mesh(path: Path) -> tuple[Path, NDArray[np.float64]]:
     """The collision mesh a URDF names (the first ``<collision>`` with a ``<mesh>``, else the
-    first ``<visual>`` one), its per-axis scale, and the robot's name."""
+    first ``<visual>`` one), and its per-axis scale."""
     try:
         root = ET.fromstring(path.read_text(encoding="utf-8"))
     except (ET.ParseError, UnicodeDecodeError) as e:
@@ -252,7 +258,7 @@ def urdf_mesh(path: Path) -> tuple[Path, NDArray[np.float64], str]:
     if scale.shape != (3,) or not np.all(np.isfinite(scale)) or np.any(scale <= 0):
         raise InputError(f"{path.name}: mesh scale {mesh.get('scale')!r} is not three "
                          "positive numbers")
-    return path.parent / filename, scale, root.get("name") or path.stem
+    return path.parent / filename, scale
 
 
 def load_object(source: str | Path | Any, allow_open: bool = False) -> Polygon | Polyhedron:
@@ -288,17 +294,14 @@ def load_object(source: str | Path | Any, allow_open: bool = False) -> Polygon |
         raise InputError(f"{source}: is a directory")
     suffix = path.suffix.lower()
     if suffix in ROBOT_SUFFIXES:
-        mesh, scale, _ = urdf_mesh(path)
+        mesh, scale = urdf_mesh(path)
         if not mesh.is_file():
             raise InputError(f"{path.name}: its mesh {mesh.name} is missing")
-        poly = load_object(mesh, allow_open)
-        if isinstance(poly, Polygon):
-            raise InputError(f"{path.name}: its mesh {mesh.name} is not a mesh file")
-        return Polyhedron.from_arrays(poly.vertices * scale, poly.triangles, path.stem,
-                                      allow_open)
+        if mesh.suffix.lower() not in MESH_SUFFIXES:
+            raise InputError(f"{path.name}: its mesh {mesh.name} is not a mesh file "
+                             f"({', '.join(MESH_SUFFIXES)})")
+        return polyhedron_from_mesh_file(mesh, allow_open, scale, path.stem)
     if suffix in MESH_SUFFIXES:
-        if path.stat().st_size == 0:
-            raise InputError(f"{path.name}: the file is empty")
         return polyhedron_from_mesh_file(path, allow_open)
     if suffix not in POLYGON_SUFFIXES:
         raise InputError(f"{path.name}: unknown file type '{suffix}'; expected one of "
