@@ -3,8 +3,12 @@
 A :class:`Polygon` is validated and normalised on construction. The outer
 boundary runs counter-clockwise and holes clockwise, so the material is
 always on the left of an edge and its outward normal on the right.
-Consecutive collinear edges are merged into one physical edge, which keeps
-the indices of the input edges it came from. Each :class:`Edge` maps a
+Consecutive edges that are *exactly* collinear (decided in rational
+arithmetic) are merged into one physical edge, which keeps the indices of
+the input edges it came from. Nearly collinear vertices (a straight line
+sampled in floating point, a finely tessellated arc) stay corners: every
+edge's normal is then the normal of the geometry as given, and no region
+is ever certified on a normal the object does not have. Each :class:`Edge` maps a
 parameter ``t`` in ``[0, length]`` to a point and back.
 """
 
@@ -12,6 +16,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from fractions import Fraction
 
 import numpy as np
 import shapely
@@ -19,7 +24,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 
-#: Relative tolerance (of the polygon's size) for repeated vertices and collinearity.
+#: Relative tolerance (of the polygon's size) for repeated vertices and zero area.
 RTOL = 1e-9
 
 
@@ -103,8 +108,28 @@ def _check_ring(ring: NDArray[np.float64], what: str, tol: float) -> None:
 
 
 def _signed_area(ring: NDArray[np.float64]) -> float:
-    x, y = ring[:, 0], ring[:, 1]
+    # about the ring's first vertex: products of far-away coordinates would cancel
+    x, y = (ring - ring[0]).T
     return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+def _straight(ring: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Which vertices lie exactly on the segment between their neighbours.
+
+    A floating-point screen keeps only the vertices whose turn is tiny, and
+    those are decided with ``Fraction``: the cross product of the two edges
+    must be exactly zero and their directions the same.
+    """
+    d = np.roll(ring, -1, axis=0) - ring
+    prev = np.roll(d, 1, axis=0)
+    cross = prev[:, 0] * d[:, 1] - prev[:, 1] * d[:, 0]
+    scale = np.linalg.norm(prev, axis=1) * np.linalg.norm(d, axis=1)
+    straight = np.zeros(len(ring), dtype=bool)
+    for k in np.flatnonzero((np.abs(cross) <= 1e-6 * scale) & (np.sum(prev * d, axis=1) > 0)):
+        (ax, ay), (bx, by), (cx, cy) = ([Fraction(float(c)) for c in ring[i % len(ring)]]
+                                        for i in (k - 1, k, k + 1))
+        straight[k] = (bx - ax) * (cy - by) == (by - ay) * (cx - bx)
+    return straight
 
 
 def _validity(outer: NDArray, holes: Sequence[NDArray], name: str) -> None:
@@ -183,12 +208,7 @@ class Polygon:
             flipped = ring is not original
             n = len(ring)
             ids = [(n - 2 - k) % n if flipped else k for k in range(n)]  # edge k -> input id
-            d = np.roll(ring, -1, axis=0) - ring
-            prev = np.roll(d, 1, axis=0)
-            cross = prev[:, 0] * d[:, 1] - prev[:, 1] * d[:, 0]
-            straight = (np.abs(cross) <= RTOL * np.linalg.norm(prev, axis=1)
-                        * np.linalg.norm(d, axis=1) * 1e3) & (np.sum(prev * d, axis=1) > 0)
-            corners = np.flatnonzero(~straight)
+            corners = np.flatnonzero(~_straight(ring))
             kept.append(ring[corners])
             for a, b in zip(corners, np.roll(corners, -1), strict=True):
                 span = [(a + k) % n for k in range((b - a) % n or n)]

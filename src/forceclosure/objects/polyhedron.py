@@ -277,7 +277,7 @@ class Polyhedron:
         if watertight:
             T = _fix_winding(T, name, warnings)
             cross = np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]])
-            volume = float(np.sum(np.einsum("ij,ij->i", V[T[:, 0]], cross))) / 6
+            volume = _signed_volume(V, T)
             if abs(volume) <= 1e-12 * size**3:
                 raise InputError(f"{name}: the mesh encloses no volume")
             if volume < 0:
@@ -325,9 +325,7 @@ class Polyhedron:
     @property
     def volume(self) -> float:
         """Enclosed volume (positive: triangles face outward)."""
-        V, T = self.vertices, self.triangles
-        return float(np.einsum("ij,ij->", V[T[:, 0]],
-                               np.cross(V[T[:, 1]], V[T[:, 2]]))) / 6
+        return _signed_volume(self.vertices, self.triangles)
 
     @property
     def bounds(self) -> NDArray[np.float64]:
@@ -345,9 +343,10 @@ class Polyhedron:
         V, T = self.vertices, self.triangles
         if not self.watertight:
             return V.mean(axis=0)
-        a, b, c = V[T[:, 0]], V[T[:, 1]], V[T[:, 2]]
+        centre = self.bounds.mean(axis=0)
+        a, b, c = (V[T[:, k]] - centre for k in range(3))
         w = np.einsum("ij,ij->i", a, np.cross(b, c))
-        return ((a + b + c) * w[:, None]).sum(axis=0) / (4 * w.sum())
+        return centre + ((a + b + c) * w[:, None]).sum(axis=0) / (4 * w.sum())
 
     def locate(self, p: ArrayLike) -> tuple[int, NDArray[np.float64], float]:
         """The face nearest to point ``p``: ``(face index, (u, v), distance)``.
@@ -378,6 +377,14 @@ class Polyhedron:
                 "merged_faces": merged, "shells": self.shells, "watertight": self.watertight,
                 "volume": self.volume if self.watertight else None, "area": self.area,
                 "size": self.size, "bounds": self.bounds.tolist(), "warnings": notes}
+
+
+def _signed_volume(V: NDArray, T: NDArray) -> float:
+    """Volume enclosed by outward triangles, summed about the bounding box's centre (about the
+    origin, products of far-away coordinates would cancel)."""
+    centre = (V.min(axis=0) + V.max(axis=0)) / 2
+    a, b, c = (V[T[:, k]] - centre for k in range(3))
+    return float(np.einsum("ij,ij->", a, np.cross(b, c))) / 6
 
 
 def _triangle_distances(p: NDArray, a: NDArray, b: NDArray, c: NDArray) -> NDArray:

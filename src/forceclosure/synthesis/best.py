@@ -212,4 +212,5 @@ def _on_polyhedron(poly: Polyhedron, fingers: int, contact: str, mu: float, top:
             except InputError:  # a prototype on the boundary of closure: skip it
                 continue
         found.sort(key=lambda r: -r.min_area)
-    return Synthesis(found, method, fingers, contact, mu)
+    # every region set returned is proved; one whose proof fails is not returned
+    return Synthesis([r for r in found if r.certify().holds], method, fingers, contact, mu)

@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import itertools
 from dataclasses import dataclass
-from fractions import Fraction
 
 import numpy as np
 from numpy.typing import NDArray
@@ -30,7 +29,7 @@ from scipy.optimize import linprog
 
 from ..errors import InputError
 from ..objects.polygon import Polygon
-from .regions import Certificate, Regions, check_edges
+from .regions import Certificate, Regions, check_edges, exact_inward, exact_point
 from .vertices import _extremes
 
 #: Default margin on the cofactors, relative to the polygon's size.
@@ -77,16 +76,16 @@ class FrictionlessRegions(Regions):
 
         The cofactors are affine in the four edge parameters, so they keep
         one strict sign on the box of segments iff they do at its 16
-        corners. The corners are evaluated with ``fractions.Fraction`` from
-        the exact values of the floating-point data.
+        corners. The corners are evaluated with ``fractions.Fraction`` at the
+        very points that are printed, with exact (unnormalised) normals:
+        scaling a wrench by a positive number scales its cofactor's partner
+        and keeps every sign.
         """
         es = [self.polygon.edges[k] for k in self.edges]
-        forces = [[-Fraction(x) for x in e.normal] for e in es]
+        forces = [exact_inward(e) for e in es]
         signs = set()
         for corner in itertools.product(*self.segments):
-            pts = [[Fraction(s) + Fraction(t) * Fraction(d)
-                    for s, d in zip(e.start, e.direction, strict=True)]
-                   for e, t in zip(es, corner, strict=True)]
+            pts = [exact_point(e, t) for e, t in zip(es, corner, strict=True)]
             c = cofactors(pts, forces)
             if any(x == 0 for x in c) or len({x > 0 for x in c}) != 1:
                 return Certificate(False, "corner check (exact rationals)",

@@ -33,7 +33,7 @@ from numpy.typing import NDArray
 from ..errors import InputError
 from ..objects.polygon import Edge, Polygon
 from .patches import clip
-from .regions import Certificate, Regions, check_edges
+from .regions import Certificate, Regions, check_edges, exact_inward, exact_point
 
 #: Default angular margin (radians) kept between region grasps and the cone boundary.
 ANGLE_MARGIN = 1e-3
@@ -242,16 +242,14 @@ class IndependentRegions(Regions):
         The four Corollary 3 conditions are linear in ``w = q - p``, and ``w``
         is affine in the two edge parameters. So they hold on the whole box
         ``s1 x s2`` iff they hold at its four corners. The corners are
-        checked with ``fractions.Fraction`` from the exact binary values of
-        the floating-point data: no rounding enters.
+        checked with ``fractions.Fraction`` at the very floating-point points
+        that are printed and returned, with each edge's normal taken exactly
+        from its two vertices: no rounding enters.
         """
         e1, e2 = (self.polygon.edges[k] for k in self.edges)
         F = Fraction
-        m_p, m_q = [[-F(x) for x in e.normal] for e in (e1, e2)]
+        m_p, m_q = exact_inward(e1), exact_inward(e2)
         mu_p, mu_q = F(self.mu[0]), F(self.mu[1])
-
-        def point(e: Edge, t: float) -> list[Fraction]:
-            return [F(s) + F(t) * F(d) for s, d in zip(e.start, e.direction, strict=True)]
 
         def inside(m: list[Fraction], mu: Fraction, w: list[Fraction]) -> bool:
             dot = m[0] * w[0] + m[1] * w[1]
@@ -260,7 +258,7 @@ class IndependentRegions(Regions):
 
         for t1 in self.segments[0]:
             for t2 in self.segments[1]:
-                p, q = point(e1, t1), point(e2, t2)
+                p, q = exact_point(e1, t1), exact_point(e2, t2)
                 w = [q[0] - p[0], q[1] - p[1]]
                 if not (inside(m_p, mu_p, w) and inside(m_q, mu_q, [-w[0], -w[1]])):
                     return Certificate(False, "corner check (exact rationals)",

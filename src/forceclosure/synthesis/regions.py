@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from fractions import Fraction
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError
-from ..objects.polygon import Polygon
+from ..objects.polygon import Edge, Polygon
 
 _COUNT = {2: "two", 3: "three", 4: "four"}
 
@@ -24,6 +25,25 @@ def check_edges(polygon: Polygon, edges, count: int) -> tuple[int, ...]:
             raise InputError(f"{polygon.name}: no edge {e}; edges are numbered 0 to "
                              f"{len(polygon.edges) - 1}")
     return edges
+
+
+def exact_inward(edge: Edge) -> list[Fraction]:
+    """The edge's inward normal direction in exact rationals, not of unit length.
+
+    The outward normal of the edge vector ``(dx, dy)`` between two vertices
+    of the object as given is ``(dy, -dx)``; the friction-cone and cofactor
+    conditions are positively homogeneous in it, so no rounded square root
+    enters a certificate.
+    """
+    dx, dy = (Fraction(float(b)) - Fraction(float(a)) for a, b in zip(edge.start, edge.end,
+                                                                        strict=True))
+    return [-dy, dx]
+
+
+def exact_point(edge: Edge, t: float) -> list[Fraction]:
+    """The point at parameter ``t`` exactly as it is printed and returned (the float value of
+    :meth:`Edge.point`), as rationals: certificates are about the numbers users get."""
+    return [Fraction(float(x)) for x in edge.point(t)]
 
 
 @dataclass(frozen=True)

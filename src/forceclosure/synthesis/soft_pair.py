@@ -174,7 +174,10 @@ class SoftPairRegions(SpatialRegions):
 
 
 def _on_face(patch: FacePatch, face: PlanarFace) -> bool:
-    tol = 1e-9 * max(face.polygon.size, 1e-300)
+    # relative to the face, and never below the rounding of its coordinates (far from the
+    # origin a float point cannot lie closer to a slanted plane than that)
+    tol = 1e-9 * max(face.polygon.size, 1e-300) + 8 * float(np.spacing(
+        np.abs(face.origin).max()))
     plane = np.abs((patch.points - face.origin) @ face.normal).max() <= tol
     inside = shapely.covers(face.polygon.to_shapely().buffer(tol), shapely.points(patch.uv))
     return bool(plane and np.all(inside))
@@ -311,7 +314,8 @@ def soft_pair_regions(polyhedron: Polyhedron, face1: int, face2: int, mu: float,
     Returns
     -------
     SoftPairRegions or None
-        None when the faces admit no force-closure grasp with margin.
+        None when the faces admit no force-closure grasp with margin, or none
+        that the exact certificate proves.
 
     Examples
     --------
@@ -348,7 +352,8 @@ def soft_pair_regions(polyhedron: Polyhedron, face1: int, face2: int, mu: float,
         return None
     patches = ((FacePatch.on(f1, best[1]),), (FacePatch.on(f2, best[2]),))
     apex = best[3] if construction == "nguyen" else None
-    return SoftPairRegions(polyhedron, "soft", float(mu), patches, construction, apex)
+    regions = SoftPairRegions(polyhedron, "soft", float(mu), patches, construction, apex)
+    return regions if regions.certify().holds else None
 
 
 def best_soft_pair_regions(polyhedron: Polyhedron, mu: float, top: int = 5,

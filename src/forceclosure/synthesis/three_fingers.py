@@ -31,7 +31,7 @@ from scipy.optimize import linprog
 
 from ..errors import InputError
 from ..objects.polygon import Polygon
-from .regions import Certificate, Regions, check_edges
+from .regions import Certificate, Regions, check_edges, exact_inward, exact_point
 from .vertices import _extremes, _generators
 
 #: Default margin: friction reduced by this fraction, and ``X`` kept this fraction of the
@@ -78,10 +78,10 @@ class ThreeFingerRegions(Regions):
         cones = []
         for e, seg in zip((self.polygon.edges[k] for k in self.edges), self.segments,
                           strict=True):
-            cone = _extremes(_generators([[F(x) for x in e.normal]], F(self.mu)))
+            cone = _extremes(_generators([[-x for x in exact_inward(e)]], F(self.mu)))
             cones.append(cone)
             for t in seg:
-                p = [F(s) + F(t) * F(d) for s, d in zip(e.start, e.direction, strict=True)]
+                p = exact_point(e, t)
                 w = [X[0] - p[0], X[1] - p[1]]
                 if not (_cross(cone[0], w) > 0 and _cross(w, cone[1]) > 0):
                     return Certificate(False, "Corollary 4 (exact rationals)",

@@ -28,7 +28,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..objects.polygon import Polygon
-from .regions import Certificate
+from .regions import Certificate, exact_inward, exact_point
 
 #: Default margin, as a fraction of the friction coefficient taken off every cone.
 FRICTION_MARGIN = 1e-3
@@ -142,7 +142,7 @@ class VertexGrasp:
         edges = self.polygon.edges
 
         def cone(indices):
-            normals = [[F(x) for x in edges[i].normal] for i in indices]
+            normals = [[-x for x in exact_inward(edges[i])] for i in indices]
             return _extremes(_generators(normals, F(self.mu)))
 
         kind, k = self.other
@@ -150,8 +150,7 @@ class VertexGrasp:
         if kind == "edge":
             cone_q = cone([k])
             e = edges[k]
-            ends = [[F(s) + F(t) * F(d) for s, d in zip(e.start, e.direction, strict=True)]
-                    for t in self.segment]
+            ends = [exact_point(e, t) for t in self.segment]
         else:
             cone_q = cone(self.corners[1])
             ends = [[F(x) for x in edges[self.corners[1][0]].end]]

@@ -1,0 +1,231 @@
+"""Objects read exactly as given: tessellated arcs, kinks, glyphs, far-away and scaled
+objects; every region checked against the *input* geometry in the numbers printed.
+
+The checks here are independent of the library's certificates: each printed
+corner is matched to the input edge it lies on (by distance, in the test),
+the normal is taken exactly from that input edge's two vertices, and
+Theorem 1 is decided in rationals (``exact.py``) at the corners and at
+interior samples.
+"""
+
+from __future__ import annotations
+
+import json
+from fractions import Fraction
+
+import numpy as np
+import pytest
+import shapely
+from matplotlib.font_manager import FontProperties
+from matplotlib.textpath import TextPath
+
+from exact import planar_hard_wrenches, positively_spans
+from forceclosure.cli import main
+from forceclosure.objects import POLYGONS, POLYHEDRA, Polygon, Polyhedron, bundled
+from forceclosure.synthesis.best import synthesize
+
+
+def input_edges(rings):
+    """The input's edges as (start, end) float pairs, ring by ring, oriented by shapely
+    (outer boundary counter-clockwise, holes clockwise: material on the left)."""
+    shape = shapely.geometry.polygon.orient(shapely.Polygon(rings[0], rings[1:]), 1.0)
+    oriented = [np.asarray(r.coords)[:-1] for r in (shape.exterior, *shape.interiors)]
+    return [(r[k], r[(k + 1) % len(r)]) for r in oriented for k in range(len(r))]
+
+
+def distance_to_edge(a, b, p):
+    d = b - a
+    s = np.clip((p - a) @ d / (d @ d), 0, 1)
+    return float(np.linalg.norm(a + s * d - p))
+
+
+def input_edges_under(edges, p0, p1, tol):
+    """The input edges under the segment ``p0 p1``: its ends and 9 points inside it must
+    each lie within ``tol`` of one; returns the edges found under the inside points (an edge
+    that only meets an end is not under it)."""
+    for p in (p0, p1):
+        assert min(distance_to_edge(a, b, p) for a, b in edges) <= tol
+    found = []
+    for lam in np.linspace(0.05, 0.95, 9):
+        p = p0 + lam * (p1 - p0)
+        near = [(a, b) for a, b in edges if distance_to_edge(a, b, p) <= tol
+                and (b - a) @ (p1 - p0) > 0]
+        assert near, f"{p.tolist()} is on no input edge"
+        found += near
+    return found
+
+
+def exact_outward(a, b):
+    """(dy, -dx) of the input edge, in rationals (not unit: Theorem 1 does not care)."""
+    dx, dy = (Fraction(float(y)) - Fraction(float(x)) for x, y in zip(a, b, strict=True))
+    return [dy, -dx]
+
+
+def check_regions_on_input(record, rings, mu, samples=3):
+    """Every printed region of a two-finger ``--json`` record is force-closure on the input."""
+    edges = input_edges(rings)
+    size = float(np.linalg.norm(np.ptp(np.vstack(rings), axis=0)))
+    # how far a printed float point may be from an input edge: its rounding
+    tol = 1e-12 * size + 4 * float(np.spacing(np.abs(np.vstack(rings)).max()))
+    for grasp in record["grasps"]:
+        corners = np.array(grasp["points"], dtype=float)  # (2 fingers, 2 ends, 2)
+        normals = []
+        for seg in corners:
+            # the region lies on input edges (to the rounding of its printed ends) that all
+            # have exactly the same outward normal direction
+            under = [exact_outward(a, b) for a, b in
+                     input_edges_under(edges, seg[0], seg[1], tol)]
+            n = under[0]
+            assert all(m[0] * n[1] == m[1] * n[0] and m[0] * n[0] + m[1] * n[1] > 0
+                       for m in under)
+            normals.append(n)
+        lam = np.linspace(0, 1, samples)
+        for s in lam:
+            for t in lam:
+                p = corners[0, 0] + s * (corners[0, 1] - corners[0, 0])
+                q = corners[1, 0] + t * (corners[1, 1] - corners[1, 0])
+                W = planar_hard_wrenches([p, q], normals, [mu, mu])
+                assert positively_spans(W), (grasp["edges"], s, t)
+
+
+def synthesize_json(capsys, path, *options):
+    assert main(["synthesize", str(path), "--json", *options]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def arc_square(segments=5000, turn=4e-3):
+    """The square [-1, 1]^2 whose bottom is an arc of ``segments`` chords turning ``turn``."""
+    radius = 1 / np.sin(turn / 2)
+    theta = np.linspace(-turn / 2, turn / 2, segments + 1)
+    bottom = np.stack([radius * np.sin(theta), -1 + radius * (np.cos(turn / 2)
+                                                              - np.cos(theta))], 1)
+    return np.vstack([bottom, [[1, 1], [-1, 1]]])
+
+
+def test_a_finely_tessellated_arc_is_not_straightened(tmp_path, capsys):
+    """The 5000-chord arc turns 8e-7 rad a vertex: no merged edge with the chord's normal,
+    and every printed region holds on the real boundary (it did not: 6e-4 rad outside)."""
+    ring = arc_square()
+    polygon = Polygon.from_points(ring)
+    assert len(polygon.edges) == len(ring)
+    geo = tmp_path / "fine-arc.geojson"
+    coords = [*ring.tolist(), ring[0].tolist()]
+    geo.write_text(json.dumps({"type": "Polygon", "coordinates": [coords]}))
+    record = synthesize_json(capsys, geo, "--mu", "0.1", "--top", "4")
+    assert len(record["grasps"]) == 4
+    check_regions_on_input(record, [ring], 0.1)
+
+
+def test_a_single_tiny_kink_is_kept(tmp_path, capsys):
+    """A 5e-7 rad kink in the bottom edge: two edges, and regions sound at --margin 1e-9."""
+    kink = 5e-7
+    ring = np.array([[-1, -1], [0, -1 - np.tan(kink)], [1, -1], [1, 1], [-1, 1]])
+    assert len(Polygon.from_points(ring).edges) == 5
+    path = tmp_path / "kink.json"
+    path.write_text(json.dumps({"outer": ring.tolist()}))
+    record = synthesize_json(capsys, path, "--mu", "0.3", "--margin", "1e-9", "--top", "6")
+    assert record["grasps"]
+    check_regions_on_input(record, [ring], 0.3)
+
+
+def test_exactly_collinear_vertices_still_merge():
+    """Points on a line that floats represent exactly still make one physical edge."""
+    ring = [[0, 0], [0.25, 0], [0.5, 0], [3, 0], [3, 1], [1.5, 1], [0, 1]]
+    p = Polygon.from_points(ring)
+    assert len(p.edges) == 4
+    assert sorted(len(e.source) for e in p.edges) == [1, 1, 2, 3]
+
+
+def test_a_high_resolution_glyph(tmp_path, capsys):
+    """The letter O of matplotlib's DejaVu font, every edge of its outline cut into 40
+    pieces: nearly straight runs in floating point; the printed regions hold on the input
+    outline."""
+    glyph = TextPath((0, 0), "O", size=10, prop=FontProperties(family="DejaVu Sans"))
+    cut = np.linspace(0, 1, 40, endpoint=False)[:, None, None]
+    rings = []
+    for r in glyph.to_polygons():
+        r = r[:-1]
+        pieces = r[None] + cut * (np.roll(r, -1, axis=0) - r)[None]  # (40, n, 2)
+        rings.append(pieces.transpose(1, 0, 2).reshape(-1, 2))
+    outer = max(rings, key=lambda r: abs(shapely.Polygon(r).area))
+    holes = [r for r in rings if r is not outer]
+    file = tmp_path / "o.json"
+    file.write_text(json.dumps({"outer": outer.tolist(), "holes": [h.tolist() for h in holes]}))
+    record = synthesize_json(capsys, file, "--mu", "0.3", "--top", "3")
+    assert record["grasps"]
+    check_regions_on_input(record, [outer, *holes], 0.3)
+
+
+@pytest.mark.parametrize("offset", [1e4, 1e5, 1e6])
+def test_printed_regions_far_away_are_the_certified_ones(tmp_path, capsys, offset):
+    """Near coordinates 1e4 to 1e6 with --margin 1e-13, the printed floats themselves hold
+    (they failed exactly by 2e-13 to 1.2e-9 rad when rounded after certification)."""
+    for name in ("square", "hexagon", "wrench-head", "star"):
+        obj = bundled(name)
+        rings = [r + offset for r in obj.rings]
+        path = tmp_path / f"{name}.json"
+        path.write_text(json.dumps({"outer": rings[0].tolist(),
+                                    "holes": [h.tolist() for h in rings[1:]]}))
+        record = synthesize_json(capsys, path, "--mu", "0.3", "--margin", "1e-13",
+                                 "--top", "8")
+        assert record["grasps"], name
+        assert all(g["certificate"]["holds"] for g in record["grasps"])
+        check_regions_on_input(record, rings, 0.3, samples=2)
+
+
+def _moved_polygon(obj, offset, scale):
+    return Polygon.from_points(obj.outer * scale + offset,
+                               [h * scale + offset for h in obj.holes], name=obj.name)
+
+
+@pytest.mark.parametrize("offset,scale", [(1e8, 1.0), (0.0, 1e-4), (0.0, 1e4),
+                                          (-3e4, 1e-3)])
+def test_polygons_moved_far_or_scaled_keep_their_geometry_and_grasps(offset, scale):
+    """Area, orientation and convexity from closed forms (a move keeps them, a scale
+    multiplies the area by its square); the best region sizes, relative to the object's
+    size, agree with the original to 1e-6 for two, three and four fingers."""
+    for name in POLYGONS:
+        obj = bundled(name)
+        moved = _moved_polygon(obj, offset, scale)
+        assert moved.area == pytest.approx(obj.area * scale**2, rel=1e-6)
+        assert moved.convex == obj.convex
+        for e, f in zip(obj.edges, moved.edges, strict=True):
+            np.testing.assert_allclose(f.normal, e.normal, atol=1e-6)
+        for fingers, contact, mu in ((2, "hard", 0.3), (3, "hard", 0.5),
+                                     (4, "frictionless", 0.0)):
+            want = synthesize(obj, fingers, contact, mu, top=3).found
+            got = synthesize(moved, fingers, contact, mu, top=3).found
+            assert len(got) == len(want), (name, fingers)
+            np.testing.assert_allclose([r.min_length / moved.size for r in got],
+                                       [r.min_length / obj.size for r in want], rtol=1e-6,
+                                       atol=1e-9, err_msg=f"{name}, {fingers} fingers")
+
+
+@pytest.mark.parametrize("offset,scale", [(1.2e7, 1.0), (1e8, 1.0), (0.0, 1e-4),
+                                          (0.0, 1e4)])
+def test_polyhedra_moved_far_or_scaled_keep_their_geometry(offset, scale):
+    """Volume, area, faces and centroid from closed forms under a move and a scale (a side-2
+    cube near 1.2e7 had volume -128065)."""
+    for name in POLYHEDRA:
+        obj = bundled(name)
+        moved = Polyhedron.from_arrays(obj.vertices * scale + offset, obj.triangles)
+        assert moved.volume == pytest.approx(obj.volume * scale**3, rel=1e-6)
+        assert moved.area == pytest.approx(obj.area * scale**2, rel=1e-6)
+        assert len(moved.faces) == len(obj.faces)
+        np.testing.assert_allclose(moved.centroid, obj.centroid * scale + offset,
+                                   rtol=1e-12, atol=1e-6 * obj.size * scale)
+
+
+@pytest.mark.parametrize("offset,scale", [(1e8, 1.0), (0.0, 1e-4), (0.0, 1e4)])
+def test_two_soft_fingers_far_away_or_scaled(offset, scale):
+    """§5.2 on faces (a deterministic LP): the best region sizes relative to the object's
+    size do not change when the object moves by 1e8 or is scaled."""
+    for name in ("cube", "l-prism", "hexagonal-prism"):
+        obj = bundled(name)
+        moved = Polyhedron.from_arrays(obj.vertices * scale + offset, obj.triangles)
+        want = synthesize(obj, 2, "soft", 0.5, top=3).found
+        got = synthesize(moved, 2, "soft", 0.5, top=3).found
+        assert len(got) == len(want)
+        np.testing.assert_allclose([r.min_area / moved.size**2 for r in got],
+                                   [r.min_area / obj.size**2 for r in want], rtol=1e-5)
+        assert all(r.certify().holds for r in got)
