@@ -76,9 +76,43 @@ def test_every_quadruple_in_every_region_is_force_closure(name):
 
 
 def test_square_pinwheel_is_half_of_each_side():
-    r = maximal_frictionless_regions(bundled("square"), (0, 1, 2, 3))
-    want = 1 - 1e-3 * bundled("square").size / 2  # the margin takes a little off each
+    """With no room for turned normals, the pinwheel's half sides (less what keeps the
+    cofactors STRICT * size from zero)."""
+    from forceclosure.synthesis.frictionless import STRICT
+
+    r = maximal_frictionless_regions(bundled("square"), (0, 1, 2, 3), margin=1e-12)
+    want = 1 - STRICT * bundled("square").size / 2
     assert r.min_length == pytest.approx(want, rel=1e-6)
+
+
+@pytest.mark.parametrize("margin", [1e-3, 0.05, 0.2])
+def test_regions_hold_for_every_normal_within_the_margin(margin):
+    """The margin's one meaning: every quadruple in the regions, with every pushing
+    direction turned by up to ``margin``, is force-closure (Theorem 1, independently, at the
+    corners with the extreme turns and at random points and turns); the regions shrink as
+    the margin grows; a grasp just outside the turned normals' reach is not claimed."""
+    square = bundled("square")
+    rng = np.random.default_rng(7)
+    r = maximal_frictionless_regions(square, (0, 1, 2, 3), margin=margin)
+    assert r.certify().holds and r.margin == margin
+    assert r.min_length < maximal_frictionless_regions(square, (0, 1, 2, 3),
+                                                       margin=margin / 2).min_length
+    edges = [square.edges[k] for k in r.edges]
+
+    def closed(ts, turns):
+        grasp = []
+        for e, t, a in zip(edges, ts, turns, strict=True):
+            c, s = np.cos(a), np.sin(a)
+            n = np.array([c * e.normal[0] - s * e.normal[1], s * e.normal[0] + c * e.normal[1]])
+            grasp.append(point_contact(e.point(t), n, "frictionless"))
+        return analyze(grasp).verdict is Verdict.CLOSURE
+
+    for ts in itertools.product(*r.segments):
+        for turns in itertools.product((-margin, margin), repeat=4):
+            assert closed(ts, turns)
+    for _ in range(200):
+        ts = [rng.uniform(u, v) for u, v in r.segments]
+        assert closed(ts, rng.uniform(-margin, margin, 4))
 
 
 def test_refusals_and_empty_cases():

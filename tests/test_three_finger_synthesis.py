@@ -35,12 +35,12 @@ def test_every_triple_in_every_region_is_force_closure(polygon):
 @pytest.mark.parametrize("mu", [0.1, 0.3, 0.5])
 def test_regular_polygons_closed_form(mu):
     """Around a regular n-gon with inradius r, lines meeting at the centre allow each
-    finger 2 r tan(atan(mu)) = 2 r mu (less the margin), up to the side's length."""
+    finger 2 r tan(atan(mu) - margin), up to the side's length."""
     for n, edges in ((3, (0, 1, 2)), (6, (0, 2, 4))):
         polygon = Polygon.regular(n)
         r = three_finger_regions(polygon, edges, mu)
         inradius = math.cos(math.pi / n)
-        want = min(2 * inradius * mu * (1 - 1e-3), polygon.edges[0].length)
+        want = min(2 * inradius * math.tan(math.atan(mu) - 1e-3), polygon.edges[0].length)
         if mu >= math.tan(math.pi / 6):  # (b) fails: a choice of directions fits a half-plane
             assert r is None
         else:

@@ -262,6 +262,7 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
     result = synthesize(obj, args.fingers, args.contact, args.mu, top=args.top,
                         margin=args.margin, construction=args.construction,
                         method=args.method, samples=args.samples, seed=args.seed)
+    args.fingers = result.fingers  # the default filled in
     if obj.dim == 3:
         return _synthesize_spatial(args, obj, result)
     found, mu = result.found, result.mu
@@ -270,7 +271,7 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
     if args.vertices:
         from .synthesis import vertex_grasps
 
-        corners = vertex_grasps(obj, mu, top=args.top)
+        corners = vertex_grasps(obj, mu, top=args.top, margin=args.margin)
     if args.json:
         record = {"object": obj.name, "fingers": args.fingers, "contact": args.contact,
                   "mu": mu, "size": obj.size, "grasps": [r.to_dict() for r in found]}
@@ -478,7 +479,10 @@ def build_parser() -> argparse.ArgumentParser:
                                    "force-closure.")
     y.add_argument("object", metavar="OBJECT",
                    help="a polygon or mesh file, or a bundled name")
-    y.add_argument("--fingers", type=int, default=2, help="number of fingers (default 2)")
+    y.add_argument("--fingers", type=int, default=None,
+                   help="number of fingers (default: the fewest that can hold the object: 2 "
+                        "with friction in the plane, 4 frictionless; in space 2 soft, 3 hard, "
+                        "7 frictionless)")
     _synthesis_options(y)
     y.add_argument("--vertices", action="store_true",
                    help="also grasp with a soft finger on a convex vertex (a wider cone)")

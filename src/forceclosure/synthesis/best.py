@@ -175,9 +175,10 @@ def _on_edges(polygon: Polygon, fingers: int, frictionless: bool, mu: float, top
     from . import best_frictionless_regions, best_regions, best_three_finger_regions
 
     if frictionless:
-        return best_frictionless_regions(polygon, top=top, construction=construction)
+        return best_frictionless_regions(polygon, top=top, margin=margin,
+                                         construction=construction)
     if fingers == 3:
-        return best_three_finger_regions(polygon, mu, top=top)
+        return best_three_finger_regions(polygon, mu, top=top, margin=margin)
     return best_regions(polygon, mu, top=top, margin=margin, construction=construction)
 
 

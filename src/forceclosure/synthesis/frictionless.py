@@ -16,12 +16,23 @@ contacts, without the parallelograms. The independent regions are then a
 box in ``(t1, ..., t4)`` on whose 16 corners the conditions hold, the
 maximal such box is a small linear program, and its certificate is the
 corner check in exact rational arithmetic.
+
+The margin (:func:`~forceclosure.synthesis.regions.check_margin`) asks
+more: every force direction within ``margin`` radians of each normal must
+work. Each ``C_i`` is linear in each force (a minor is linear in each of
+its columns, and a wrench in its force), so over the fan of directions
+``(1 - s) f_i^- + s f_i^+`` between the two turned normals it is affine in
+``s_i`` too. The conditions then hold everywhere iff they hold for the 16
+combinations of turned normals, at the 16 corners: 64 rows in the linear
+program, 256 exact checks in the certificate.
 """
 
 from __future__ import annotations
 
 import itertools
+import math
 from dataclasses import dataclass
+from fractions import Fraction
 
 import numpy as np
 from numpy.typing import NDArray
@@ -29,11 +40,19 @@ from scipy.optimize import linprog
 
 from ..errors import InputError
 from ..objects.polygon import Polygon
-from .regions import Certificate, Regions, check_edges, exact_inward, exact_point
+from .regions import (
+    MARGIN,
+    Certificate,
+    Regions,
+    check_edges,
+    check_margin,
+    exact_inward,
+    exact_point,
+)
 from .vertices import _extremes
 
-#: Default margin on the cofactors, relative to the polygon's size.
-COFACTOR_MARGIN = 1e-3
+#: The cofactors are kept this fraction of the polygon's size away from zero.
+STRICT = 1e-6
 
 
 def _cross(a, b):
@@ -55,10 +74,18 @@ def cofactors(points, forces) -> list:
     return out
 
 
-def _affine(polygon: Polygon, edges: tuple[int, ...]) -> tuple[NDArray, NDArray]:
-    """``C(t) = A @ t + b`` for the four cofactors (rows) and edge parameters (columns)."""
+def _turned(m, turns, cos, sin) -> list:
+    """``m`` turned by ``turns`` times the angle whose cosine and sine are given."""
+    return [cos * m[0] - turns * sin * m[1], turns * sin * m[0] + cos * m[1]]
+
+
+def _affine(polygon: Polygon, edges: tuple[int, ...], turns=(0, 0, 0, 0),
+            margin: float = 0.0) -> tuple[NDArray, NDArray]:
+    """``C(t) = A @ t + b`` for the four cofactors (rows) and edge parameters (columns),
+    with each pushing direction turned by ``turns[i] * margin``."""
     es = [polygon.edges[k] for k in edges]
-    forces = [-e.normal for e in es]
+    c, s = np.cos(margin), np.sin(margin)
+    forces = [np.array(_turned(-e.normal, k, c, s)) for e, k in zip(es, turns, strict=True)]
     base = cofactors([e.start for e in es], forces)
     A = np.zeros((4, 4))
     for j in range(4):  # C is affine: the slope in t_j is C(start + d_j) - C(start)
@@ -69,54 +96,73 @@ def _affine(polygon: Polygon, edges: tuple[int, ...]) -> tuple[NDArray, NDArray]
 
 @dataclass(frozen=True, eq=False)
 class FrictionlessRegions(Regions):
-    """Four segments, one per edge, such that every choice of four points is force-closure."""
+    """Four segments, one per edge, such that every choice of four points is force-closure,
+    with every normal turned by up to ``margin`` radians.
+
+    Attributes (beyond :class:`Regions`)
+    ------------------------------------
+    margin : float
+    """
+
+    margin: float = 0.0
+
+    def to_dict(self) -> dict[str, object]:
+        """The JSON record (see :meth:`Regions.to_dict`), with ``margin``."""
+        return {**super().to_dict(), "margin": self.margin}
 
     def certify(self) -> Certificate:
-        """Prove, exactly, that every choice of one point per segment is force-closure.
+        """Prove, exactly, that every choice of one point per segment is force-closure,
+        for every pushing direction within ``margin`` of each normal.
 
-        The cofactors are affine in the four edge parameters, so they keep
-        one strict sign on the box of segments iff they do at its 16
-        corners. The corners are evaluated with ``fractions.Fraction`` at the
-        very points that are printed, with exact (unnormalised) normals:
-        scaling a wrench by a positive number scales its cofactor's partner
-        and keeps every sign.
+        The cofactors are affine in the four edge parameters and in each
+        finger's position in its fan of directions, so they keep one strict
+        sign on the whole box iff they do at its 16 corners for the 16
+        combinations of extreme directions (the rational cosine and sine of
+        the margin, from their floating-point values). The corners are
+        evaluated with ``fractions.Fraction`` at the very points that are
+        printed, with exact (unnormalised) normals: scaling a wrench by a
+        positive number scales its cofactor's partner and keeps every sign.
         """
         es = [self.polygon.edges[k] for k in self.edges]
-        forces = [exact_inward(e) for e in es]
+        inward = [exact_inward(e) for e in es]
+        cos, sin = Fraction(math.cos(self.margin)), Fraction(math.sin(self.margin))
+        fans = (-1, 1) if self.margin > 0 else (0,)
         signs = set()
         for corner in itertools.product(*self.segments):
             pts = [exact_point(e, t) for e, t in zip(es, corner, strict=True)]
-            c = cofactors(pts, forces)
-            if any(x == 0 for x in c) or len({x > 0 for x in c}) != 1:
-                return Certificate(False, "corner check (exact rationals)",
-                                   f"the grasp at t = {tuple(round(x, 6) for x in corner)} is "
-                                   "not force-closure")
-            signs.add(c[0] > 0)
+            for turns in itertools.product(fans, repeat=4):
+                forces = [_turned(m, k, cos, sin) for m, k in zip(inward, turns, strict=True)]
+                c = cofactors(pts, forces)
+                if any(x == 0 for x in c) or len({x > 0 for x in c}) != 1:
+                    return Certificate(False, "corner check (exact rationals)",
+                                       f"the grasp at t = {tuple(round(x, 6) for x in corner)}"
+                                       " is not force-closure")
+                signs.add(c[0] > 0)
         if len(signs) != 1:
             return Certificate(False, "corner check (exact rationals)",
                                "the cofactors change sign between corners")
         return Certificate(True, "corner check (exact rationals)",
                            "the four cofactors (the null vector of the wrenches) are nonzero "
-                           "with one sign at all 16 corners, hence (affine) everywhere")
+                           "with one sign at all 16 corners (for every extreme direction "
+                           "within the margin), hence (affine) everywhere")
 
 
 
 def _check(polygon: Polygon, edges, margin: float) -> tuple[int, ...]:
-    if not (isinstance(margin, int | float) and 0 < margin < 1):
-        raise InputError(f"margin must be a fraction of the object's size between 0 and 1, "
-                         f"got {margin!r}")
+    check_margin(margin)
     return check_edges(polygon, edges, 4)
 
 
 def maximal_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, int],
-                                 margin: float = COFACTOR_MARGIN,
+                                 margin: float = MARGIN,
                                  ) -> FrictionlessRegions | None:
     """The largest independent regions for four frictionless fingers on four edges.
 
     Maximises the shortest segment such that all four cofactors keep one
-    sign, at least ``margin * size`` from zero, on the whole box of
-    segments. Both signs are tried; each is a linear program in
-    ``(u1, ..., u4, z)`` with the segments ``[u_i, u_i + z]``.
+    sign, at least ``STRICT * size`` from zero, on the whole box of segments
+    and for every combination of normals turned by ``± margin``. Both signs
+    are tried; each is a linear program in ``(u1, ..., u4, z)`` with the
+    segments ``[u_i, u_i + z]``.
 
     Examples
     --------
@@ -126,9 +172,11 @@ def maximal_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, i
     (0.999, True)
     """
     edges = _check(polygon, edges, margin)
-    A, b = _affine(polygon, edges)
+    affine = [_affine(polygon, edges, turns, margin)
+              for turns in itertools.product((-1, 1), repeat=4)]
+    A, b = np.vstack([a for a, _ in affine]), np.concatenate([c for _, c in affine])
     lengths = [polygon.edges[e].length for e in edges]
-    delta = margin * polygon.size
+    delta = STRICT * polygon.size
     best = None
     for sign in (1.0, -1.0):
         sA, sb = sign * A, sign * b
@@ -147,13 +195,14 @@ def maximal_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, i
     for trim in (0.0, 1e-9):  # should rounding have cut a corner, trim and check again
         segments = tuple((float(u) + trim * z + 0.0, min(float(u) + z, L) - trim * z)
                          for u, L in zip(best[:4], lengths, strict=True))
-        regions = FrictionlessRegions(polygon, edges, segments, "maximal (linear program)")
+        regions = FrictionlessRegions(polygon, edges, segments, "maximal (linear program)",
+                                      margin)
         if regions.certify().holds:
             return regions
     return None
 
 
-def best_frictionless_regions(polygon: Polygon, top: int = 5, margin: float = COFACTOR_MARGIN,
+def best_frictionless_regions(polygon: Polygon, top: int = 5, margin: float = MARGIN,
                               construction: str = "maximal") -> list[FrictionlessRegions]:
     """Independent regions for four frictionless fingers on every quadruple of edges.
 
@@ -204,7 +253,7 @@ def _meeting_point(e1, e2):
 
 
 def nguyen_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, int],
-                                margin: float = COFACTOR_MARGIN) -> FrictionlessRegions | None:
+                                margin: float = MARGIN) -> FrictionlessRegions | None:
     """Nguyen's construction for four frictionless fingers (§5.4, Fig. 10).
 
     Fingers 1 and 2 act like one contact at ``P12``, where their normal
@@ -241,7 +290,10 @@ def nguyen_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, in
             continue
         funcs = [np.array([-g[0][1], g[0][0]]) for g in (c12, c34)] + \
             [np.array([g[1][1], -g[1][0]]) for g in (c12, c34)]
-        delta = margin * polygon.size
+        # the turned normals are not in this program: keep room for them (an angle of margin
+        # moves a meeting point by about margin times the object's size); the certificate
+        # decides
+        delta = max(STRICT, margin) * polygon.size
         rows, rhs = [], []  # x = (Ix, Iy, u1, u2, u3, u4, z), in the pairing's order
         for pair, sign in ((0, -1.0), (1, 1.0)):  # I - P12 in S; P34 - I in S
             off, M = maps[pair]
@@ -269,7 +321,8 @@ def nguyen_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, in
                                     for u, e in zip(res.x[2:6], es, strict=True)),
                             strict=True))
         regions = FrictionlessRegions(polygon, edges, tuple(segments[k] for k in edges),
-                                      "Nguyen's two-sided cone between parallelograms (§5.4)")
+                                      "Nguyen's two-sided cone between parallelograms (§5.4)",
+                                      margin)
         if regions.certify().holds and (best is None or regions.min_length > best.min_length):
             best = regions
     return best

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -12,6 +13,50 @@ from ..errors import InputError
 from ..objects.polygon import Edge, Polygon
 
 _COUNT = {2: "two", 3: "three", 4: "four"}
+
+#: The default margin, in radians: every grasp in the regions stays force-closure when each
+#: contact normal turns by up to this angle (see :func:`check_margin`).
+MARGIN = 1e-3
+
+
+def check_margin(margin: float) -> float:
+    """The one meaning of ``margin`` in every construction, validated.
+
+    ``margin`` is an angle in radians: the regions stay force-closure when the
+    normal at every contact turns by up to ``margin`` (a finger placed on a
+    slightly different surface, or a model of the object slightly off). A
+    finger with friction is built with its cone narrowed by ``margin``
+    (half-angle ``atan(mu) - margin``), which lies inside the cone around
+    every normal within ``margin``; a frictionless finger is built so that
+    every force direction within ``margin`` of its normal works.
+
+    Examples
+    --------
+    >>> check_margin(1e-3)
+    0.001
+    >>> check_margin(2)
+    Traceback (most recent call last):
+    ...
+    forceclosure.errors.InputError: margin must be an angle in radians between 0 and pi/2, \
+got 2
+    """
+    if not (isinstance(margin, int | float) and not isinstance(margin, bool)
+            and 0 < margin < math.pi / 2):
+        raise InputError(f"margin must be an angle in radians between 0 and pi/2, got "
+                         f"{margin!r}")
+    return float(margin)
+
+
+def narrowed(mu: float, margin: float) -> float:
+    """The friction coefficient of the cone narrowed by ``margin`` radians (0 when nothing
+    is left of it).
+
+    Examples
+    --------
+    >>> round(narrowed(1.0, math.pi / 8), 6)   # tan(pi/4 - pi/8)
+    0.414214
+    """
+    return math.tan(max(math.atan(mu) - margin, 0.0))
 
 
 def check_edges(polygon: Polygon, edges, count: int) -> tuple[int, ...]:

@@ -31,12 +31,20 @@ from scipy.optimize import linprog
 
 from ..errors import InputError
 from ..objects.polygon import Polygon
-from .regions import Certificate, Regions, check_edges, exact_inward, exact_point
+from .regions import (
+    MARGIN,
+    Certificate,
+    Regions,
+    check_edges,
+    check_margin,
+    exact_inward,
+    exact_point,
+    narrowed,
+)
 from .vertices import _extremes, _generators
 
-#: Default margin: friction reduced by this fraction, and ``X`` kept this fraction of the
-#: object's size inside the material beyond each contact.
-MARGIN = 1e-3
+#: ``X`` is kept this fraction of the object's size inside the material beyond each contact.
+DEPTH = 1e-3
 
 
 def _cross(a, b):
@@ -114,19 +122,19 @@ def three_finger_regions(polygon: Polygon, edges: tuple[int, int, int], mu: floa
     >>> from forceclosure.objects import bundled
     >>> r = three_finger_regions(bundled("triangle"), (0, 1, 2), mu=0.3)
     >>> round(r.min_length, 3), r.certify().holds
-    (0.3, True)
+    (0.299, True)
     """
     edges = check_edges(polygon, edges, 3)
     if not (isinstance(mu, int | float) and np.isfinite(mu) and mu > 0):
         raise InputError(f"friction coefficient must be a positive number, got {mu!r}")
-    if not 0 < margin < 1:
-        raise InputError(f"margin must be a fraction between 0 and 1, got {margin!r}")
+    shrunk = narrowed(mu, check_margin(margin))
+    if shrunk <= 0:
+        return None
     es = [polygon.edges[k] for k in edges]
-    shrunk = mu * (1 - margin)
     cones = [_extremes(_generators([e.normal], shrunk)) for e in es]
     if not _spans_whatever_the_choice(cones):
         return None
-    depth = margin * polygon.size
+    depth = DEPTH * polygon.size
     rows, rhs = [], []  # variables (X, Y, u1, u2, u3, z); rows @ x <= rhs
     for i, (e, (g_lo, g_hi)) in enumerate(zip(es, cones, strict=True)):
         push = -e.normal

@@ -28,10 +28,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..objects.polygon import Polygon
-from .regions import Certificate, exact_inward, exact_point
-
-#: Default margin, as a fraction of the friction coefficient taken off every cone.
-FRICTION_MARGIN = 1e-3
+from .regions import MARGIN, Certificate, check_margin, exact_inward, exact_point, narrowed
 
 
 def convex_vertices(polygon: Polygon) -> list[tuple[int, int, int]]:
@@ -169,12 +166,13 @@ class VertexGrasp:
 
 
 def vertex_grasps(polygon: Polygon, mu: float, top: int = 5,
-                  margin: float = FRICTION_MARGIN) -> list[VertexGrasp]:
+                  margin: float = MARGIN) -> list[VertexGrasp]:
     """Two-finger grasps with a soft finger on a convex vertex, best first.
 
     Pairs a vertex with every edge not adjacent to it (its region: the whole
-    interval of force-closure grasps, with the friction reduced by the
-    fraction ``margin``) and with every other convex vertex (a single grasp).
+    interval of force-closure grasps, with every cone narrowed by ``margin``
+    radians, :func:`~forceclosure.synthesis.regions.check_margin`) and with
+    every other convex vertex (a single grasp).
     Grasps are ranked by the region on the edge; vertex pairs come last.
 
     Examples
@@ -182,15 +180,15 @@ def vertex_grasps(polygon: Polygon, mu: float, top: int = 5,
     >>> from forceclosure.objects import bundled
     >>> g = vertex_grasps(bundled("triangle"), mu=0.3, top=1)[0]   # no edge pair works
     >>> g.other[0], round(g.min_length, 3), g.certify().holds
-    ('edge', 0.899, True)
+    ('edge', 0.897, True)
     """
     if not isinstance(top, int) or isinstance(top, bool) or top < 1:
         raise InputError(f"'top' must be a positive integer, got {top!r}")
     if not (isinstance(mu, int | float) and np.isfinite(mu) and mu > 0):
         raise InputError(f"friction coefficient must be a positive number, got {mu!r}")
-    if not 0 < margin < 1:
-        raise InputError(f"margin must be a fraction between 0 and 1, got {margin!r}")
-    shrunk = mu * (1 - margin)
+    shrunk = narrowed(mu, check_margin(margin))
+    if shrunk <= 0:
+        return []
     edges = polygon.edges
     corners = convex_vertices(polygon)
     found = []
