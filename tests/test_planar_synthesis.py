@@ -153,14 +153,15 @@ def test_synthesize_command(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("argv,message", [
-    (["synthesize", "cube", "--contact", "hard"], "at least 3 hard fingers"),
+    (["synthesize", "cube", "--contact", "hard", "--fingers", "2"], "at least 3 hard fingers"),
     (["synthesize", "cube", "--fingers", "6", "--contact", "frictionless"],
      "at least 7 frictionless fingers"),
     (["synthesize", "cube", "--fingers", "4", "--method", "faces"], "use --method mesh"),
     (["synthesize", "cube", "--fingers", "3", "--construction", "nguyen"],
      "two soft fingers"),
     (["synthesize", "square", "--fingers", "4"], "implemented so far are two or three"),
-    (["synthesize", "square", "--contact", "frictionless"], "the plane needs four"),
+    (["synthesize", "square", "--contact", "frictionless", "--fingers", "2"],
+     "the plane needs four"),
     (["synthesize", "square", "--mu", "-1"], "--mu must be a positive number"),
     (["synthesize", "square", "--top", "0"], "'top' must be a positive integer"),
     (["synthesize", "square", "--margin", "-0.1"], "margin must be an angle in radians"),
