@@ -91,6 +91,21 @@ def test_viewbox_with_units_reads_user_units():
     assert q.bounds.tolist() == [[0.0, 45.0], [5.0, 50.0]]
 
 
+@pytest.mark.parametrize("inner,bounds", [
+    # a viewport at (10, 10), 20 wide, showing viewBox 0 0 10 10: scale 2
+    ('<svg x="10" y="10" width="20" height="20" viewBox="0 0 10 10">'
+     '<rect width="10" height="10"/></svg>', [[10, 70], [30, 90]]),
+    # without a viewBox a nested <svg> only moves its content to x, y
+    ('<svg x="10" y="10"><svg x="1" y="2"><rect width="10" height="10"/></svg></svg>',
+     [[11, 78], [21, 88]]),
+    # attributes that mean nothing on a group are not inherited by the rect
+    ('<g x="7" y="7" width="50"><rect width="10" height="10"/></g>', [[0, 90], [10, 100]]),
+])
+def test_nested_viewports(inner, bounds):
+    p = polygon_from_svg(f'<svg {SVG_NS} viewBox="0 0 100 100">{inner}</svg>')
+    assert p.bounds.tolist() == bounds
+
+
 def test_lengths_with_units_as_a_browser_reads_them():
     # 1in = 96 user units (CSS px) and 1 mm = 96 / 25.4
     p = polygon_from_svg(f'<svg {SVG_NS}><rect width="1in" height="25.4mm"/></svg>')

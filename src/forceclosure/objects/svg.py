@@ -161,12 +161,48 @@ def _prepare(root: ET.Element, name: str) -> float | None:
             defs = ET.Element(f"{namespace}defs")
             defs.append(element)
             parent.insert(index, defs)
+    _explicit_positions(root, namespace, name)
     values = re.findall(_NUMBER, root.get("viewBox", ""))
     if len(values) == 4 and float(values[2]) > 0 and float(values[3]) > 0:
         for attribute in ("width", "height"):  # read in viewBox units: no viewport scaling
             root.attrib.pop(attribute, None)
         return float(values[3])
     return None
+
+
+def _explicit_positions(root: ET.Element, namespace: str, name: str) -> None:
+    """Write out the defaults svgelements would otherwise inherit from an enclosing element.
+
+    svgelements passes every attribute down to the children, so a ``<rect>`` without
+    ``x`` inside ``<svg x="10">`` would take that 10; browsers take 0. A nested ``<svg>``
+    without a viewBox is not moved to its ``x``, ``y`` by svgelements: a group does it.
+    """
+    defaults = {"rect": {"x": "0", "y": "0", "width": "0", "height": "0"},
+                "use": {"x": "0", "y": "0"}, "image": {"x": "0", "y": "0"},
+                "circle": {"cx": "0", "cy": "0"}, "ellipse": {"cx": "0", "cy": "0"},
+                "svg": {"x": "0", "y": "0", "width": "100%", "height": "100%"}}
+    parents = {child: parent for parent in root.iter() for child in parent}
+    for element in list(root.iter()):
+        tag = _local(element.tag)
+        if element is root:
+            continue
+        if tag == "svg" and not element.get("viewBox") and (element.get("x") or element.get("y")):
+            try:
+                x, y = (float(element.get(k, "0")) for k in ("x", "y"))
+            except ValueError:
+                raise InputError(f"{name}: {_xml_label(element)}: a nested <svg> without a "
+                                 "viewBox is read only with x and y in user units") from None
+            parent = parents[element]
+            index = list(parent).index(element)
+            parent.remove(element)
+            group = ET.Element(f"{namespace}g", {"transform": f"translate({x!r}, {y!r})"})
+            group.append(element)
+            parent.insert(index, group)
+            element.set("x", "0")
+            element.set("y", "0")
+        for key, value in defaults.get(tag, {}).items():
+            if element.get(key) is None:
+                element.set(key, value)
 
 
 def _matrix(m: se.Matrix) -> NDArray[np.float64]:
