@@ -364,7 +364,8 @@ def test_clip_paths():
                        "SVG (1 <text> not read)"),
     ('<path id="x" d="M0 0 L1 0 L1 1 Z 5"/>', "<path id=\"x\">: path command 'Z' takes no "
                                              "numbers"),
-    ('<path d="M0 0 L3 0 X 1"/>', "path command 'L' has missing or bad numbers"),
+    ('<path d="M0 0 L3 0 X 1"/>', "<path>: unknown path command 'X' (at character 11)"),
+    ('<path d="M0 0 L3 0 L 1"/>', "path command 'L' has missing or bad numbers"),
     ('<path d="M0 0 L2 2 L2 0 L0 2 Z"/>', "invalid polygon: self-intersection at (1, -1)"),
     ('<polygon points="0 0 1 0 1"/>', "odd number of coordinates"),
     ('<rect width="4" height="4" mask="url(#m)"/>', "it is masked"),

@@ -120,6 +120,9 @@ def _check_path_data(d: str, where: str) -> None:
     command = commands[-1] if commands else "M"
     what = ("takes no numbers" if command in "Zz" else "has missing or bad numbers")
     near = d[lexer.pos:lexer.pos + 12].strip()
+    if near and near[0].isalpha() and near[0] not in _PATH_COMMANDS + "eE":
+        raise InputError(f"{where}: unknown path command '{near[0]}' (at character "
+                         f"{d.index(near[0], lexer.pos) + 1})")
     raise InputError(f"{where}: path command '{command}' {what} (at character {lexer.pos + 1}"
                      + (f", '{near}')" if near else ", the end)"))
 
@@ -360,7 +363,7 @@ def _attribute(node: Any, key: str) -> str | None:
     return None if value is None else str(value).strip()
 
 
-def _collect(svg: se.SVG, name: str) -> tuple[list[_Drawn], Counter]:
+def _collect(svg: se.SVG) -> tuple[list[_Drawn], Counter]:
     drawn: list[_Drawn] = []
     skipped: Counter = Counter()
     per_tag: Counter = Counter()
@@ -394,7 +397,7 @@ def _collect(svg: se.SVG, name: str) -> tuple[list[_Drawn], Counter]:
                 drawn.append(_Drawn(child, ancestors, tag, label, fill != "none",
                                     stroke not in ("none", ""), rule == "evenodd"))
 
-    walk(svg, [])
+    walk(svg, [svg])
     return drawn, skipped
 
 
@@ -460,8 +463,12 @@ def _clip_check(svg: se.SVG, chosen: _Candidate, name: str) -> None:
             raise InputError(f"{where}: its clip-path {url} is in objectBoundingBox units, "
                              "which are not read")
         # clip content is in the user space of the clipped element, not where it is defined
-        fix = (_matrix(se.Matrix(node.values.get("transform", "")))
-               @ np.linalg.inv(_matrix(se.Matrix(clip.values.get("transform", "")))))
+        try:
+            fix = (_matrix(se.Matrix(node.values.get("transform", "")))
+                   @ np.linalg.inv(_matrix(se.Matrix(clip.values.get("transform", "")))))
+        except (np.linalg.LinAlgError, ValueError) as e:
+            raise InputError(f"{where}: cannot place its clip-path {url}: "
+                             f"{_first_line(e)}") from None
         parts = []
         for child in clip:
             if isinstance(child, _SHAPES):
@@ -566,7 +573,7 @@ def polygon_from_svg(text: str, name: str = "polygon", part: str | None = None) 
         raise InputError(f"{name}: cannot read the SVG: {_first_line(e)}") from None
     if not isinstance(svg, se.SVG):
         raise InputError(f"{name}: the SVG draws nothing")
-    drawn, skipped = _collect(svg, name)
+    drawn, skipped = _collect(svg)
     not_read = ", ".join(f"{n} {tag}" for tag, n in skipped.items())
     if part is not None:
         picked = [s for s in drawn if part in s.ids]
