@@ -49,7 +49,7 @@ import math
 import re
 import xml.etree.ElementTree as ET
 from collections import Counter
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -527,7 +527,7 @@ def _assemble(chosen: _Candidate, name: str, flip: float | None) -> Polygon:
             continue
         holes.append(ring)
     polygon = Polygon.from_points(outer, holes, name=where, warnings=warnings)
-    return Polygon(polygon.outer, polygon.holes, polygon.edges, name, polygon.warnings)
+    return replace(polygon, name=name)
 
 
 def polygon_from_svg(text: str, name: str = "polygon", part: str | None = None) -> Polygon:
@@ -613,6 +613,5 @@ def polygon_from_svg(text: str, name: str = "polygon", part: str | None = None) 
     if not_read and part is None:
         notes.append(f"not read: {not_read}")
     if notes:
-        polygon = Polygon(polygon.outer, polygon.holes, polygon.edges, polygon.name,
-                          (*polygon.warnings, *notes))
+        polygon = replace(polygon, warnings=(*polygon.warnings, *notes))
     return polygon
