@@ -69,8 +69,8 @@ def test_loaders_agree():
     from_json = polygon_from_json({"outer": ring, "holes": [hole]})
     geo = {"type": "FeatureCollection", "features": [{"type": "Feature", "properties": {},
            "geometry": {"type": "Polygon", "coordinates": [[*ring, ring[0]], hole]}}]}
-    svg = ('<svg xmlns="http://www.w3.org/2000/svg"><path d="M0 0 h4 v3 h-4 z '
-           'm1 1 l1 0 l0 1 l-1 0 z"/></svg>')
+    svg = ('<svg xmlns="http://www.w3.org/2000/svg"><path fill-rule="evenodd" d="M0 0 h4 v3 '
+           'h-4 z m1 1 l1 0 l0 1 l-1 0 z"/></svg>')  # both rings wind one way: evenodd holes
     csv = "x,y\n" + "\n".join(f"{x},{y}" for x, y in ring) + "\n\n" + "\n".join(
         f"{x} {y}" for x, y in hole)
     shapely_obj = Polygon.from_shapely(shapely.Polygon(ring, [hole]))

@@ -216,7 +216,7 @@ def _cmd_objects(args: argparse.Namespace) -> int:
 def _cmd_inspect(args: argparse.Namespace) -> int:
     from .objects.io import load_object
 
-    obj = load_object(args.object, allow_open=args.allow_open)
+    obj = load_object(args.object, allow_open=args.allow_open, part=args.part)
     info = obj.summary()
     if args.json:
         json.dump(info, sys.stdout, indent=2)
@@ -253,7 +253,7 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
 
     if args.html and not args.html.lower().endswith((".html", ".htm")):
         raise InputError(f"--html {args.html}: an interactive view is saved as .html")
-    obj = load_object(args.object)
+    obj = load_object(args.object, part=args.part)
     if obj.dim == 3 and args.vertices:
         raise InputError("--vertices is for polygons; on a polyhedron every finger is on a face")
     if args.vertices and args.contact == "frictionless":
@@ -471,6 +471,7 @@ def build_parser() -> argparse.ArgumentParser:
     i.add_argument("--json", action="store_true", help="print the summary as JSON")
     i.add_argument("--allow-open", action="store_true",
                    help="accept open or non-manifold meshes instead of refusing them")
+    i.add_argument("--part", metavar="NAME", help="the URDF link (or SVG element id) to read")
     i.set_defaults(run=_cmd_inspect)
     y = sub.add_parser("synthesize", help="where to put the fingers: independent regions",
                        description="Find the best force-closure grasps on an object and the "
@@ -483,6 +484,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="number of fingers (default: the fewest that can hold the object: 2 "
                         "with friction in the plane, 4 frictionless; in space 2 soft, 3 hard, "
                         "7 frictionless)")
+    y.add_argument("--part", metavar="NAME", help="the URDF link (or SVG element id) to read")
     _synthesis_options(y)
     y.add_argument("--vertices", action="store_true",
                    help="also grasp with a soft finger on a convex vertex (a wider cone)")

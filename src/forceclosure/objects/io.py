@@ -4,9 +4,11 @@
 
 * polygons: ``.json`` / ``.geojson`` (``{"outer": [...], "holes": [...]}``,
   a list of points, or a GeoJSON Polygon, Feature or FeatureCollection of
-  one polygon), ``.svg`` (the first ``<polygon>``, ``<polyline>`` or
-  ``<path>`` of straight segments; several subpaths make holes), ``.csv``
-  (``x,y`` per line; an empty line starts a hole);
+  one polygon), ``.svg`` (read as a browser draws it, y up: transforms,
+  ``<use>``, viewBox and units applied, ``<defs>`` ignored, curves and
+  basic shapes tessellated within a stated tolerance; the largest drawn
+  shape, or the one ``part`` names by id; see :mod:`forceclosure.objects.svg`),
+  ``.csv`` (``x,y`` per line; an empty line starts a hole);
 * polyhedra: ``.stl``, ``.obj``, ``.ply``, ``.off``, ``.glb``, ``.gltf``
   (through trimesh, scenes flattened into one mesh), and ``.urdf`` (the
   first link's collision mesh, with its scale, as robot simulators see it).
@@ -33,6 +35,10 @@ from ..errors import InputError, parse_json
 from .examples import POLYGONS, POLYHEDRA, bundled
 from .polygon import Polygon
 from .polyhedron import Polyhedron
+from .svg import polygon_from_svg
+
+__all__ = ["load_object", "polygon_from_csv", "polygon_from_json", "polygon_from_svg",
+           "polyhedron_from_mesh_file", "urdf_mesh"]
 
 POLYGON_SUFFIXES = (".json", ".geojson", ".svg", ".csv")
 MESH_SUFFIXES = (".stl", ".obj", ".ply", ".off", ".glb", ".gltf")
@@ -83,101 +89,6 @@ def polygon_from_json(data: Any, name: str = "polygon") -> Polygon:
         raise InputError(f"{name}: field 'holes' must be a list of rings")
     return Polygon.from_points(data["outer"], holes, name=data.get("name", name)
                                if isinstance(data.get("name"), str) else name)
-
-
-_PATH_TOKEN = re.compile(r"([A-Za-z])|([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)")
-
-
-def _path_rings(d: str, name: str) -> list[list[tuple[float, float]]]:
-    tokens = _PATH_TOKEN.findall(d)
-    rings: list[list[tuple[float, float]]] = []
-    ring: list[tuple[float, float]] = []
-    x = y = 0.0
-    start = (0.0, 0.0)
-    cmd = None
-    i = 0
-
-    def number() -> float:
-        nonlocal i
-        if i >= len(tokens) or not tokens[i][1]:
-            raise InputError(f"{name}: path command '{cmd}' is missing a number")
-        i += 1
-        return float(tokens[i - 1][1])
-
-    while i < len(tokens):
-        letter, _ = tokens[i]
-        if letter:
-            cmd = letter
-            i += 1
-            if cmd in "Zz":
-                if ring:
-                    rings.append(ring)
-                ring = []
-                x, y = start  # closing returns to the subpath's first point
-                continue
-            if cmd not in "MmLlHhVv":
-                raise InputError(f"{name}: path command '{cmd}' draws a curve; only straight "
-                                 "segments (M, L, H, V, Z) are supported")
-        elif cmd is None:
-            raise InputError(f"{name}: path data must start with a command")
-        elif cmd in "Zz":
-            raise InputError(f"{name}: path command '{cmd}' takes no numbers")
-        if cmd in "Mm":
-            if ring:
-                rings.append(ring)
-            dx, dy = number(), number()
-            x, y = (x + dx, y + dy) if cmd == "m" and (rings or ring) else (dx, dy)
-            ring = [(x, y)]
-            start = (x, y)
-            cmd = "l" if cmd == "m" else "L"
-        elif cmd in "Ll":
-            dx, dy = number(), number()
-            x, y = (x + dx, y + dy) if cmd == "l" else (dx, dy)
-            ring.append((x, y))
-        elif cmd in "Hh":
-            v = number()
-            x = x + v if cmd == "h" else v
-            ring.append((x, y))
-        elif cmd in "Vv":
-            v = number()
-            y = y + v if cmd == "v" else v
-            ring.append((x, y))
-    if ring:
-        rings.append(ring)
-    return rings
-
-
-def polygon_from_svg(text: str, name: str = "polygon") -> Polygon:
-    """A polygon from SVG text (coordinates as in the file, y pointing down).
-
-    Examples
-    --------
-    >>> svg = '<svg><path d="M0 0 H4 V4 H0 Z M1 1 V3 H3 V1 Z"/></svg>'
-    >>> p = polygon_from_svg(svg)
-    >>> p.area, len(p.holes)
-    (12.0, 1)
-    """
-    try:
-        root = ET.fromstring(text)
-    except ET.ParseError as e:
-        raise InputError(f"{name}: not valid SVG/XML: {_first_line(e)}") from None
-    for element in root.iter():
-        tag = element.tag.rsplit("}", 1)[-1]
-        if tag in ("polygon", "polyline"):
-            values = [float(v) for v in re.findall(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?",
-                                                   element.get("points", ""))]
-            if len(values) % 2:
-                raise InputError(f"{name}: <{tag}> has an odd number of coordinates")
-            return Polygon.from_points(np.reshape(values, (-1, 2)), name=name)
-        if tag == "path":
-            rings = _path_rings(element.get("d", ""), name)
-            if not rings:
-                raise InputError(f"{name}: <path> has no points")
-            areas = [abs(shapely.Polygon(r).area) if len(r) >= 3 else 0.0 for r in rings]
-            outer = int(np.argmax(areas))
-            return Polygon.from_points(rings[outer], [r for i, r in enumerate(rings)
-                                                      if i != outer], name=name)
-    raise InputError(f"{name}: no <polygon>, <polyline> or <path> element in the SVG")
 
 
 def polygon_from_csv(text: str, name: str = "polygon") -> Polygon:
@@ -261,7 +172,8 @@ def urdf_mesh(path: Path) -> tuple[Path, NDArray[np.float64]]:
     return path.parent / filename, scale
 
 
-def load_object(source: str | Path | Any, allow_open: bool = False) -> Polygon | Polyhedron:
+def load_object(source: str | Path | Any, allow_open: bool = False,
+                part: str | None = None) -> Polygon | Polyhedron:
     """Load a polygon or polyhedron from a file, a bundled name, or a library object.
 
     Parameters
@@ -270,6 +182,8 @@ def load_object(source: str | Path | Any, allow_open: bool = False) -> Polygon |
     allow_open : bool
         Accept open and non-manifold meshes (with a warning) instead of
         refusing them.
+    part : str, optional
+        The SVG element id, or for URDF the link, to read.
 
     Examples
     --------
@@ -293,6 +207,9 @@ def load_object(source: str | Path | Any, allow_open: bool = False) -> Polygon |
     if path.is_dir():
         raise InputError(f"{source}: is a directory")
     suffix = path.suffix.lower()
+    if part is not None and suffix not in (".svg", *ROBOT_SUFFIXES):
+        raise InputError(f"{path.name}: part '{part}' given, but only SVG files (element ids) "
+                         "and URDF files (links) have parts")
     if suffix in ROBOT_SUFFIXES:
         mesh, scale = urdf_mesh(path)
         if not mesh.is_file():
@@ -314,7 +231,7 @@ def load_object(source: str | Path | Any, allow_open: bool = False) -> Polygon |
         raise InputError(f"{path.name}: the file is empty")
     name = path.stem
     if suffix == ".svg":
-        return polygon_from_svg(text, name)
+        return polygon_from_svg(text, name, part=part)
     if suffix == ".csv":
         return polygon_from_csv(text, name)
     return polygon_from_json(parse_json(text, path.name), name)

@@ -163,16 +163,19 @@ class Polygon:
     edges : tuple of Edge
         The physical edges: the outer ring's, then each hole's.
     name : str
+    warnings : tuple of str
+        What a loader did to read the file as drawn (e.g. curves tessellated), for people.
     """
 
     outer: NDArray[np.float64]
     holes: tuple[NDArray[np.float64], ...]
     edges: tuple[Edge, ...]
     name: str = "polygon"
+    warnings: tuple[str, ...] = ()
 
     @classmethod
     def from_points(cls, outer: ArrayLike, holes: Sequence[ArrayLike] = (),
-                    name: str = "polygon") -> Polygon:
+                    name: str = "polygon", warnings: Sequence[str] = ()) -> Polygon:
         """Validate and normalise a polygon given by its vertices.
 
         Refuses, in one line naming the vertex or the place: non-finite
@@ -221,11 +224,11 @@ class Polygon:
         for e in edges:
             for arr in (e.start, e.end, e.normal):
                 arr.setflags(write=False)
-        return cls(kept[0], tuple(kept[1:]), tuple(edges), name)
+        return cls(kept[0], tuple(kept[1:]), tuple(edges), name, tuple(warnings))
 
     @classmethod
     def from_shapely(cls, geometry: shapely.Polygon | shapely.MultiPolygon,
-                     name: str = "polygon") -> Polygon:
+                     name: str = "polygon", warnings: Sequence[str] = ()) -> Polygon:
         """A polygon from a shapely ``Polygon`` (or a one-part ``MultiPolygon``).
 
         Examples
@@ -247,7 +250,8 @@ class Polygon:
         if geometry.is_empty:
             raise InputError(f"{name}: the polygon is empty")
         return cls.from_points(np.asarray(geometry.exterior.coords)[:, :2],
-                               [np.asarray(h.coords)[:, :2] for h in geometry.interiors], name)
+                               [np.asarray(h.coords)[:, :2] for h in geometry.interiors], name,
+                               warnings)
 
     @classmethod
     def regular(cls, n: int, radius: float = 1.0, name: str | None = None) -> Polygon:
@@ -327,4 +331,4 @@ class Polygon:
                                                                           self.rings)),
                 "edges": len(self.edges), "holes": len(self.holes), "convex": self.convex,
                 "area": self.area, "perimeter": self.perimeter, "size": self.size,
-                "bounds": self.bounds.tolist()}
+                "bounds": self.bounds.tolist(), "warnings": list(self.warnings)}
