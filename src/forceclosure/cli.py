@@ -216,7 +216,7 @@ def _cmd_objects(args: argparse.Namespace) -> int:
 def _cmd_inspect(args: argparse.Namespace) -> int:
     from .objects.io import load_object
 
-    obj = load_object(args.object, allow_open=args.allow_open)
+    obj = load_object(args.object, allow_open=args.allow_open, part=args.part)
     info = obj.summary()
     if args.json:
         json.dump(info, sys.stdout, indent=2)
@@ -253,7 +253,7 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
 
     if args.html and not args.html.lower().endswith((".html", ".htm")):
         raise InputError(f"--html {args.html}: an interactive view is saved as .html")
-    obj = load_object(args.object)
+    obj = load_object(args.object, part=args.part)
     if obj.dim == 3 and args.vertices:
         raise InputError("--vertices is for polygons; on a polyhedron every finger is on a face")
     if args.vertices and args.contact == "frictionless":
@@ -464,12 +464,14 @@ def build_parser() -> argparse.ArgumentParser:
                        description="Load an object (a file or a bundled name), check it, and "
                                    "summarise it: edges, or planar faces found in a mesh.")
     i.add_argument("object", metavar="OBJECT",
-                   help="a file (.json .geojson .svg .csv .stl .obj .ply .off .glb .gltf) "
+                   help="a file (.json .geojson .svg .csv .stl .obj .ply .off .glb .gltf .urdf) "
                         "or a bundled name")
     i.add_argument("--plot", metavar="OUT", help="save a picture (.png or .svg)")
     i.add_argument("--json", action="store_true", help="print the summary as JSON")
     i.add_argument("--allow-open", action="store_true",
                    help="accept open or non-manifold meshes instead of refusing them")
+    i.add_argument("--part", metavar="NAME",
+                   help="the URDF link (or SVG element id) to read")
     i.set_defaults(run=_cmd_inspect)
     y = sub.add_parser("synthesize", help="where to put the fingers: independent regions",
                        description="Find the best force-closure grasps on an object and the "
@@ -478,6 +480,8 @@ def build_parser() -> argparse.ArgumentParser:
                                    "force-closure.")
     y.add_argument("object", metavar="OBJECT",
                    help="a polygon or mesh file, or a bundled name")
+    y.add_argument("--part", metavar="NAME",
+                   help="the URDF link (or SVG element id) to read")
     y.add_argument("--fingers", type=int, default=2, help="number of fingers (default 2)")
     _synthesis_options(y)
     y.add_argument("--vertices", action="store_true",
