@@ -436,6 +436,18 @@ def test_pybullet_r2d2_links():
         load_object(path, part="arm")
 
 
+def test_pybullet_blank_lines_before_the_xml_declaration():
+    """biped2d_pybullet.urdf starts with blank lines, then <?xml ...?>: strictly not XML, but
+    nothing is lost by skipping them (pybullet reads it). Its link r_upperleg is
+    <box size="0.05 0.1 .45"/> at xyz (0.018, 0, -0.21715)."""
+    path = DATA / "biped" / "biped2d_pybullet.urdf"
+    assert path.read_text().startswith("\n")
+    obj = load_object(path, part="r_upperleg")
+    size, xyz = np.array([0.05, 0.1, 0.45]), np.array([0.018, 0, -0.21715])
+    assert obj.volume == pytest.approx(0.05 * 0.1 * 0.45, rel=1e-12)
+    assert np.allclose(obj.bounds, [xyz - size / 2, xyz + size / 2], atol=1e-12)
+
+
 def test_pybullet_package_uri_in_a_sibling_folder():
     """xarm/link1.urdf names package://xarm_description/meshes/...; the package is the
     folder xarm/xarm_description (the old reader stripped the package and missed the file)."""

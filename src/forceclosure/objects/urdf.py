@@ -34,7 +34,9 @@ folder, found by searching upward from the URDF's folder for a folder named
 ``pkg``, a folder with a subfolder ``pkg``, or a folder whose
 ``package.xml`` has ``<name>pkg</name>``; failing that, ``rest`` is taken
 relative to the URDF's folder. ``file://`` URIs and plain paths are
-relative to the URDF's folder unless absolute.
+relative to the URDF's folder unless absolute. Blank lines before the XML
+declaration (strictly not XML; pybullet's ``biped2d_pybullet.urdf`` has
+them) are skipped.
 
 Why not yourdfpy: it reads links and geometry types well, but not
 faithfully enough to be trusted without a refusal path. Checked on
@@ -351,8 +353,8 @@ def link_geometry(path: Path, part: str | None = None) -> tuple[str, list[Geomet
     >>> name, [(p.where, p.kind) for p in pieces]
     ('right_leg', [('collision 1', 'box')])
     """
-    try:
-        root = ET.fromstring(path.read_bytes())
+    try:  # blank lines before the XML declaration (pybullet's biped2d has them) mean nothing
+        root = ET.fromstring(path.read_bytes().lstrip(b" \t\r\n"))
     except ET.ParseError as e:
         raise InputError(f"{path.name}: not a URDF file: {first_line(e)}") from None
     if root.tag != "robot":
