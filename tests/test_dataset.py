@@ -328,8 +328,8 @@ def test_cli(tmp_path, capsys, corrupt):
 
 @pytest.mark.parametrize("urdf,message", [
     ("<robot><link/>", "not a URDF file"),
-    ("<robot><link><visual><geometry><box size='1 1 1'/></geometry></visual></link></robot>",
-     "names no mesh file"),
+    ("<robot><link name='a'><inertial/></link></robot>",
+     "no link has collision or visual geometry"),
     ("<robot><link><collision><geometry><mesh filename='gone.obj'/></geometry></collision>"
      "</link></robot>", "its mesh gone.obj is missing"),
     ("<robot><link><collision><geometry><mesh filename='m.obj' scale='1 -1 1'/></geometry>"

@@ -465,7 +465,7 @@ def build_parser() -> argparse.ArgumentParser:
                        description="Load an object (a file or a bundled name), check it, and "
                                    "summarise it: edges, or planar faces found in a mesh.")
     i.add_argument("object", metavar="OBJECT",
-                   help="a file (.json .geojson .svg .csv .stl .obj .ply .off .glb .gltf) "
+                   help="a file (.json .geojson .svg .csv .stl .obj .ply .off .glb .gltf .urdf) "
                         "or a bundled name")
     i.add_argument("--plot", metavar="OUT", help="save a picture (.png or .svg)")
     i.add_argument("--json", action="store_true", help="print the summary as JSON")

@@ -23,6 +23,18 @@ class InputError(ForceClosureError, ValueError):
         return InputError(f"{where}: {self}")
 
 
+def first_line(error: BaseException) -> str:
+    """The first line of an exception's message (at most 200 characters), or its type's name.
+
+    Examples
+    --------
+    >>> first_line(ValueError("bad number\\nmore detail"))
+    'bad number'
+    """
+    text = str(error).strip().splitlines()
+    return (text[0] if text else type(error).__name__)[:200]
+
+
 def parse_json(text: str, source: str) -> Any:
     """``json.loads``, with a malformed document as one :class:`InputError` line."""
     try:

@@ -10,8 +10,13 @@
   shape, or the one ``part`` names by id; see :mod:`forceclosure.objects.svg`),
   ``.csv`` (``x,y`` per line; an empty line starts a hole);
 * polyhedra: ``.stl``, ``.obj``, ``.ply``, ``.off``, ``.glb``, ``.gltf``
-  (through trimesh, scenes flattened into one mesh), and ``.urdf`` (the
-  first link's collision mesh, with its scale, as robot simulators see it).
+  (through trimesh, scenes flattened into one mesh), and ``.urdf``: every
+  ``<collision>`` geometry of one link (meshes with their scale, boxes,
+  cylinders and spheres, the curved ones tessellated), each placed by its
+  ``<origin xyz rpy>``, as robot simulators see it; the ``<visual>`` ones,
+  with a warning, if the link has no collision geometry. A robot with
+  several such links needs ``part=`` naming one (see
+  :mod:`forceclosure.objects.urdf`).
 
 A bundled example's name (``forceclosure objects``) works in place of a
 path. Every failure is an :class:`~forceclosure.errors.InputError` with one
@@ -32,22 +37,19 @@ import shapely
 from numpy.typing import NDArray
 
 from ..errors import InputError, parse_json
+from ..errors import first_line as _first_line
 from .examples import POLYGONS, POLYHEDRA, bundled
+from .meshfile import MESH_SUFFIXES, read_mesh_arrays
 from .polygon import Polygon
 from .polyhedron import Polyhedron
 from .svg import polygon_from_svg
+from .urdf import polyhedron_from_urdf
 
 __all__ = ["load_object", "polygon_from_csv", "polygon_from_json", "polygon_from_svg",
            "polyhedron_from_mesh_file", "urdf_mesh"]
 
 POLYGON_SUFFIXES = (".json", ".geojson", ".svg", ".csv")
-MESH_SUFFIXES = (".stl", ".obj", ".ply", ".off", ".glb", ".gltf")
 ROBOT_SUFFIXES = (".urdf",)
-
-
-def _first_line(error: BaseException) -> str:
-    text = str(error).strip().splitlines()
-    return (text[0] if text else type(error).__name__)[:200]
 
 
 def polygon_from_json(data: Any, name: str = "polygon") -> Polygon:
@@ -129,25 +131,19 @@ def polyhedron_from_mesh_file(path: Path, allow_open: bool = False,
                               name: str | None = None) -> Polyhedron:
     """A polyhedron from a mesh file, read by trimesh without its own processing, its
     vertices multiplied by ``scale`` (per axis) if given."""
-    import trimesh
-
-    if path.stat().st_size == 0:
-        raise InputError(f"{path.name}: the file is empty")
-    suffix = path.suffix.lower()
-    try:
-        loaded = trimesh.load(str(path), file_type=suffix[1:], force="mesh", process=False)
-    except Exception as e:  # trimesh raises many types on malformed files
-        raise InputError(f"{path.name}: cannot read the {suffix[1:].upper()} file: "
-                         f"{_first_line(e)}") from None
-    if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
-        raise InputError(f"{path.name}: the file holds no triangles")
-    vertices = loaded.vertices if scale is None else loaded.vertices * scale
-    return Polyhedron.from_arrays(vertices, loaded.faces, name or path.stem, allow_open)
+    vertices, triangles = read_mesh_arrays(path)
+    if scale is not None:
+        vertices = vertices * scale
+    return Polyhedron.from_arrays(vertices, triangles, name or path.stem, allow_open)
 
 
 def urdf_mesh(path: Path) -> tuple[Path, NDArray[np.float64]]:
-    """The collision mesh a URDF names (the first ``<collision>`` with a ``<mesh>``, else the
-    first ``<visual>`` one), and its per-axis scale."""
+    """The first mesh file a URDF names (the first ``<collision>`` with a ``<mesh>``, else the
+    first ``<visual>`` one), and its per-axis scale.
+
+    Only for listing the files a URDF stands for (``forceclosure dataset``): it ignores
+    origins, primitives and every other piece. :func:`load_object` reads a URDF with
+    :func:`forceclosure.objects.urdf.polyhedron_from_urdf`."""
     try:
         root = ET.fromstring(path.read_text(encoding="utf-8"))
     except (ET.ParseError, UnicodeDecodeError) as e:
@@ -183,13 +179,22 @@ def load_object(source: str | Path | Any, allow_open: bool = False,
         Accept open and non-manifold meshes (with a warning) instead of
         refusing them.
     part : str, optional
-        The SVG element id, or for URDF the link, to read.
+        The URDF link to read (a URDF with several links carrying geometry is
+        refused without it), or the SVG element id.
 
     Examples
     --------
     >>> load_object("l-prism").summary()["faces"]
     8
+    >>> import os, pybullet_data
+    >>> r2d2 = os.path.join(pybullet_data.getDataPath(), "r2d2.urdf")
+    >>> load_object(r2d2, part="right_leg").bounds.round(4).tolist()
+    [[-0.05, -0.1, -0.6], [0.05, 0.1, 0.0]]
     """
+    if part is not None and not (isinstance(source, str | Path)
+                                 and Path(source).suffix.lower() in ROBOT_SUFFIXES):
+        raise InputError(f"{source if isinstance(source, str | Path) else type(source).__name__}"
+                         f": part={part!r} names a URDF link; this is not a URDF file")
     if isinstance(source, Polygon | Polyhedron):
         return source
     if isinstance(source, shapely.Polygon | shapely.MultiPolygon):
@@ -211,13 +216,7 @@ def load_object(source: str | Path | Any, allow_open: bool = False,
         raise InputError(f"{path.name}: part '{part}' given, but only SVG files (element ids) "
                          "and URDF files (links) have parts")
     if suffix in ROBOT_SUFFIXES:
-        mesh, scale = urdf_mesh(path)
-        if not mesh.is_file():
-            raise InputError(f"{path.name}: its mesh {mesh.name} is missing")
-        if mesh.suffix.lower() not in MESH_SUFFIXES:
-            raise InputError(f"{path.name}: its mesh {mesh.name} is not a mesh file "
-                             f"({', '.join(MESH_SUFFIXES)})")
-        return polyhedron_from_mesh_file(mesh, allow_open, scale, path.stem)
+        return polyhedron_from_urdf(path, allow_open, part)
     if suffix in MESH_SUFFIXES:
         return polyhedron_from_mesh_file(path, allow_open)
     if suffix not in POLYGON_SUFFIXES:

@@ -1,0 +1,440 @@
+"""Reading a URDF link's geometry as the file means it.
+
+A link's shape is the union of all its ``<collision>`` elements, each a
+``<geometry>`` placed in the link's frame by its ``<origin xyz rpy>``:
+
+* ``<mesh filename scale>``: the file's triangles (read by trimesh without
+  its processing), multiplied by ``scale`` (one number, or one per axis),
+  then placed;
+* ``<box size="x y z">``, centred on the origin;
+* ``<cylinder radius length>``, its axis along z, centred;
+* ``<sphere radius>``.
+
+``rpy`` is the URDF convention: fixed-axis roll about x, then pitch about y,
+then yaw about z, so a point ``p`` of the geometry lands at
+``Rz(yaw) Ry(pitch) Rx(roll) p + xyz``. Cylinders and spheres are curved:
+they are tessellated with every vertex on the true surface and every facet
+within :data:`TESSELLATION_TOLERANCE` (1e-3) of the radius from it (the
+chord deviation), so the mesh lies inside the true shape and holds at least
+``(1 - 1e-3)**2`` (cylinder) or ``(1 - 1e-3)**3`` (sphere) of its volume.
+Cylinders have :data:`CYLINDER_SECTIONS` sides (a multiple of 4, starting
+on the x axis, so their bounds are exact); spheres are trimesh icospheres
+(their six axis points are vertices, so their bounds are exact too). The
+object's ``warnings`` say when a curved primitive was tessellated.
+
+A link without ``<collision>`` elements is read from its ``<visual>`` ones,
+with the warning "no collision geometry; read the visual one". A robot with
+several links that carry geometry is refused unless ``part`` names one.
+All pieces are concatenated into one triangle set: pieces that do not touch
+become separate shells; overlapping ones are left as they are (several
+shells), for :class:`~forceclosure.objects.polyhedron.Polyhedron` to deal with.
+
+Mesh file names: ``package://pkg/rest`` is looked up in the package's
+folder, found by searching upward from the URDF's folder for a folder named
+``pkg``, a folder with a subfolder ``pkg``, or a folder whose
+``package.xml`` has ``<name>pkg</name>``; failing that, ``rest`` is taken
+relative to the URDF's folder. ``file://`` URIs and plain paths are
+relative to the URDF's folder unless absolute. Blank lines before the XML
+declaration (strictly not XML; pybullet's ``biped2d_pybullet.urdf`` has
+them) are skipped.
+
+Why not yourdfpy: it reads links and geometry types well, but not
+faithfully enough to be trusted without a refusal path. Checked on
+yourdfpy 0.0.60: it silently recovers truncated XML (a half-written file
+loads as a robot with whatever came before the cut); it turns ``<origin>``
+into a matrix from the first three numbers, so ``xyz="1 2 3 4"`` or a
+four-number ``rpy`` load without complaint; it accepts ``<box size="1 2">``;
+and an empty ``<geometry/>`` raises ``IndexError``. Since the checks need
+the raw attribute text anyway, the reader here is a small ElementTree one
+that checks every number it reads and refuses, in one line naming the file,
+the link, the element and the field, whatever it cannot read exactly.
+"""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, replace
+from functools import lru_cache
+from pathlib import Path
+from urllib.parse import unquote, urlsplit
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import InputError, first_line
+from .meshfile import MESH_SUFFIXES, read_mesh_arrays
+from .polyhedron import Polyhedron
+
+__all__ = [
+    "CYLINDER_SECTIONS",
+    "TESSELLATION_TOLERANCE",
+    "GeometryPiece",
+    "box_mesh",
+    "cylinder_mesh",
+    "link_geometry",
+    "origin_transform",
+    "polyhedron_from_urdf",
+    "resolve_mesh_filename",
+    "sphere_mesh",
+]
+
+TESSELLATION_TOLERANCE = 1e-3
+"""Largest distance from a tessellated cylinder or sphere to its true surface, per unit radius."""
+
+CYLINDER_SECTIONS = 4 * math.ceil(math.pi / math.acos(1 - TESSELLATION_TOLERANCE) / 4)
+"""Sides of a tessellated cylinder: the least multiple of 4 whose chord deviation
+``1 - cos(pi / n)`` is within the tolerance (72)."""
+
+_LISTED = 20  # links named in a refusal before "..."
+
+
+def origin_transform(xyz: NDArray[np.float64] | list[float],
+                     rpy: NDArray[np.float64] | list[float]) -> NDArray[np.float64]:
+    """The 4×4 transform of a URDF ``<origin xyz rpy>``: ``Rz(yaw) Ry(pitch) Rx(roll)``, then
+    the translation.
+
+    Examples
+    --------
+    >>> T = origin_transform([1, 0, 0], [0, 0, np.pi / 2])  # a quarter turn about z
+    >>> np.round(T @ [1, 0, 0, 1], 12).tolist()
+    [1.0, 1.0, 0.0, 1.0]
+    """
+    roll, pitch, yaw = (float(a) for a in rpy)
+    cr, sr, cp, sp, cy, sy = (math.cos(roll), math.sin(roll), math.cos(pitch),
+                              math.sin(pitch), math.cos(yaw), math.sin(yaw))
+    rx = np.array([[1, 0, 0], [0, cr, -sr], [0, sr, cr]])
+    ry = np.array([[cp, 0, sp], [0, 1, 0], [-sp, 0, cp]])
+    rz = np.array([[cy, -sy, 0], [sy, cy, 0], [0, 0, 1]])
+    transform = np.eye(4)
+    transform[:3, :3] = rz @ ry @ rx
+    transform[:3, 3] = np.asarray(xyz, dtype=float)
+    return transform
+
+
+def box_mesh(size: NDArray[np.float64] | list[float]) -> tuple[NDArray[np.float64],
+                                                              NDArray[np.int64]]:
+    """A box centred on the origin: 8 vertices, 12 triangles facing out.
+
+    Examples
+    --------
+    >>> V, T = box_mesh([1, 2, 3])
+    >>> V.min(axis=0).tolist(), V.max(axis=0).tolist(), T.shape
+    ([-0.5, -1.0, -1.5], [0.5, 1.0, 1.5], (12, 3))
+    """
+    import trimesh
+
+    mesh = trimesh.creation.box(extents=np.asarray(size, dtype=float))
+    return np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces, dtype=np.int64)
+
+
+def cylinder_mesh(radius: float, length: float) -> tuple[NDArray[np.float64],
+                                                         NDArray[np.int64]]:
+    """A cylinder along z, centred, with :data:`CYLINDER_SECTIONS` sides inscribed in the circle.
+
+    Examples
+    --------
+    >>> V, T = cylinder_mesh(1.0, 2.0)
+    >>> V.min(axis=0).tolist(), V.max(axis=0).tolist()
+    ([-1.0, -1.0, -1.0], [1.0, 1.0, 1.0])
+    """
+    import trimesh
+
+    mesh = trimesh.creation.cylinder(radius=radius, height=length, sections=CYLINDER_SECTIONS)
+    return np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces, dtype=np.int64)
+
+
+@lru_cache(maxsize=1)
+def _unit_sphere() -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """The coarsest icosphere whose facets are within the tolerance of the unit sphere."""
+    import trimesh
+
+    for level in range(1, 8):
+        mesh = trimesh.creation.icosphere(subdivisions=level, radius=1.0)
+        V, T = np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces, dtype=np.int64)
+        normals = np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]])
+        normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+        if 1 - np.abs(np.einsum("ij,ij->i", normals, V[T[:, 0]])).min() <= TESSELLATION_TOLERANCE:
+            return V, T
+    raise AssertionError("no icosphere is fine enough")  # pragma: no cover
+
+
+def sphere_mesh(radius: float) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """A sphere centred on the origin, an icosphere inscribed within the tolerance.
+
+    Examples
+    --------
+    >>> V, T = sphere_mesh(2.0)
+    >>> bool(np.allclose(np.linalg.norm(V, axis=1), 2.0)), V.max(axis=0).tolist()
+    (True, [2.0, 2.0, 2.0])
+    """
+    V, T = _unit_sphere()
+    return V * radius, T.copy()
+
+
+@dataclass(frozen=True)
+class GeometryPiece:
+    """One ``<collision>`` (or ``<visual>``) geometry, placed in the link's frame.
+
+    Attributes
+    ----------
+    where : str
+        ``collision 2`` or ``visual 1``: which element of the link, counted from 1.
+    kind : str
+        ``mesh``, ``box``, ``cylinder`` or ``sphere``.
+    vertices : (n, 3) array
+        In the link's frame (origin and scale applied).
+    triangles : (m, 3) int array
+    mesh_file : Path or None
+        The mesh file read, for a ``mesh``.
+    """
+
+    where: str
+    kind: str
+    vertices: NDArray[np.float64]
+    triangles: NDArray[np.int64]
+    mesh_file: Path | None = None
+
+
+def _numbers(text: str | None, count: tuple[int, ...], what: str, where: str,
+             positive: bool = False) -> NDArray[np.float64]:
+    """``count`` (one of) finite numbers from an attribute's text, or one line why not."""
+    words = {1: "one number", 3: "three numbers"}
+    wanted = words[count[0]]
+    other = f" (or {words[count[1]].split()[0]})" if len(count) > 1 else ""
+
+    def refuse(adjective: str) -> InputError:
+        head, _, tail = wanted.partition(" ")
+        return InputError(f"{where}: {what} {text!r} is not {head} {adjective}{tail}{other}")
+
+    if text is None:
+        raise InputError(f"{where}: {what} is missing")
+    try:
+        values = np.array([float(v) for v in text.split()])
+    except ValueError:
+        raise refuse("") from None
+    if len(values) not in count:
+        raise refuse("")
+    if not np.all(np.isfinite(values)):
+        raise refuse("finite ")
+    if positive and np.any(values <= 0):
+        raise refuse("positive ")
+    return values
+
+
+def _package_roots(package: str, folder: Path) -> list[Path]:
+    """Folders that may be package ``package``, nearest first, searching up from ``folder``."""
+    roots = []
+    for ancestor in [folder, *folder.parents]:
+        if ancestor.name == package:
+            roots.append(ancestor)
+        if (ancestor / package).is_dir():
+            roots.append(ancestor / package)
+        manifest = ancestor / "package.xml"
+        if manifest.is_file():
+            try:
+                name = ET.parse(manifest).getroot().findtext("name")
+            except (ET.ParseError, OSError):
+                name = None
+            if name is not None and name.strip() == package:
+                roots.append(ancestor)
+    return list(dict.fromkeys(roots))
+
+
+def resolve_mesh_filename(filename: str, urdf: Path) -> Path:
+    """Where a URDF's mesh ``filename`` is: ``package://``, ``file://`` or a path.
+
+    A ``package://pkg/rest`` whose package folder is not found, or lacks
+    ``rest``, falls back to ``rest`` in the URDF's folder. The path returned
+    may not exist (the caller says so, naming it).
+
+    Examples
+    --------
+    >>> resolve_mesh_filename("meshes/a.stl", Path("/robots/r.urdf")).as_posix()
+    '/robots/meshes/a.stl'
+    >>> resolve_mesh_filename("file:///data/a.obj", Path("/robots/r.urdf")).as_posix()
+    '/data/a.obj'
+    """
+    folder = urdf.parent
+    if filename.startswith("package://"):
+        package, _, rest = filename[len("package://"):].partition("/")
+        rest = unquote(rest)
+        if not package or not rest:
+            raise InputError(f"{urdf.name}: mesh {filename!r}: a package:// address needs a "
+                             "package name and a path in it")
+        for root in _package_roots(package, folder.resolve()):
+            if (root / rest).is_file():
+                return root / rest
+        return folder / rest
+    if filename.startswith("file://"):
+        parts = urlsplit(filename)
+        path = unquote(parts.path)
+        if parts.netloc and parts.netloc != "localhost":  # file://meshes/a.obj: a relative path
+            path = unquote(parts.netloc) + path
+        return Path(path) if Path(path).is_absolute() else folder / path
+    scheme = urlsplit(filename).scheme
+    if len(scheme) > 1:  # not a Windows drive letter
+        raise InputError(f"{urdf.name}: mesh {filename!r}: cannot read {scheme}:// addresses "
+                         "(package://, file:// and paths are read)")
+    return folder / filename
+
+
+def _piece(element: ET.Element, urdf: Path, link: str, which: str) -> GeometryPiece:
+    """The geometry of one ``<collision>`` or ``<visual>`` element, placed by its origin."""
+    where = f"{urdf.name}: link {link}, {which}"
+    origins = element.findall("origin")
+    if len(origins) > 1:
+        raise InputError(f"{where}: has {len(origins)} <origin> elements; one is allowed")
+    xyz = _numbers(origins[0].get("xyz", "0 0 0") if origins else "0 0 0", (3,),
+                   "origin xyz", where)
+    rpy = _numbers(origins[0].get("rpy", "0 0 0") if origins else "0 0 0", (3,),
+                   "origin rpy", where)
+    geometries = element.findall("geometry")
+    if len(geometries) != 1:
+        raise InputError(f"{where}: has {len(geometries)} <geometry> elements; one is needed")
+    shapes = list(geometries[0])
+    if len(shapes) != 1:
+        raise InputError(f"{where}: its <geometry> holds {len(shapes)} shapes; one is needed")
+    shape = shapes[0]
+    kind = shape.tag.rsplit("}", 1)[-1] if isinstance(shape.tag, str) else "?"
+    mesh_file = None
+    if kind == "box":
+        V, T = box_mesh(_numbers(shape.get("size"), (3,), "box size", where, positive=True))
+    elif kind == "cylinder":
+        radius = _numbers(shape.get("radius"), (1,), "cylinder radius", where, positive=True)
+        length = _numbers(shape.get("length"), (1,), "cylinder length", where, positive=True)
+        V, T = cylinder_mesh(float(radius[0]), float(length[0]))
+    elif kind == "sphere":
+        V, T = sphere_mesh(float(_numbers(shape.get("radius"), (1,), "sphere radius", where,
+                                          positive=True)[0]))
+    elif kind == "mesh":
+        filename = shape.get("filename")
+        if not filename:
+            raise InputError(f"{where}: <mesh> has no filename")
+        scale = _numbers(shape.get("scale", "1 1 1"), (3, 1), "mesh scale", where,
+                         positive=True)
+        mesh_file = resolve_mesh_filename(filename, urdf)
+        if not mesh_file.is_file():
+            raise InputError(f"{where}: its mesh {mesh_file.name} is missing ({filename!r}, "
+                             f"looked for {mesh_file})")
+        if mesh_file.suffix.lower() not in MESH_SUFFIXES:
+            raise InputError(f"{where}: its mesh {mesh_file.name} is not a mesh file "
+                             f"({', '.join(MESH_SUFFIXES)})")
+        try:
+            V, T = read_mesh_arrays(mesh_file)
+        except InputError as e:
+            raise e.within(where) from None
+        V = V * scale
+    else:
+        raise InputError(f"{where}: unknown geometry <{kind}> (box, cylinder, sphere and mesh "
+                         "are read)")
+    transform = origin_transform(xyz, rpy)
+    placed = V @ transform[:3, :3].T + transform[:3, 3]
+    return GeometryPiece(which, kind, placed, T, mesh_file)
+
+
+def _label(link: ET.Element, index: int) -> str:
+    name = link.get("name")
+    return repr(name) if name else f"{index + 1} (unnamed)"
+
+
+def link_geometry(path: Path, part: str | None = None) -> tuple[str, list[GeometryPiece],
+                                                                list[str]]:
+    """The geometry pieces of the link ``part`` of a URDF (or of its only link with geometry).
+
+    Returns the link's name, its pieces in the file's order (collision ones,
+    or visual ones when it has no collision geometry) and the warnings.
+
+    Examples
+    --------
+    >>> import pybullet_data
+    >>> urdf = Path(pybullet_data.getDataPath()) / "r2d2.urdf"
+    >>> name, pieces, _ = link_geometry(urdf, part="right_leg")
+    >>> name, [(p.where, p.kind) for p in pieces]
+    ('right_leg', [('collision 1', 'box')])
+    """
+    try:  # blank lines before the XML declaration (pybullet's biped2d has them) mean nothing
+        root = ET.fromstring(path.read_bytes().lstrip(b" \t\r\n"))
+    except ET.ParseError as e:
+        raise InputError(f"{path.name}: not a URDF file: {first_line(e)}") from None
+    if root.tag != "robot":
+        raise InputError(f"{path.name}: not a URDF file: the root element is <{root.tag}>, "
+                         "not <robot>")
+    links = root.findall("link")
+    if not links:
+        raise InputError(f"{path.name}: the URDF has no <link>")
+    with_collision = [i for i, link in enumerate(links) if link.find("collision") is not None]
+    with_visual = [i for i, link in enumerate(links) if link.find("visual") is not None]
+    candidates, kind = (with_collision, "collision") if with_collision else (with_visual,
+                                                                           "visual")
+
+    def listing(indices: list[int]) -> str:
+        names = [links[i].get("name") or f"link {i + 1} (unnamed)" for i in indices]
+        more = f", ... ({len(names) - _LISTED} more)" if len(names) > _LISTED else ""
+        return ", ".join(names[:_LISTED]) + more
+
+    if part is None:
+        if not candidates:
+            raise InputError(f"{path.name}: no link has collision or visual geometry")
+        if len(candidates) > 1:
+            raise InputError(f"{path.name}: {len(candidates)} links have {kind} geometry "
+                             f"({listing(candidates)}); name one with part= (--part on the "
+                             "command line)")
+        index = candidates[0]
+    else:
+        named = [i for i, link in enumerate(links) if link.get("name") == part]
+        if not named:
+            raise InputError(f"{path.name}: no link named {part!r}; the links with {kind} "
+                             f"geometry are: {listing(candidates) or 'none'}")
+        if len(named) > 1:
+            raise InputError(f"{path.name}: {len(named)} links are named {part!r}")
+        index = named[0]
+    link = links[index]
+    label = _label(link, index)
+    warnings = []
+    elements = link.findall("collision")
+    tag = "collision"
+    if not elements:
+        elements, tag = link.findall("visual"), "visual"
+        if not elements:
+            raise InputError(f"{path.name}: link {label} has no collision or visual geometry")
+        warnings.append("no collision geometry; read the visual one")
+    pieces = [_piece(e, path, label, f"{tag} {k + 1}") for k, e in enumerate(elements)]
+    curved = [p.kind for p in pieces if p.kind in ("cylinder", "sphere")]
+    if curved:
+        counts = ", ".join(f"{curved.count(k)} {k}{'s' if curved.count(k) > 1 else ''}"
+                           for k in ("cylinder", "sphere") if k in curved)
+        warnings.append(f"tessellated {counts}: inscribed, within {TESSELLATION_TOLERANCE:g} of "
+                        "the radius of the true surface")
+    return link.get("name") or f"link {index + 1}", pieces, warnings
+
+
+def polyhedron_from_urdf(path: Path, allow_open: bool = False,
+                         part: str | None = None) -> Polyhedron:
+    """The polyhedron of a URDF link: all its collision geometry, each piece placed.
+
+    Parameters
+    ----------
+    path : Path
+        The ``.urdf`` file.
+    allow_open : bool
+        Accept open and non-manifold meshes (with a warning).
+    part : str, optional
+        The link to read; needed when several links carry geometry.
+
+    Examples
+    --------
+    >>> import pybullet_data
+    >>> cube = polyhedron_from_urdf(Path(pybullet_data.getDataPath()) / "cube.urdf")
+    >>> cube.name, round(cube.volume, 12), cube.bounds.tolist()
+    ('cube', 1.0, [[-0.5, -0.5, -0.5], [0.5, 0.5, 0.5]])
+    """
+    _, pieces, warnings = link_geometry(path, part)
+    offsets = np.cumsum([0] + [len(p.vertices) for p in pieces[:-1]])
+    vertices = np.concatenate([p.vertices for p in pieces])
+    triangles = np.concatenate([p.triangles + offset
+                                for p, offset in zip(pieces, offsets, strict=True)])
+    polyhedron = Polyhedron.from_arrays(vertices, triangles, path.stem, allow_open)
+    if not warnings:
+        return polyhedron
+    return replace(polyhedron, warnings=(*warnings, *polyhedron.warnings))
