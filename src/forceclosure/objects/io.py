@@ -191,10 +191,9 @@ def load_object(source: str | Path | Any, allow_open: bool = False,
     >>> load_object(r2d2, part="right_leg").bounds.round(4).tolist()
     [[-0.05, -0.1, -0.6], [0.05, 0.1, 0.0]]
     """
-    if part is not None and not (isinstance(source, str | Path)
-                                 and Path(source).suffix.lower() in ROBOT_SUFFIXES):
-        raise InputError(f"{source if isinstance(source, str | Path) else type(source).__name__}"
-                         f": part={part!r} names a URDF link; this is not a URDF file")
+    if part is not None and not isinstance(source, str | Path):
+        raise InputError(f"{type(source).__name__}: part={part!r} names a URDF link or an SVG "
+                         "element id; give the file")
     if isinstance(source, Polygon | Polyhedron):
         return source
     if isinstance(source, shapely.Polygon | shapely.MultiPolygon):
@@ -206,6 +205,9 @@ def load_object(source: str | Path | Any, allow_open: bool = False,
     path = Path(source)
     if not path.exists():
         if str(source) in POLYGONS or str(source) in POLYHEDRA:
+            if part is not None:
+                raise InputError(f"{source}: part={part!r} names a URDF link or an SVG element "
+                                 "id; a bundled object has no parts")
             return bundled(str(source))
         raise InputError(f"{source}: no such file, and no bundled object of that name "
                          "(see 'forceclosure objects')")

@@ -174,9 +174,12 @@ def maximal_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, i
     edges = _check(polygon, edges, margin)
     affine = [_affine(polygon, edges, turns, margin)
               for turns in itertools.product((-1, 1), repeat=4)]
-    A, b = np.vstack([a for a, _ in affine]), np.concatenate([c for _, c in affine])
-    lengths = [polygon.edges[e].length for e in edges]
-    delta = STRICT * polygon.size
+    # in units of the polygon's size (C / size = A t' + b / size with t = size t'), so that
+    # the solver's absolute tolerances mean the same on a part of any size
+    size = polygon.size
+    A, b = np.vstack([a for a, _ in affine]), np.concatenate([c for _, c in affine]) / size
+    lengths = [polygon.edges[e].length / size for e in edges]
+    delta = STRICT
     best = None
     for sign in (1.0, -1.0):
         sA, sb = sign * A, sign * b
@@ -186,12 +189,13 @@ def maximal_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, i
         box = np.hstack([np.eye(4), np.ones((4, 1))])  # u_j + z <= L_j
         res = linprog(np.r_[np.zeros(4), -1.0], A_ub=np.vstack([rows, box]),
                       b_ub=np.r_[rhs, lengths], bounds=[(0, None)] * 5, method="highs")
-        if res.status == 0 and res.x[4] > 1e-9 * polygon.size and (
-                best is None or res.x[4] > best[4]):
+        if res.status == 0 and res.x[4] > 1e-9 and (best is None or res.x[4] > best[4]):
             best = res.x
     if best is None:
         return None
+    best = best * size
     z = float(best[4])
+    lengths = [polygon.edges[e].length for e in edges]
     for trim in (0.0, 1e-9):  # should rounding have cut a corner, trim and check again
         segments = tuple((float(u) + trim * z + 0.0, min(float(u) + z, L) - trim * z)
                          for u, L in zip(best[:4], lengths, strict=True))
