@@ -229,3 +229,27 @@ def test_two_soft_fingers_far_away_or_scaled(offset, scale):
         np.testing.assert_allclose([r.min_area / moved.size**2 for r in got],
                                    [r.min_area / obj.size**2 for r in want], rtol=1e-5)
         assert all(r.certify().holds for r in got)
+
+
+@pytest.mark.parametrize("obj,fingers,contact,mu", [
+    ("square", 2, "hard", 0.3), ("triangle", 3, "hard", 0.5),
+    ("hexagon", 4, "frictionless", 0.0), ("cube", 2, "soft", 0.5),
+    ("cube", 3, "hard", 0.5), ("l-prism", 3, "hard", 0.6)])
+def test_one_margin_reaches_every_construction(obj, fingers, contact, mu):
+    """--margin has one meaning (radians off every cone; frictionless: turned normals) and
+    every construction feels it: the best regions shrink from 1e-3 to 0.2. With friction,
+    the regions built with margin 0.2 hold (sampled, exact cones, independently of the
+    certificate) with the cones narrowed by 0.2 rad."""
+    from forceclosure.batch import analyze_batch
+
+    obj = bundled(obj)
+    small = synthesize(obj, fingers, contact, mu, top=1, margin=1e-3).found
+    large = synthesize(obj, fingers, contact, mu, top=1, margin=0.2).found
+    assert small
+    size = (lambda r: r.min_length) if obj.dim == 2 else (lambda r: r.min_area)
+    assert not large or size(large[0]) < 0.99 * size(small[0])
+    if large and contact != "frictionless" and obj.dim == 3:
+        narrow = np.tan(np.arctan(mu) - 0.2)
+        points, normals = large[0].sample(2000, seed=3)
+        result = analyze_batch(points, normals, mu=narrow, model=contact, cone="exact")
+        assert np.all(result.code == 2)

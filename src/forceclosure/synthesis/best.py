@@ -18,6 +18,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..objects import Polygon, Polyhedron
+from .regions import MARGIN, check_margin, narrowed
 
 #: The paper's constructions on faces (§5.2, §5.3, §5.5), by (fingers, contact).
 ON_FACES = {(2, "soft"): "§5.2", (3, "hard"): "§5.3", (7, "frictionless"): "§5.5"}
@@ -116,7 +117,7 @@ least 3 hard fingers (two cannot resist rotation about the line between them)
 
 
 def synthesize(obj: Polygon | Polyhedron, fingers: int | None = None, contact: str = "hard",
-               mu: float = 0.3, *, top: int = 5, margin: float = 1e-3,
+               mu: float = 0.3, *, top: int = 5, margin: float = MARGIN,
                construction: str = "maximal", method: str = "auto", samples: int = 20_000,
                seed: int = 0) -> Synthesis:
     """The ``top`` best force-closure grasps on ``obj`` with their independent regions.
@@ -132,8 +133,12 @@ def synthesize(obj: Polygon | Polyhedron, fingers: int | None = None, contact: s
         Friction coefficient (ignored for frictionless fingers).
     top : int
     margin : float
-        Radians kept between every region grasp and the cone boundary
-        (two fingers with friction).
+        Radians: the regions stay force-closure when every contact normal
+        turns by up to this angle; every construction with friction narrows
+        its cones by it, four frictionless fingers in the plane hold for every
+        force direction within it
+        (:func:`~forceclosure.synthesis.regions.check_margin`). Seven
+        frictionless fingers in space are proved at the nominal normals only.
     construction : {"maximal", "nguyen"}
         Maximal regions, or the paper's two-sided cone constructions (two or
         four fingers in the plane, two soft fingers in space).
@@ -162,6 +167,7 @@ def synthesize(obj: Polygon | Polyhedron, fingers: int | None = None, contact: s
     """
     fingers = check_hand(obj.dim, fingers, contact, mu, top=top, construction=construction,
                          method=method)
+    check_margin(margin)
     mu = 0.0 if contact == "frictionless" else float(mu)
     if obj.dim == 2:
         return Synthesis(_on_edges(obj, fingers, contact == "frictionless", mu, top, margin,
@@ -201,15 +207,15 @@ def _on_polyhedron(poly: Polyhedron, fingers: int, contact: str, mu: float, top:
         found = best_soft_pair_regions(poly, mu, top=top, margin=margin,
                                        construction=construction)
     elif method == "faces" and key == (3, "hard"):
-        found = best_three_hard_regions(poly, mu, top=top, seed=seed)
+        found = best_three_hard_regions(poly, mu, top=top, seed=seed, margin=margin)
     elif method == "faces":
         found = best_seven_frictionless_regions(poly, top=top, samples=samples, seed=seed)
     else:
         found = []
-        for p in prototype_grasps(poly, fingers, contact, mu, count=top, samples=samples,
-                                  seed=seed):
+        for p in prototype_grasps(poly, fingers, contact, narrowed(mu, margin), count=top,
+                                  samples=samples, seed=seed):
             try:
-                found.append(zone_regions(poly, p, contact, mu, grow=True))
+                found.append(zone_regions(poly, p, contact, mu, grow=True, margin=margin))
             except InputError:  # a prototype on the boundary of closure: skip it
                 continue
         found.sort(key=lambda r: -r.min_area)

@@ -33,10 +33,10 @@ from numpy.typing import NDArray
 from ..errors import InputError
 from ..objects.polygon import Edge, Polygon
 from .patches import clip
-from .regions import Certificate, Regions, check_edges, exact_inward, exact_point
+from .regions import MARGIN, Certificate, Regions, check_edges, exact_inward, exact_point
 
 #: Default angular margin (radians) kept between region grasps and the cone boundary.
-ANGLE_MARGIN = 1e-3
+ANGLE_MARGIN = MARGIN  # the one margin (regions.check_margin)
 #: Edge pairs solved at once by :func:`max_min_segments` (bounds the memory used).
 CHUNK = 2_048
 

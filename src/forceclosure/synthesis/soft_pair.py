@@ -45,10 +45,10 @@ from ..errors import InputError
 from ..objects.polygon import _signed_area
 from ..objects.polyhedron import PlanarFace, Polyhedron
 from .patches import FacePatch, SpatialRegions, clip, convex_pieces
-from .regions import Certificate
+from .regions import MARGIN, Certificate
 
 #: Default margin (radians) taken off each friction cone's half-angle.
-ANGLE_MARGIN = 1e-3
+ANGLE_MARGIN = MARGIN  # the one margin (regions.check_margin)
 #: Sides of the regular polygons that the maximal construction fits.
 SIDES = 16
 #: Edges of the pyramids that stand in for circular cones in the linear program.

@@ -35,6 +35,7 @@ from numpy.typing import ArrayLike
 from ..closure import Verdict, vector_closure
 from ..errors import InputError
 from ..objects.polyhedron import Polyhedron
+from .regions import MARGIN, check_margin, narrowed
 from .soft_pair import _check_faces, _check_mu
 from .zones import EDGES, ZoneRegions, prototype_grasps, zone_regions
 
@@ -139,12 +140,15 @@ def force_direction_closure_of_faces(normals: ArrayLike, mu: float, edges: int =
 
 
 def three_hard_regions(polyhedron: Polyhedron, faces: tuple[int, int, int], mu: float,
-                       samples: int = 2000, seed: int = 0) -> ThreeHardRegions | None:
+                       samples: int = 2000, seed: int = 0,
+                       margin: float = MARGIN) -> ThreeHardRegions | None:
     """Independent regions for three hard fingers on three faces (§5.3), or None.
 
     A prototype grasp on the faces is found by sampling (the one with the
     largest epsilon); its search zones cut each face's convex piece around
-    the prototype contact. Two fingers may share a face.
+    the prototype contact. Two fingers may share a face. Every friction cone
+    is narrowed by ``margin`` radians, in the prototype, the construction and
+    the proof (:func:`~forceclosure.synthesis.regions.check_margin`).
 
     Examples
     --------
@@ -159,18 +163,18 @@ def three_hard_regions(polyhedron: Polyhedron, faces: tuple[int, int, int], mu: 
     normals = [polyhedron.faces[f].normal for f in faces]
     if not force_direction_closure_of_faces(normals, mu):
         return None
-    found = prototype_grasps(polyhedron, 3, "hard", mu, samples=samples, seed=seed,
-                             faces=faces)
+    found = prototype_grasps(polyhedron, 3, "hard", narrowed(mu, check_margin(margin)),
+                             samples=samples, seed=seed, faces=faces)
     if not found:
         return None
     r = zone_regions(polyhedron, found[0], "hard", mu, grow=False,
-                     construction="search zones on faces (§5.3)")
+                     construction="search zones on faces (§5.3)", margin=margin)
     return ThreeHardRegions(**{f: getattr(r, f) for f in r.__dataclass_fields__})
 
 
 def best_three_hard_regions(polyhedron: Polyhedron, mu: float, top: int = 5,
                             max_faces: int = 12, samples: int = 500,
-                            seed: int = 0) -> list[ThreeHardRegions]:
+                            seed: int = 0, margin: float = MARGIN) -> list[ThreeHardRegions]:
     """The ``top`` face triples with the largest independent regions for three hard fingers.
 
     The ``max_faces`` largest faces are combined in triples (two fingers may
@@ -195,7 +199,8 @@ def best_three_hard_regions(polyhedron: Polyhedron, mu: float, top: int = 5,
     for triple in itertools.combinations_with_replacement(chosen, 3):
         if triple[0] == triple[2]:
             continue  # all three on one face
-        r = three_hard_regions(polyhedron, triple, mu, samples=samples, seed=seed)
+        r = three_hard_regions(polyhedron, triple, mu, samples=samples, seed=seed,
+                               margin=margin)
         if r is not None:
             found.append(r)
     return sorted(found, key=lambda r: -r.min_area)[:top]

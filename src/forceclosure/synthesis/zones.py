@@ -40,7 +40,7 @@ from ..errors import InputError
 from ..objects.polygon import _signed_area
 from ..objects.polyhedron import PlanarFace, Polyhedron
 from .patches import FacePatch, SpatialRegions, clip, convex_pieces, uniform_in_triangles
-from .regions import Certificate
+from .regions import MARGIN, Certificate, check_margin, narrowed
 
 #: Edges of the inscribed friction pyramid (an inner approximation: regions stay valid
 #: for the true circular cones).
@@ -197,6 +197,13 @@ class ZoneRegions(SpatialRegions):
     zones: SearchZones | None = None
     choices: tuple = ()
     edges: int = EDGES
+    margin: float = 0.0
+
+    @property
+    def cone_mu(self) -> float:
+        """The friction of the cones the regions are built and proved with: ``mu``'s cone
+        narrowed by ``margin`` radians (:func:`~forceclosure.synthesis.regions.check_margin`)."""
+        return narrowed(self.mu, self.margin) if self.model != "frictionless" else 0.0
 
     def certify(self) -> Certificate:
         """Exact on the pyramids: the prototype's hull is closed with the origin inside;
@@ -211,6 +218,7 @@ class ZoneRegions(SpatialRegions):
     def to_dict(self) -> dict[str, object]:
         record = super().to_dict()
         record["prototype"] = None if self.prototype is None else self.prototype.tolist()
+        record["margin"] = self.margin
         return record
 
 
@@ -253,7 +261,7 @@ def _zone_certificate(r: ZoneRegions) -> Certificate:
         for patch, chosen in zip(region, choices, strict=True):
             face = r.polyhedron.faces[patch.face]
             G = _generators(patch.points, np.repeat(face.normal[None], len(patch.points), 0),
-                            r.model, r.mu, r.edges, z.reference, z.length_scale)
+                            r.model, r.cone_mu, r.edges, z.reference, z.length_scale)
             for zone, gen in chosen:
                 values = G[:, gen, :] @ z.facets[z.at_vertex[zone]].T  # (vertices, facets)
                 checked += values.size
@@ -272,7 +280,7 @@ def _zone_certificate(r: ZoneRegions) -> Certificate:
 
 def _exact_positive(point, normal, gen, r, z, facet) -> bool:
     """``a_k . w > 0`` in rationals, for the generator's wrench at ``point``."""
-    G = _generators(point[None], normal[None], r.model, r.mu, r.edges, z.reference,
+    G = _generators(point[None], normal[None], r.model, r.cone_mu, r.edges, z.reference,
                     z.length_scale)[0, gen]
     force = [Fraction(x) for x in G[:3]]
     arm = [(Fraction(p) - Fraction(c)) / Fraction(z.length_scale)
@@ -365,7 +373,8 @@ class Prototype:
 
 def zone_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike, model: str = "hard",
                  mu: float = 0.5, grow: bool = True, edges: int = EDGES,
-                 max_patches: int = 5000, construction: str = "search zones") -> ZoneRegions:
+                 max_patches: int = 5000, construction: str = "search zones",
+                 margin: float = MARGIN) -> ZoneRegions:
     """Independent regions around a force-closure prototype grasp on a polyhedron or mesh.
 
     Parameters
@@ -385,6 +394,10 @@ def zone_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike, model
         Edges of the inscribed friction pyramids.
     max_patches : int
         Stop growing a region after this many patches.
+    margin : float
+        Radians taken off every friction cone's half-angle, in the
+        construction and in the proof
+        (:func:`~forceclosure.synthesis.regions.check_margin`).
 
     Examples
     --------
@@ -413,13 +426,15 @@ def zone_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike, model
     P = np.array([f.to_world(uv) for f, (_, uv, _) in zip(faces, located, strict=True)])
     N = np.array([f.normal for f in faces])
     mu = 0.0 if model == "frictionless" else float(mu)
-    zones = search_zones(P, N, model, mu, edges)
+    margin = check_margin(margin)
+    cone_mu = 0.0 if model == "frictionless" else narrowed(mu, margin)
+    zones = search_zones(P, N, model, cone_mu, edges)
     graph = _face_graph(polyhedron) if grow else {}
     regions, choices = [], []
     for finger, (face, (_, uv, _)) in enumerate(zip(faces, located, strict=True)):
         pieces = convex_pieces(face)
         start = _containing(pieces, uv)
-        affine = _affine_wrenches(face, zones, model, mu, edges)
+        affine = _affine_wrenches(face, zones, model, cone_mu, edges)
         ring, chosen = _patch_for(face, pieces[start], zones, finger, affine, uv)
         if ring is None:  # the prototype point itself sits on a zone's boundary
             raise InputError(f"finger {finger + 1}: the prototype is too close to the "
@@ -441,7 +456,7 @@ def zone_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike, model
                 seen.add(f_index)
             f_pieces = convex_pieces(f)
             f_affine = affine if f_index == face.index else _affine_wrenches(
-                f, zones, model, mu, edges)
+                f, zones, model, cone_mu, edges)
             added = False
             for k in (range(len(f_pieces)) if which is None else [which]):
                 ring, chosen = _patch_for(f, f_pieces[k], zones, finger, f_affine, None)
@@ -459,7 +474,7 @@ def zone_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike, model
         regions.append(tuple(patches))
         choices.append(tuple(picks))
     return ZoneRegions(polyhedron, model, mu, tuple(regions), construction, P, zones,
-                       tuple(choices), edges)
+                       tuple(choices), edges, margin)
 
 
 def _containing(pieces: list[NDArray], uv: NDArray) -> int:
