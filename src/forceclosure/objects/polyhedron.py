@@ -39,6 +39,8 @@ from .polygon import Polygon
 MERGE_RTOL = 1e-9
 #: Relative tolerance (of the object's size) for calling triangles coplanar.
 FLAT_RTOL = 1e-6
+#: Largest angle (radians) between a merged face's normal and any of its triangles' normals.
+FACE_ANGLE = 1e-4
 
 
 @dataclass(frozen=True, eq=False)
@@ -59,6 +61,11 @@ class PlanarFace:
     triangles : (t,) int array
         The mesh triangles making up the face.
     area : float
+    spread : float
+        The largest angle between ``normal`` and the normal of one of the
+        face's triangles (at most ``FACE_ANGLE``; 0 for one triangle): the
+        certificates narrow friction cones by it, so that nothing is proved
+        on a normal the object does not have.
     """
 
     index: int
@@ -70,6 +77,7 @@ class PlanarFace:
     area: float
     _vertices: NDArray[np.float64] = field(repr=False)
     _mesh: NDArray[np.int64] = field(repr=False)  # the mesh's (m, 3) triangle array
+    spread: float = 0.0
 
     def to_plane(self, points: ArrayLike) -> NDArray[np.float64]:
         """Coordinates ``(u, v)`` of points projected onto the face's plane."""
@@ -430,6 +438,14 @@ def _planar_faces(V, T, normals, areas, directed, ids, counts, size):
     face_normal /= np.linalg.norm(face_normal, axis=1, keepdims=True)
     u, v = tangent_basis(face_normal)
     face_area = np.bincount(label, weights=areas, minlength=n_faces)
+    # each triangle's angle from its face's normal (|cross| is accurate for tiny angles),
+    # padded for the rounding of the normals
+    turn = np.arcsin(np.clip(np.linalg.norm(np.cross(normals, face_normal[label]), axis=1),
+                             0.0, 1.0))
+    spread = np.zeros(n_faces)
+    np.maximum.at(spread, label, turn)
+    sizes = np.bincount(label, minlength=n_faces)
+    spread = np.where(sizes > 1, spread + 1e-12, 0.0)
     order = np.argsort(label, kind="stable")
     groups = np.split(order, np.flatnonzero(np.diff(label[order])) + 1)
     faces = []
@@ -437,7 +453,7 @@ def _planar_faces(V, T, normals, areas, directed, ids, counts, size):
         axes = np.vstack([u[k], v[k]])
         loops = (T[tris[0]],) if len(tris) == 1 else _loops(V, directed, tris, axes)
         faces.append(PlanarFace(k, face_normal[k], V[loops[0][0]], axes, loops, tris,
-                                float(face_area[k]), V, T))
+                                float(face_area[k]), V, T, float(spread[k])))
     return tuple(faces), label
 
 
@@ -453,7 +469,8 @@ def _split_curved(V, T, normals, areas, label, a, b, tol):
     area_sum = np.bincount(label, weights=areas, minlength=n_groups)
     centre /= area_sum[:, None]
     dev = np.abs(np.einsum("ikj,ij->ik", V[T] - centre[label][:, None, :], n_mean[label]))
-    bad_groups = np.unique(label[dev.max(axis=1) > tol])
+    turn = np.linalg.norm(np.cross(normals, n_mean[label]), axis=1)
+    bad_groups = np.unique(label[(dev.max(axis=1) > tol) | (turn > np.sin(FACE_ANGLE) / 2)])
     if len(bad_groups) == 0:
         return label
     neighbours: dict[int, list[int]] = {}
@@ -472,7 +489,8 @@ def _split_curved(V, T, normals, areas, label, a, b, tol):
             while stack:
                 t = stack.pop()
                 for u in neighbours.get(t, ()):
-                    if u in todo and np.max(np.abs((V[T[u]] - p0) @ n0)) <= tol:
+                    if u in todo and np.max(np.abs((V[T[u]] - p0) @ n0)) <= tol and \
+                            np.linalg.norm(np.cross(normals[u], n0)) <= np.sin(FACE_ANGLE) / 2:
                         todo.discard(u)
                         label[u] = next_label
                         stack.append(u)

@@ -45,7 +45,7 @@ from ..errors import InputError
 from ..objects.polygon import _signed_area
 from ..objects.polyhedron import PlanarFace, Polyhedron
 from .patches import FacePatch, SpatialRegions, clip, convex_pieces
-from .regions import MARGIN, Certificate
+from .regions import MARGIN, Certificate, narrowed
 
 #: Default margin (radians) taken off each friction cone's half-angle.
 ANGLE_MARGIN = MARGIN  # the one margin (regions.check_margin)
@@ -146,11 +146,16 @@ class SoftPairRegions(SpatialRegions):
 
     def certify(self) -> Certificate:
         """Exact: every vertex pair ``(a, b)`` has ``b - a`` strictly inside both friction
-        cones (Corollary 3), decided in rational arithmetic; every vertex lies on its face."""
+        cones (Corollary 3), decided in rational arithmetic; every vertex lies on its face.
+        Each cone is narrowed by its face's ``spread``, so the proof holds for the normal of
+        every triangle the face was merged from."""
         f1, f2 = (self.polyhedron.faces[r[0].face] for r in self.regions)
-        mu = Fraction(self.mu)
+        # each cone narrowed by its face's spread: it then lies inside the cone around the
+        # normal of every triangle of the face
+        mu1, mu2 = (Fraction(narrowed(self.mu, f.spread)) for f in (f1, f2))
         n1 = [Fraction(x) for x in f1.normal]
         n2 = [Fraction(x) for x in f2.normal]
+        nn1, nn2 = (sum(c * c for c in n) for n in (n1, n2))  # not exactly 1 in floats
         A = [[Fraction(x) for x in p] for p in self.regions[0][0].points]
         B = [[Fraction(x) for x in p] for p in self.regions[1][0].points]
         for (i, a), (j, b) in itertools.product(enumerate(A), enumerate(B)):
@@ -158,8 +163,8 @@ class SoftPairRegions(SpatialRegions):
             norm2 = sum(c * c for c in x)
             d1 = sum(c * n for c, n in zip(x, n1, strict=True))
             d2 = sum(c * n for c, n in zip(x, n2, strict=True))
-            if not (d1 < 0 < d2 and d1 * d1 * (1 + mu * mu) > norm2
-                    and d2 * d2 * (1 + mu * mu) > norm2):
+            if not (d1 < 0 < d2 and d1 * d1 * (1 + mu1 * mu1) > norm2 * nn1
+                    and d2 * d2 * (1 + mu2 * mu2) > norm2 * nn2):
                 return Certificate(False, "exact vertex pairs",
                                    f"vertex {i} of region 1 and vertex {j} of region 2: the "
                                    "segment between them leaves a friction cone")

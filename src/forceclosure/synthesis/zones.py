@@ -256,6 +256,15 @@ def _zone_certificate(r: ZoneRegions) -> Certificate:
     problem = _hull_checks(z)
     if problem:
         return Certificate(False, "search zones", problem)
+    if r.model != "frictionless":
+        # the cones are narrowed by the margin; a face merged from triangles that turn by more
+        # would leave a triangle whose own cone does not hold the generators
+        turned = max((r.polyhedron.faces[p.face] for region in r.regions for p in region),
+                     key=lambda f: f.spread)
+        if turned.spread > r.margin:
+            return Certificate(False, "search zones",
+                               f"face {turned.index}'s triangles turn by {turned.spread:.3g} "
+                               f"rad, more than the margin of {r.margin:g}")
     checked = 0
     for finger, (region, choices) in enumerate(zip(r.regions, r.choices, strict=True)):
         for patch, chosen in zip(region, choices, strict=True):
