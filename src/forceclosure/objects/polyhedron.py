@@ -109,11 +109,11 @@ def _point(p: NDArray) -> str:
     return "(" + ", ".join(f"{x:.6g}" for x in p) + ")"
 
 
-def _fail(message: str, defect: str, allow: bool, warnings: list[str],
+def _fail(name: str, message: str, defect: str, allow: bool, warnings: list[str],
           defects: list[str]) -> None:
     """Refuse a mesh defect, or with ``allow_open`` accept it with a warning."""
     if not allow:
-        raise InputError(f"{message}; {OPEN_HINT}")
+        raise InputError(f"{name}: {message}; {OPEN_HINT}")
     warnings.append(f"{message} (accepted: allow_open)")
     defects.append(defect)
 
@@ -237,12 +237,12 @@ class Polyhedron:
         many = np.flatnonzero(counts > 2)
         if len(many):
             a, b = directed[np.flatnonzero(ids == many[0])[0]]
-            _fail(f"{name}: non-manifold edge from {_point(V[a])} to {_point(V[b])} (shared by "
+            _fail(name, f"non-manifold edge from {_point(V[a])} to {_point(V[b])} (shared by "
                   f"{counts[many[0]]} triangles)", "non-manifold", allow_open, warnings, defects)
         open_edges = np.flatnonzero(counts == 1)
         if len(open_edges):
             a, b = directed[np.flatnonzero(ids == open_edges[0])[0]]
-            _fail(f"{name}: open mesh, {len(open_edges)} boundary edges (e.g. from {_point(V[a])} "
+            _fail(name, f"open mesh, {len(open_edges)} boundary edges (e.g. from {_point(V[a])} "
                   f"to {_point(V[b])})", "open", allow_open, warnings, defects)
         T = fix_winding(T, name, warnings)
         labels = shell_labels(T, len(V))
@@ -351,6 +351,11 @@ class Polyhedron:
         """Number of edges of only one triangle (a hole's rim)."""
         return int(np.sum(edge_table(self.triangles)[2] == 1))
 
+    @property
+    def non_manifold_edges(self) -> int:
+        """Number of edges of three or more triangles."""
+        return int(np.sum(edge_table(self.triangles)[2] > 2))
+
     def to_trimesh(self):
         """The surface as a ``trimesh.Trimesh`` (triangles facing outward, not re-processed).
 
@@ -378,6 +383,7 @@ class Polyhedron:
                 "volume": self.volume if self.watertight else None, "area": self.area,
                 "size": self.size, "bounds": self.bounds.tolist(), "warnings": notes,
                 "boundary_edges": self.boundary_edges, "holes": self.holes,
+                "non_manifold_edges": self.non_manifold_edges,
                 "defects": list(self.defects)}
 
 
