@@ -177,3 +177,19 @@ def test_dataset_jobs_opt_in(tmp_path):
     assert main(["dataset", MUG, "--out", str(out), "--allow-open", "--contact", "soft",
                  "--mu", "0.5", "--top", "1", "--samples", "2000", "--workers", "1"]) == 0
     assert json.loads((out / "job.json").read_text())["allow_open"] is True
+
+
+def test_two_solids_glued_at_an_edge_each_face_out():
+    """tests/data/bad_objects/non_manifold.obj: two tetrahedra sharing one edge (shared by
+    four triangles), the second given inside out. Each is turned out on its own: every
+    triangle's normal points away from its own tetrahedron's centre (closed form)."""
+    path = os.path.join(os.path.dirname(__file__), "data", "bad_objects", "non_manifold.obj")
+    poly = load_object(path, allow_open=True)
+    assert poly.defects == ("non-manifold",) and poly.non_manifold_edges == 1
+    V, T = poly.vertices, poly.triangles
+    upper = np.any(V[T][:, :, 1] > 0.5, axis=1) | np.any(V[T][:, :, 2] > 0.5, axis=1)
+    for group in (upper, ~upper):
+        centre = V[np.unique(T[group])].mean(axis=0)
+        normals = np.cross(V[T[group, 1]] - V[T[group, 0]], V[T[group, 2]] - V[T[group, 0]])
+        assert group.sum() == 4
+        assert np.all(np.einsum("ij,ij->i", normals, V[T[group]].mean(axis=1) - centre) > 0)

@@ -47,7 +47,7 @@ from scipy.sparse.csgraph import breadth_first_order, connected_components
 from ..errors import InputError
 
 __all__ = ["OPEN_SHEET", "boundary_loops", "edge_table", "fix_winding", "orient_outward",
-           "shell_labels", "winding_numbers"]
+           "pieces", "shell_labels", "winding_numbers"]
 
 #: An open shell whose mean winding number is within this of 0 is a sheet with no inside.
 OPEN_SHEET = 0.05
@@ -116,6 +116,34 @@ def shell_labels(triangles: NDArray, n_vertices: int) -> NDArray[np.int64]:
                            shape=(m + n_vertices, m + n_vertices))
     labels = connected_components(incidence, directed=False)[1][:m]
     return np.unique(labels, return_inverse=True)[1].reshape(-1)
+
+
+def pieces(T: NDArray) -> tuple[NDArray[np.int64], NDArray[np.bool_]]:
+    """The pieces orientation works on: triangles connected through edges of exactly two
+    triangles (so two solids glued along a non-manifold edge are two pieces), and whether
+    each piece is closed (each of its edges twice among its own triangles).
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> label, closed = pieces(bundled("cube").triangles)
+    >>> int(label.max()) + 1, closed.tolist()
+    (1, [True])
+    """
+    _, ids, counts = edge_table(T)
+    m = len(T)
+    order = np.argsort(ids, kind="stable")
+    same = np.flatnonzero((ids[order][1:] == ids[order][:-1]) & (counts[ids[order][1:]] == 2))
+    a, b = order[same] // 3, order[same + 1] // 3
+    graph = coo_matrix((np.ones(len(a)), (a, b)), shape=(m, m))
+    label = connected_components(graph, directed=False)[1]
+    label = np.unique(label, return_inverse=True)[1].reshape(-1)
+    n = int(label.max()) + 1
+    key = label[np.arange(3 * m) // 3] * (int(ids.max()) + 1) + ids
+    _, inverse, times = np.unique(key, return_inverse=True, return_counts=True)
+    closed = np.ones(n, dtype=bool)
+    closed[label[np.flatnonzero(times[inverse.reshape(-1)] != 2) // 3]] = False
+    return label, closed
 
 
 def _consistent(directed: NDArray, ids: NDArray, counts: NDArray, n: int) -> bool:
@@ -210,16 +238,16 @@ def winding_numbers(V: NDArray, T: NDArray, points: NDArray,
 
 def orient_outward(V: NDArray, T: NDArray, labels: NDArray, closed: NDArray,
                    warnings: list[str]) -> NDArray:
-    """Flip each shell whose consistently wound triangles face inward.
+    """Flip each piece whose consistently wound triangles face inward.
 
     Parameters
     ----------
     V, T : arrays
-        The mesh, its winding consistent within each shell (:func:`fix_winding`).
+        The mesh, its winding consistent within each piece (:func:`fix_winding`).
     labels : (m,) int array
-        Each triangle's shell (:func:`shell_labels`).
-    closed : (shells,) bool array
-        Which shells are closed (every edge shared by exactly two triangles).
+        Each triangle's piece (:func:`pieces`).
+    closed : (pieces,) bool array
+        Which pieces are closed.
     warnings : list
         Gets a line for what was flipped, and for open sheets with no inside.
 
@@ -249,7 +277,7 @@ def orient_outward(V: NDArray, T: NDArray, labels: NDArray, closed: NDArray,
     if flipped.all():
         warnings.append("the triangles faced inward; flipped them to face outward")
     elif flipped.any():
-        warnings.append(f"{int(flip.sum())} of {len(flip)} shells faced inward; flipped them "
+        warnings.append(f"{int(flip.sum())} of {len(flip)} pieces faced inward; flipped them "
                         "to face outward")
     if sheets:
         warnings.append(f"{sheets} open shell{'s' if sheets > 1 else ''} with no inside (a "

@@ -37,7 +37,14 @@ from scipy.sparse.csgraph import connected_components
 
 from ..contacts import tangent_basis
 from ..errors import InputError
-from .orient import boundary_loops, edge_table, fix_winding, orient_outward, shell_labels
+from .orient import (
+    boundary_loops,
+    edge_table,
+    fix_winding,
+    orient_outward,
+    pieces,
+    shell_labels,
+)
 from .outer import outer_surface
 from .polygon import Polygon
 
@@ -245,10 +252,10 @@ class Polyhedron:
             _fail(name, f"open mesh, {len(open_edges)} boundary edges (e.g. from {_point(V[a])} "
                   f"to {_point(V[b])})", "open", allow_open, warnings, defects)
         T = fix_winding(T, name, warnings)
+        T = orient_outward(V, T, *pieces(T), warnings)
         labels = shell_labels(T, len(V))
         closed = np.ones(int(labels.max()) + 1, dtype=bool)
         closed[labels[np.repeat(np.arange(len(T)), 3)[counts[ids] != 2]]] = False
-        T = orient_outward(V, T, labels, closed, warnings)
         V2, T, notes = outer_surface(V, T, labels, closed, size)
         warnings.extend(notes)
         if V2 is not V:
