@@ -150,6 +150,7 @@ def test_synthesize_takes_what_load_object_takes():
     s = synthesize(box, 2, "soft", 0.5, top=1)
     assert s.method == "faces" and s.found[0].certify().holds
     assert synthesize(shapely.box(0, 0, 2, 1), 2, "hard", 0.5, top=1).found[0].certify().holds
+    assert synthesize("cube", 2, "soft", 0.5, top=1).found[0].certify().holds  # bundled name
     opened = trimesh.Trimesh(*_open_cube(), process=False)
     with pytest.raises(InputError, match="allow_open=True"):
         synthesize(opened, 3, "hard", 0.5)
