@@ -291,17 +291,36 @@ def test_mesh_regions_on_pybullet_objects(name, fingers, model, mu):
     assert check.holds, check.detail
 
 
-def test_prototypes_keep_their_side_of_a_fin():
-    """random_urdfs/002 has a fin of zero thickness: two faces back to back, normals +x
-    and -x, so a point on it is on both. The top prototypes keep the face they were drawn
-    on, and their regions are certified (snapping to the nearest face picked the wrong side
-    for one in fifteen surface points here, and no longer can)."""
-    obj = load_object(os.path.join(pybullet_data.getDataPath(), "random_urdfs", "002",
-                                   "002.obj"))
+def _fin_beside_a_cube():
+    """A unit cube and, against its +x face, a fin of zero thickness: a closed shell of
+    two squares back to back (normals +y and -y) sticking out to x = 2."""
+    cube = bundled("cube")
+    lo = cube.vertices.min(axis=0)
+    side = np.ptp(cube.vertices, axis=0)
+    fin = np.array([[1, 0.5, 0.1], [2, 0.5, 0.1], [2, 0.5, 0.9], [1, 0.5, 0.9]]) * side + lo
+    # one square split along 0-2, the other, turned over, along 1-3: every edge twice
+    tris = np.array([[0, 1, 2], [0, 2, 3], [1, 0, 3], [2, 1, 3]]) + len(cube.vertices)
+    return Polyhedron.from_arrays(np.vstack([cube.vertices, fin]),
+                                  np.vstack([cube.triangles, tris]), name="finned")
+
+
+@pytest.mark.parametrize("name", ["fin", "random_urdfs/002"])
+def test_prototypes_keep_their_side_of_a_fin(name):
+    """A fin of zero thickness has two faces back to back, normals +y and -y, so a point
+    on it is on both: snapping to the nearest face picked the wrong side. The top
+    prototypes keep the face they were drawn on, and their regions are certified.
+    random_urdfs/002 had such faces too, between two of its pieces pressed together:
+    they were inside the object, and its outer surface has none left."""
+    obj = (_fin_beside_a_cube() if name == "fin" else
+           load_object(os.path.join(pybullet_data.getDataPath(), name, "002.obj")))
     points, faces = surface_samples(obj, 3000, np.random.default_rng(0))
     snapped = np.array([obj.locate(p)[0] for p in points])
     normal = np.array([f.normal for f in obj.faces])
-    assert np.any(np.einsum("ij,ij->i", normal[snapped], normal[faces]) < -0.99)
+    agree = np.einsum("ij,ij->i", normal[snapped], normal[faces])
+    if name == "fin":
+        assert np.any(agree < -0.99)
+    else:
+        assert np.all(agree > 0.99)
     for p in prototype_grasps(obj, 3, "hard", 0.5, count=3, samples=3000):
         r = zone_regions(obj, p, "hard", 0.5)
         assert r.certify().holds and sampling_check(r, samples=1000).holds

@@ -216,7 +216,7 @@ def _cmd_objects(args: argparse.Namespace) -> int:
 def _cmd_inspect(args: argparse.Namespace) -> int:
     from .objects.io import load_object
 
-    obj = load_object(args.object, allow_open=args.allow_open, part=args.part)
+    obj = load_object(args.object, allow_open=True, part=args.part)  # describe open meshes too
     info = obj.summary()
     if args.json:
         json.dump(info, sys.stdout, indent=2)
@@ -234,9 +234,19 @@ def _cmd_inspect(args: argparse.Namespace) -> int:
             print(f"  {info['vertices']} vertices, {info['triangles']} triangles -> "
                   f"{info['faces']} planar faces ({info['merged_faces']} merged from several "
                   "triangles)")
-            tight = "watertight" if info["watertight"] else "open (not watertight)"
+            tight = "watertight"
+            if not info["watertight"]:
+                facts = [f"{info['boundary_edges']} boundary edges in {info['holes']} "
+                         f"hole{'s' if info['holes'] != 1 else ''}"] if info["holes"] else []
+                if info["non_manifold_edges"]:
+                    facts.append(f"{info['non_manifold_edges']} non-manifold edges")
+                tight = f"{'open' if info['holes'] else 'non-manifold'} (not watertight): " + (
+                    ", ".join(facts))
             volume = f", volume {info['volume']:.6g}" if info["volume"] is not None else ""
             print(f"  {tight}{volume}, area {info['area']:.6g}")
+            if info["defects"] and not args.allow_open:
+                print(f"  the file is {' and '.join(info['defects'])}: synthesize and dataset "
+                      "need --allow-open for it")
         print(f"  size {info['size']:.6g} (bounding-box diagonal), bounds "
               f"{np.round(lo, 6).tolist()} to {np.round(hi, 6).tolist()}")
     if args.plot:
@@ -253,7 +263,7 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
 
     if args.html and not args.html.lower().endswith((".html", ".htm")):
         raise InputError(f"--html {args.html}: an interactive view is saved as .html")
-    obj = load_object(args.object, part=args.part)
+    obj = load_object(args.object, allow_open=args.allow_open, part=args.part)
     if obj.dim == 3 and args.vertices:
         raise InputError("--vertices is for polygons; on a polyhedron every finger is on a face")
     if args.vertices and args.contact == "frictionless":
@@ -383,7 +393,8 @@ def _cmd_dataset(args: argparse.Namespace) -> int:
     job = Job(mode="analyze" if args.analyze else "synthesize", fingers=args.fingers,
               contact=args.contact, mu=args.mu, top=args.top, margin=args.margin,
               construction=args.construction, method=args.method, samples=args.samples,
-              seed=args.seed, grasps=args.grasps, timeout=args.timeout)
+              seed=args.seed, grasps=args.grasps, timeout=args.timeout,
+              allow_open=args.allow_open)
     if args.scheduler:
         try:
             from distributed import Client
@@ -430,6 +441,9 @@ def _synthesis_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--samples", type=int, default=20_000,
                    help="polyhedra: random grasps sampled for prototypes (default 20000)")
     p.add_argument("--seed", type=int, default=0, help="random seed of the sampling")
+    p.add_argument("--allow-open", action="store_true",
+                   help="accept open or non-manifold meshes (scans, single-sided surfaces), "
+                        "with a warning, instead of refusing them")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -470,7 +484,8 @@ def build_parser() -> argparse.ArgumentParser:
     i.add_argument("--plot", metavar="OUT", help="save a picture (.png or .svg)")
     i.add_argument("--json", action="store_true", help="print the summary as JSON")
     i.add_argument("--allow-open", action="store_true",
-                   help="accept open or non-manifold meshes instead of refusing them")
+                   help="open or non-manifold meshes are described either way; with this "
+                        "flag, without the reminder that synthesize needs it")
     i.add_argument("--part", metavar="NAME", help="the URDF link (or SVG element id) to read")
     i.set_defaults(run=_cmd_inspect)
     y = sub.add_parser("synthesize", help="where to put the fingers: independent regions",

@@ -88,6 +88,9 @@ class Job:
         ``{dir}/{stem}.grasps.json``.
     timeout : float or None
         Seconds one object may take; None for no limit.
+    allow_open : bool
+        Accept open and non-manifold meshes (``load_object(..., allow_open=True)``);
+        part of the job's identity, since it changes which objects load and how.
     """
 
     mode: str = "synthesize"
@@ -102,6 +105,7 @@ class Job:
     seed: int = 0
     grasps: str = ""
     timeout: float | None = None
+    allow_open: bool = False
 
     def __post_init__(self) -> None:
         if self.mode not in ("synthesize", "analyze"):
@@ -122,7 +126,7 @@ class Job:
     def identity(self) -> dict[str, Any]:
         """The options that decide the results (the time limit does not)."""
         if self.mode == "analyze":
-            return {"mode": "analyze", "grasps": self.grasps}
+            return {"mode": "analyze", "grasps": self.grasps, "allow_open": self.allow_open}
         record = asdict(self)
         record.pop("timeout")
         return record
@@ -401,7 +405,7 @@ def process_object(path: str | Path, job: Job) -> dict[str, Any]:
     start = time.perf_counter()
     try:
         with deadline(job.timeout):
-            obj = load_object(path)
+            obj = load_object(path, allow_open=job.allow_open)
             record.update(_describe(obj))
             record["load_seconds"] = time.perf_counter() - start
             record.update(_synthesize(obj, job) if job.mode == "synthesize"
@@ -447,6 +451,8 @@ def _check_job(out: Path, job: Job) -> None:
             held = json.loads(path.read_text(encoding="utf-8"))
         except ValueError:
             raise InputError(f"{path}: not a job file; use another --out") from None
+        if isinstance(held, dict):
+            held.setdefault("allow_open", False)  # written before the option existed
         if held != wanted:
             diff = [k for k in sorted(set(held) | set(wanted)) if held.get(k) != wanted.get(k)]
             what = ", ".join(f"{k} {held.get(k)!r} there, {wanted.get(k)!r} here"

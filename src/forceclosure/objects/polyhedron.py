@@ -5,11 +5,14 @@ and cleans the mesh:
 
 * **safe repairs, each with a warning**: duplicate vertices merged (OBJ
   files split vertices along texture seams), triangles that collapse
-  when they are merged dropped, winding made consistent, and an
-  inward-facing mesh flipped to face out (signed volume > 0);
+  when they are merged dropped, winding made consistent and each shell
+  turned to face out (:mod:`~forceclosure.objects.orient`, open shells
+  too), and a mesh of several overlapping shells (a convex decomposition)
+  reduced to its outer surface (:mod:`~forceclosure.objects.outer`);
 * **refusals, each in one line naming where**: non-finite vertices, indices
   out of range, degenerate triangles (distinct but collinear vertices),
-  non-manifold edges, and open meshes (unless ``allow_open=True``). Vertices
+  non-manifold edges, and open meshes (unless ``allow_open=True``, which
+  accepts them with a warning and records them in ``defects``). Vertices
   and triangles are counted from 1 in the input's order, as in OBJ files;
   edges are named by their endpoints.
 
@@ -24,15 +27,25 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
+from itertools import pairwise
 
 import numpy as np
 import shapely
 from numpy.typing import ArrayLike, NDArray
 from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import breadth_first_order, connected_components
+from scipy.sparse.csgraph import connected_components
 
 from ..contacts import tangent_basis
 from ..errors import InputError
+from .orient import (
+    boundary_loops,
+    edge_table,
+    fix_winding,
+    orient_outward,
+    pieces,
+    shell_labels,
+)
+from .outer import outer_surface
 from .polygon import Polygon
 
 #: Relative tolerance (of the object's size) for merging vertices.
@@ -41,6 +54,8 @@ MERGE_RTOL = 1e-9
 FLAT_RTOL = 1e-6
 #: Largest angle (radians) between a merged face's normal and any of its triangles' normals.
 FACE_ANGLE = 1e-4
+#: How an open mesh is accepted (the CLI says ``--allow-open``).
+OPEN_HINT = "pass allow_open=True (--allow-open on the command line) to accept it"
 
 
 @dataclass(frozen=True, eq=False)
@@ -109,10 +124,13 @@ def _point(p: NDArray) -> str:
     return "(" + ", ".join(f"{x:.6g}" for x in p) + ")"
 
 
-def _fail(message: str, allow: bool, warnings: list[str]) -> None:
+def _fail(name: str, message: str, defect: str, allow: bool, warnings: list[str],
+          defects: list[str]) -> None:
+    """Refuse a mesh defect, or with ``allow_open`` accept it with a warning."""
     if not allow:
-        raise InputError(message)
-    warnings.append(message)
+        raise InputError(f"{name}: {message}; {OPEN_HINT}")
+    warnings.append(f"{message} (accepted: allow_open)")
+    defects.append(defect)
 
 
 def _unique_rows(key: NDArray[np.int64]) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
@@ -146,53 +164,6 @@ def _merge_vertices(vertices: NDArray, triangles: NDArray, size: float,
     return vertices[first][used], remap[triangles], source
 
 
-def _edge_table(triangles: NDArray) -> tuple[NDArray, NDArray, NDArray]:
-    """Directed edges (3m, 2), their undirected ids, and the count of each id."""
-    directed = triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
-    n = int(triangles.max()) + 1
-    key = np.minimum(directed[:, 0], directed[:, 1]) * n + np.maximum(directed[:, 0],
-                                                                      directed[:, 1])
-    _, ids, counts = np.unique(key, return_inverse=True, return_counts=True)
-    return directed, ids.reshape(-1), counts
-
-
-def _fix_winding(T: NDArray, name: str, warnings: list[str]) -> NDArray:
-    """Orient every triangle like its neighbours: adjacent triangles must run through
-    their shared edge in opposite directions (a 2-colouring of the adjacency graph)."""
-    directed, ids, _ = _edge_table(T)
-    n = int(T.max()) + 1
-    if len(np.unique(directed[:, 0] * n + directed[:, 1])) == len(directed):
-        return T  # every directed edge once: consistent already
-    m = len(T)
-    order = np.argsort(ids, kind="stable")
-    same = np.flatnonzero(ids[order][1:] == ids[order][:-1])
-    first, second = order[same], order[same + 1]
-    a, b = first // 3, second // 3
-    parity = directed[first, 0] == directed[second, 0]  # same direction: one must flip
-    graph = coo_matrix((np.ones(len(a)), (a, b)), shape=(m, m)).tocsr()
-    lookup = dict(zip(zip(np.minimum(a, b).tolist(), np.maximum(a, b).tolist(), strict=True),
-                      parity.tolist(), strict=True))
-    flip = np.zeros(m, dtype=bool)
-    seen = np.zeros(m, dtype=bool)
-    for root in range(m):
-        if seen[root]:
-            continue
-        nodes, parent = breadth_first_order(graph, root, directed=False,
-                                            return_predecessors=True)
-        seen[nodes] = True
-        for node in nodes[1:].tolist():
-            up = int(parent[node])
-            flip[node] = flip[up] ^ lookup[(min(node, up), max(node, up))]
-    fixed = np.where(flip[:, None], T[:, ::-1], T)
-    directed, _, _ = _edge_table(fixed)
-    if len(np.unique(directed[:, 0] * n + directed[:, 1])) != len(directed):
-        raise InputError(f"{name}: the surface is not orientable (it has no consistent "
-                         "outside, like a Moebius strip)")
-    warnings.append(f"re-oriented {int(min(flip.sum(), m - flip.sum()))} triangles for "
-                    "consistent winding")
-    return fixed
-
-
 @dataclass(frozen=True, eq=False)
 class Polyhedron:
     """A triangle mesh with its planar faces, validated and oriented outward.
@@ -211,6 +182,11 @@ class Polyhedron:
     watertight : bool
     warnings : tuple of str
         What the safe repairs changed.
+    defects : tuple of str
+        What ``allow_open`` accepted in the input (``"open"``,
+        ``"non-manifold"``); empty for a closed 2-manifold input. An open input
+        may still give a watertight object, when its holes lie inside a closed
+        shell (:mod:`forceclosure.objects.outer`).
     """
 
     vertices: NDArray[np.float64]
@@ -220,6 +196,7 @@ class Polyhedron:
     name: str
     watertight: bool
     warnings: tuple[str, ...]
+    defects: tuple[str, ...] = ()
 
     @classmethod
     def from_arrays(cls, vertices: ArrayLike, triangles: ArrayLike, name: str = "polyhedron",
@@ -235,6 +212,7 @@ class Polyhedron:
         (4, 0.166667)
         """
         warnings: list[str] = []
+        defects: list[str] = []
         try:
             V = np.asarray(vertices, dtype=float)
             T = np.asarray(triangles)
@@ -270,35 +248,43 @@ class Polyhedron:
             corners = ", ".join(_point(V[k]) for k in T[i])
             raise InputError(f"{name}: triangle {source[i] + 1} is degenerate: its vertices "
                              f"{corners} are collinear")
-        directed, ids, counts = _edge_table(T)
+        directed, ids, counts = edge_table(T)
         many = np.flatnonzero(counts > 2)
         if len(many):
             a, b = directed[np.flatnonzero(ids == many[0])[0]]
-            _fail(f"{name}: non-manifold edge from {_point(V[a])} to {_point(V[b])} (shared by "
-                  f"{counts[many[0]]} triangles)", allow_open, warnings)
+            _fail(name, f"non-manifold edge from {_point(V[a])} to {_point(V[b])} (shared by "
+                  f"{counts[many[0]]} triangles)", "non-manifold", allow_open, warnings, defects)
         open_edges = np.flatnonzero(counts == 1)
-        watertight = len(open_edges) == 0 and len(many) == 0
         if len(open_edges):
             a, b = directed[np.flatnonzero(ids == open_edges[0])[0]]
-            _fail(f"{name}: open mesh, {len(open_edges)} boundary edges (e.g. from {_point(V[a])} "
-                  f"to {_point(V[b])}); pass allow_open to accept it", allow_open, warnings)
+            _fail(name, f"open mesh, {len(open_edges)} boundary edges (e.g. from {_point(V[a])} "
+                  f"to {_point(V[b])})", "open", allow_open, warnings, defects)
+        T = fix_winding(T, name, warnings)
+        T = orient_outward(V, T, *pieces(T), warnings)
+        labels = shell_labels(T, len(V))
+        closed = np.ones(int(labels.max()) + 1, dtype=bool)
+        closed[labels[np.repeat(np.arange(len(T)), 3)[counts[ids] != 2]]] = False
+        V2, T, notes = outer_surface(V, T, labels, closed, size)
+        warnings.extend(notes)
+        if V2 is not V:
+            V = V2
+            if len(T) < 4:
+                raise InputError(f"{name}: nothing is left of the mesh outside its closed shells")
+        cross = np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]])
+        directed, ids, counts = edge_table(T)
+        watertight = bool(np.all(counts == 2))
         if watertight:
-            T = _fix_winding(T, name, warnings)
-            cross = np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]])
             volume = _signed_volume(V, T)
             if abs(volume) <= 1e-12 * size**3:
                 raise InputError(f"{name}: the mesh encloses no volume")
-            if volume < 0:
-                warnings.append("the triangles faced inward; flipped them to face outward")
-                T = T[:, ::-1].copy()
-                cross = -cross
-            directed, ids, counts = _edge_table(T)
-        normals = cross / np.linalg.norm(cross, axis=1, keepdims=True)
-        faces, face_of = _planar_faces(V, T, normals, np.linalg.norm(cross, axis=1) / 2,
-                                       directed, ids, counts, size)
+        double_area = np.linalg.norm(cross, axis=1)
+        normals, glued = _sliver_normals(V, T, cross, double_area <= 1e-12 * size * size,
+                                         directed, ids)
+        faces, face_of = _planar_faces(V, T, normals, double_area / 2, directed, ids, counts,
+                                       size, glued)
         for arr in (V, T, face_of):
             arr.setflags(write=False)
-        return cls(V, T, faces, face_of, name, watertight, tuple(warnings))
+        return cls(V, T, faces, face_of, name, watertight, tuple(warnings), tuple(defects))
 
     @classmethod
     def from_trimesh(cls, mesh, name: str | None = None, allow_open: bool = False) -> Polyhedron:
@@ -314,11 +300,7 @@ class Polyhedron:
     @cached_property
     def shell_of_triangle(self) -> NDArray[np.int64]:
         """Which connected shell each triangle belongs to (sharing vertices connects)."""
-        m, n = len(self.triangles), len(self.vertices)
-        rows = np.repeat(np.arange(m), 3)
-        incidence = coo_matrix((np.ones(3 * m), (rows, m + self.triangles.reshape(-1))),
-                               shape=(m + n, m + n))
-        return connected_components(incidence, directed=False)[1][:m]
+        return shell_labels(self.triangles, len(self.vertices))
 
     @property
     def shells(self) -> int:
@@ -373,18 +355,50 @@ class Polyhedron:
         face = self.faces[int(self.face_of_triangle[t])]
         return face.index, face.to_plane(p), float(dist[t])
 
+    @cached_property
+    def holes(self) -> int:
+        """Number of holes: loops of boundary edges (edges of one triangle); 0 if watertight."""
+        return len(boundary_loops(self.triangles))
+
+    @property
+    def boundary_edges(self) -> int:
+        """Number of edges of only one triangle (a hole's rim)."""
+        return int(np.sum(edge_table(self.triangles)[2] == 1))
+
+    @property
+    def non_manifold_edges(self) -> int:
+        """Number of edges of three or more triangles."""
+        return int(np.sum(edge_table(self.triangles)[2] > 2))
+
+    def to_trimesh(self):
+        """The surface as a ``trimesh.Trimesh`` (triangles facing outward, not re-processed).
+
+        Examples
+        --------
+        >>> from forceclosure.objects import bundled
+        >>> mesh = bundled("cube").to_trimesh()
+        >>> mesh.is_watertight, round(float(mesh.volume), 9)
+        (True, 8.0)
+        """
+        import trimesh
+
+        return trimesh.Trimesh(self.vertices.copy(), self.triangles.copy(), process=False,
+                               metadata={"name": self.name})
+
     def summary(self) -> dict[str, object]:
         """Counts and sizes, for people and JSON."""
         merged = sum(len(f.triangles) > 1 for f in self.faces)
         notes = list(self.warnings)
         if self.shells > 1:
-            notes.append(f"{self.shells} separate shells (e.g. a convex decomposition): faces "
-                         "inside another shell are not on the object's surface")
+            notes.append(f"{self.shells} separate shells (pieces that share no vertex)")
         return {"name": self.name, "kind": "polyhedron", "vertices": len(self.vertices),
                 "triangles": len(self.triangles), "faces": len(self.faces),
                 "merged_faces": merged, "shells": self.shells, "watertight": self.watertight,
                 "volume": self.volume if self.watertight else None, "area": self.area,
-                "size": self.size, "bounds": self.bounds.tolist(), "warnings": notes}
+                "size": self.size, "bounds": self.bounds.tolist(), "warnings": notes,
+                "boundary_edges": self.boundary_edges, "holes": self.holes,
+                "non_manifold_edges": self.non_manifold_edges,
+                "defects": list(self.defects)}
 
 
 def _signed_volume(V: NDArray, T: NDArray) -> float:
@@ -412,8 +426,41 @@ def _triangle_distances(p: NDArray, a: NDArray, b: NDArray, c: NDArray) -> NDArr
     return np.where(inside, np.abs(height), edge)
 
 
-def _planar_faces(V, T, normals, areas, directed, ids, counts, size):
-    """Group coplanar adjacent triangles; return the faces and each triangle's face."""
+def _sliver_normals(V, T, cross, sliver, directed, ids):
+    """Unit normals; a sliver (a boolean union's near-zero-area triangle, its corners
+    almost on a line) takes the normal of the triangle across its longest edge, and is
+    glued to that triangle's face: its third corner is within its tiny height of that edge,
+    so of that triangle's plane. Returns the normals and the ``(sliver, neighbour)`` pairs."""
+    normals = cross.copy()
+    good = ~sliver
+    normals[good] /= np.linalg.norm(cross[good], axis=1, keepdims=True)
+    if not sliver.any():
+        return normals, np.zeros((0, 2), dtype=np.int64)
+    tri_of_edge = np.repeat(np.arange(len(T)), 3)
+    across = {}
+    for t in np.flatnonzero(sliver).tolist():
+        d = V[T[t, [1, 2, 0]]] - V[T[t]]
+        k = int(np.argmax(np.einsum("ij,ij->i", d, d)))
+        across[t] = tri_of_edge[(ids == ids[3 * t + k]) & (tri_of_edge != t)].tolist()
+    pairs = []
+    while across:  # slivers next to slivers wait for their neighbour's normal
+        done = [t for t, nb in across.items() if any(good[u] for u in nb)]
+        if not done:  # only slivers around: glue them to each other, any unit normal
+            for t, nb in across.items():
+                normals[t] = [0.0, 0.0, 1.0]
+                pairs.extend((t, u) for u in nb[:1])
+            break
+        for t in done:
+            u = next(u for u in across.pop(t) if good[u])
+            normals[t] = normals[u]
+            good[t] = True
+            pairs.append((t, u))
+    return normals, np.array(pairs, dtype=np.int64).reshape(-1, 2)
+
+
+def _planar_faces(V, T, normals, areas, directed, ids, counts, size, glued=None):
+    """Group coplanar adjacent triangles (and each sliver with the triangle it is glued
+    to); return the faces and each triangle's face."""
     m = len(T)
     tri_of_edge = np.repeat(np.arange(m), 3)
     tol = FLAT_RTOL * size
@@ -429,9 +476,12 @@ def _planar_faces(V, T, normals, areas, directed, ids, counts, size):
                                      normals[b])), axis=1)
     coplanar = ((np.einsum("ij,ij->i", normals[a], normals[b]) > 0.999)
                 & (dist_a <= tol) & (dist_b <= tol))
-    graph = coo_matrix((np.ones(int(coplanar.sum())), (a[coplanar], b[coplanar])), shape=(m, m))
+    a, b = a[coplanar], b[coplanar]
+    if glued is not None and len(glued):
+        a, b = np.concatenate([a, glued[:, 0]]), np.concatenate([b, glued[:, 1]])
+    graph = coo_matrix((np.ones(len(a)), (a, b)), shape=(m, m))
     _, label = connected_components(graph, directed=False)
-    label = _split_curved(V, T, normals, areas, label, a[coplanar], b[coplanar], tol)
+    label = _split_curved(V, T, normals, areas, label, a, b, tol)
     n_faces = int(label.max()) + 1
     face_normal = np.zeros((n_faces, 3))
     np.add.at(face_normal, label, normals * areas[:, None])
@@ -447,11 +497,21 @@ def _planar_faces(V, T, normals, areas, directed, ids, counts, size):
     sizes = np.bincount(label, minlength=n_faces)
     spread = np.where(sizes > 1, spread + 1e-12, 0.0)
     order = np.argsort(label, kind="stable")
-    groups = np.split(order, np.flatnonzero(np.diff(label[order])) + 1)
+    cut = np.concatenate([[0], np.flatnonzero(np.diff(label[order])) + 1, [m]]).tolist()
+    groups = [order[a:b] for a, b in pairwise(cut)]
+    # a face's boundary edges: those whose reverse is not an edge of the same face
+    face_of_edge = label[tri_of_edge]
+    forward = (directed[:, 0] < directed[:, 1]).astype(np.int64)
+    key = (face_of_edge * (int(ids.max()) + 1) + ids) * 2
+    rim = np.flatnonzero(~np.isin(key + 1 - forward, key + forward))
+    rim = rim[np.argsort(face_of_edge[rim], kind="stable")]
+    cut = np.searchsorted(face_of_edge[rim], np.arange(n_faces + 1)).tolist()
+    rims = [rim[a:b] for a, b in pairwise(cut)]
     faces = []
+    all_axes = np.stack([u, v], axis=1)
     for k, tris in enumerate(groups):
-        axes = np.vstack([u[k], v[k]])
-        loops = (T[tris[0]],) if len(tris) == 1 else _loops(V, directed, tris, axes)
+        axes = all_axes[k]
+        loops = (T[tris[0]],) if len(tris) == 1 else _loops(V, directed[rims[k]], axes)
         faces.append(PlanarFace(k, face_normal[k], V[loops[0][0]], axes, loops, tris,
                                 float(face_area[k]), V, T, float(spread[k])))
     return tuple(faces), label
@@ -498,12 +558,11 @@ def _split_curved(V, T, normals, areas, label, a, b, tol):
     return np.unique(label, return_inverse=True)[1].reshape(-1)
 
 
-def _loops(V, directed, tris, axes):
-    """The boundary loops of a group of triangles, the counter-clockwise outer one first."""
-    edges = directed.reshape(-1, 3, 2)[tris].reshape(-1, 2)
-    keys = set(map(tuple, edges.tolist()))
-    boundary = [e for e in map(tuple, edges.tolist()) if (e[1], e[0]) not in keys]
-    loops = _walk(boundary)
+def _loops(V, boundary, axes):
+    """A face's boundary edges walked into loops, the counter-clockwise outer one first."""
+    loops = _walk(boundary.tolist())
+    if len(loops) == 1:
+        return loops
     signed = [_area2d((V[loop] - V[loop[0]]) @ axes.T) for loop in loops]
     first = int(np.argmax(signed))
     return (loops[first], *(lp for i, lp in enumerate(loops) if i != first))
@@ -511,7 +570,8 @@ def _loops(V, directed, tris, axes):
 
 def _area2d(ring):
     x, y = ring[:, 0], ring[:, 1]
-    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+    nxt = np.r_[1:len(ring), 0]
+    return 0.5 * float(x @ y[nxt] - x[nxt] @ y)
 
 
 def _walk(boundary):

@@ -13,6 +13,7 @@ first. A hand it cannot construct is refused with one line that says why.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -116,15 +117,16 @@ least 3 hard fingers (two cannot resist rotation about the line between them)
     return fingers
 
 
-def synthesize(obj: Polygon | Polyhedron, fingers: int | None = None, contact: str = "hard",
-               mu: float = 0.3, *, top: int = 5, margin: float = MARGIN,
+def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
+               contact: str = "hard", mu: float = 0.3, *, top: int = 5, margin: float = MARGIN,
                construction: str = "maximal", method: str = "auto", samples: int = 20_000,
-               seed: int = 0) -> Synthesis:
+               seed: int = 0, allow_open: bool = False) -> Synthesis:
     """The ``top`` best force-closure grasps on ``obj`` with their independent regions.
 
     Parameters
     ----------
-    obj : Polygon or Polyhedron
+    obj : Polygon, Polyhedron, or what :func:`~forceclosure.objects.io.load_object` reads
+        A ``trimesh.Trimesh``, a shapely polygon, a file path or a bundled name.
     fingers : int, optional
         Default: the fewest that can hold the object (:func:`default_fingers`).
     contact : {"hard", "soft", "frictionless"}
@@ -148,6 +150,9 @@ def synthesize(obj: Polygon | Polyhedron, fingers: int | None = None, contact: s
         one triangle) or the hand is not one the paper constructs.
     samples, seed : int
         Random grasps sampled for prototypes, and the seed.
+    allow_open : bool
+        Accept an open or non-manifold mesh given as a file or a ``trimesh.Trimesh``
+        (as :func:`~forceclosure.objects.io.load_object`).
 
     Returns
     -------
@@ -164,7 +169,13 @@ def synthesize(obj: Polygon | Polyhedron, fingers: int | None = None, contact: s
     >>> s = synthesize(bundled("cube"), 2, "soft", 0.5, top=1)
     >>> s.method, s.found[0].certify().holds
     ('faces', True)
+    >>> import trimesh
+    >>> synthesize(trimesh.creation.box(), 2, "soft", 0.5, top=1).found[0].certify().holds
+    True
     """
+    from ..objects.io import load_object
+
+    obj = load_object(obj, allow_open=allow_open)
     fingers = check_hand(obj.dim, fingers, contact, mu, top=top, construction=construction,
                          method=method)
     check_margin(margin)
