@@ -157,3 +157,32 @@ def test_four_finger_command_draws(tmp_path, capsys):
                  "--plot", str(picture)]) == 0
     assert "certified: True" in capsys.readouterr().out
     assert picture.read_text().lstrip().startswith("<?xml")
+
+
+def test_the_float_filter_defers_boundary_cases_to_rationals():
+    """The square's pinwheel up to the side's midpoint: there the four pushes pass through
+    one point and the cofactors are exactly zero, which floating point cannot tell from a
+    tiny number of either sign. The filter must defer it, and the rationals refuse it;
+    a hair shorter, every sign is proved."""
+    from forceclosure.synthesis.frictionless import FrictionlessRegions
+
+    square = bundled("square")
+    r = maximal_frictionless_regions(square, (0, 1, 2, 3), margin=1e-12)
+    edges = r.edges
+    at_centre = FrictionlessRegions(square, edges, ((0.0, 1.0), (1.0, 2.0), (0.0, 1.0),
+                                                    (1.0, 2.0)), "test")
+    assert not at_centre.certify().holds
+    inside = FrictionlessRegions(square, edges, ((0.0, 0.99), (1.01, 2.0), (0.0, 0.99),
+                                                 (1.01, 2.0)), "test")
+    assert inside.certify().holds
+    # the same boxes decided by the rationals alone (the filter's bound made useless)
+    import forceclosure.synthesis.frictionless as module
+
+    real = module._cofactors_with_bounds
+    try:
+        module._cofactors_with_bounds = lambda P, F: (real(P, F)[0], np.full(
+            real(P, F)[0].shape, np.inf))
+        assert not at_centre.certify().holds and inside.certify().holds
+        assert r.certify().holds
+    finally:
+        module._cofactors_with_bounds = real

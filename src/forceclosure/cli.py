@@ -429,7 +429,8 @@ def _synthesis_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--mu", type=float, default=0.3, help="friction coefficient (default 0.3)")
     p.add_argument("--top", type=int, default=5, help="how many grasps (default 5)")
     p.add_argument("--margin", type=float, default=1e-3,
-                   help="radians kept between every region grasp and the cone boundary")
+                   help="radians: the regions stay force-closure when every contact normal "
+                        "turns by up to this angle (default 1e-3; cones narrowed by it)")
     p.add_argument("--construction", choices=("maximal", "nguyen"), default="maximal",
                    help="maximal regions (an exact LP), or the paper's two-sided cone "
                         "constructions (§5.1, §5.4)")

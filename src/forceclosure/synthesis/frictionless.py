@@ -79,6 +79,29 @@ def _turned(m, turns, cos, sin) -> list:
     return [cos * m[0] - turns * sin * m[1], turns * sin * m[0] + cos * m[1]]
 
 
+def _cofactors_with_bounds(P: NDArray, F: NDArray) -> tuple[NDArray, NDArray]:
+    """:func:`cofactors` of many grasps at once (points and forces ``(..., 4, 2)``), and for
+    each the sum of the sizes of its terms, which bounds its rounding error."""
+    def cross(a, b):
+        return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+    def size(a, b):
+        return np.abs(a[..., 0] * b[..., 1]) + np.abs(a[..., 1] * b[..., 0])
+
+    P, F = np.broadcast_arrays(P, F)
+    tau, tau_size = cross(P, F), size(P, F)
+    C, bound = np.empty(tau.shape), np.empty(tau.shape)
+    for i in range(4):
+        j, k, m = (x for x in range(4) if x != i)
+        fj, fk, fm = F[..., j, :], F[..., k, :], F[..., m, :]
+        minor = (tau[..., j] * cross(fk, fm) - tau[..., k] * cross(fj, fm)
+                 + tau[..., m] * cross(fj, fk))
+        C[..., i] = minor if i % 2 == 0 else -minor
+        bound[..., i] = (tau_size[..., j] * size(fk, fm) + tau_size[..., k] * size(fj, fm)
+                         + tau_size[..., m] * size(fj, fk))
+    return C, bound
+
+
 def _affine(polygon: Polygon, edges: tuple[int, ...], turns=(0, 0, 0, 0),
             margin: float = 0.0) -> tuple[NDArray, NDArray]:
     """``C(t) = A @ t + b`` for the four cofactors (rows) and edge parameters (columns),
@@ -118,26 +141,42 @@ class FrictionlessRegions(Regions):
         finger's position in its fan of directions, so they keep one strict
         sign on the whole box iff they do at its 16 corners for the 16
         combinations of extreme directions (the rational cosine and sine of
-        the margin, from their floating-point values). The corners are
-        evaluated with ``fractions.Fraction`` at the very points that are
-        printed, with exact (unnormalised) normals: scaling a wrench by a
-        positive number scales its cofactor's partner and keeps every sign.
+        the margin, from their floating-point values). The corners are the
+        very points that are printed, the normals exact (unnormalised):
+        scaling a wrench by a positive number scales its cofactor's partner
+        and keeps every sign. A cofactor far from zero against a bound on its
+        rounding has the sign floating point shows; the rest are evaluated
+        with ``fractions.Fraction``.
         """
         es = [self.polygon.edges[k] for k in self.edges]
         inward = [exact_inward(e) for e in es]
         cos, sin = Fraction(math.cos(self.margin)), Fraction(math.sin(self.margin))
         fans = (-1, 1) if self.margin > 0 else (0,)
-        signs = set()
-        for corner in itertools.product(*self.segments):
-            pts = [exact_point(e, t) for e, t in zip(es, corner, strict=True)]
-            for turns in itertools.product(fans, repeat=4):
-                forces = [_turned(m, k, cos, sin) for m, k in zip(inward, turns, strict=True)]
-                c = cofactors(pts, forces)
-                if any(x == 0 for x in c) or len({x > 0 for x in c}) != 1:
-                    return Certificate(False, "corner check (exact rationals)",
-                                       f"the grasp at t = {tuple(round(x, 6) for x in corner)}"
-                                       " is not force-closure")
-                signs.add(c[0] > 0)
+        corners = list(itertools.product(*self.segments))
+        turns = list(itertools.product(fans, repeat=4))
+        # a static filter: floating-point cofactors whose size exceeds a bound on their
+        # rounding (1e-12 of the sum of their terms' sizes, thousands of times the worst
+        # case) have the sign they show; only the others are computed in rationals
+        P = np.array([[e.point(t) for e, t in zip(es, c, strict=True)] for c in corners])
+        m = np.array([[float(x) for x in n] for n in inward])
+        k = np.array(turns, dtype=float)[..., None]
+        perp = np.stack([-m[:, 1], m[:, 0]], axis=1)
+        F = math.cos(self.margin) * m + k * math.sin(self.margin) * perp  # (turns, 4, 2)
+        C, bound = _cofactors_with_bounds(P[:, None], F[None])  # (corners, turns, 4)
+        sure = np.abs(C) > 1e-12 * bound
+        signs = set(np.sign(C[sure]).tolist())
+        if len(signs) > 1:
+            return Certificate(False, "corner check (exact rationals)",
+                               "the cofactors change sign between corners or directions")
+        for a, b in zip(*np.nonzero(~sure.all(axis=2)), strict=True):
+            pts = [exact_point(e, t) for e, t in zip(es, corners[a], strict=True)]
+            forces = [_turned(n, q, cos, sin) for n, q in zip(inward, turns[b], strict=True)]
+            c = cofactors(pts, forces)
+            if any(x == 0 for x in c) or len({x > 0 for x in c}) != 1:
+                return Certificate(False, "corner check (exact rationals)",
+                                   f"the grasp at t = {tuple(round(x, 6) for x in corners[a])}"
+                                   " is not force-closure")
+            signs.add(1.0 if c[0] > 0 else -1.0)
         if len(signs) != 1:
             return Certificate(False, "corner check (exact rationals)",
                                "the cofactors change sign between corners")
