@@ -255,3 +255,49 @@ def test_one_margin_reaches_every_construction(obj, fingers, contact, mu):
         points, normals = large[0].sample(2000, seed=3)
         result = analyze_batch(points, normals, mu=narrow, model=contact, cone="exact")
         assert np.all(result.code == 2)
+
+
+@pytest.mark.parametrize("name,fingers,contact,offset,scale", [
+    ("random_urdfs/000/000.obj", 2, "soft", 1e8, 1.0),   # a convex decomposition, far away
+    ("random_urdfs/000/000.obj", 2, "soft", 0.0, 1e-3),
+    ("duck_vhacd.obj", 3, "hard", -2e7, 1e4),
+    ("objects/mug.obj", 3, "hard", 1e8, 1.0),          # open, with a handle
+])
+def test_real_meshes_moved_and_scaled_hold_on_the_original_geometry(name, fingers, contact,
+                                                                   offset, scale):
+    """pybullet's meshes moved by up to 1e8 and scaled: every sampled tuple of the regions,
+    mapped back to the file's coordinates, lies on a triangle of the file that no other
+    piece encloses, and is force-closure (exact cones) with that triangle's own normal."""
+    import os
+
+    import pybullet_data
+    from test_outer_surface import distance_to_triangles, original_pieces, winding_number
+
+    from forceclosure.batch import analyze_batch
+
+    path = os.path.join(pybullet_data.getDataPath(), name)
+    mesh, pieces = original_pieces(path)
+    size = float(np.linalg.norm(np.ptp(mesh.vertices, axis=0)))
+    moved = Polyhedron.from_arrays(mesh.vertices * scale + offset, mesh.faces,
+                                   allow_open=True)
+    found = synthesize(moved, fingers, contact, 0.5, top=2, samples=3000, seed=1).found
+    assert found
+    tri = mesh.triangles
+    own = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    own /= np.linalg.norm(own, axis=1, keepdims=True)
+    for r in found:
+        points, normals = r.sample(300, seed=2)
+        q = ((points - offset) / scale).reshape(-1, 3)
+        n = normals.reshape(-1, 3)
+        best = np.array([np.argmin(distance_to_triangles(p, tri)) for p in q])
+        gap = np.array([distance_to_triangles(p, tri[[k]])[0] for p, k in zip(q, best,
+                                                                              strict=True)])
+        assert gap.max() <= 1e-6 * size  # the rounding of coordinates near 1e8
+        t = own[best] * np.sign(np.einsum("ij,ij->i", own[best], n))[:, None]
+        assert np.min(np.einsum("ij,ij->i", t, n)) >= np.cos(2e-4)  # within FACE_ANGLE
+        for piece in pieces:  # on the outer surface: a step out is outside every piece
+            assert np.all(winding_number(piece.vertices, piece.faces, q + 1e-6 * size * t)
+                          < 0.5)
+        result = analyze_batch(q.reshape(points.shape), t.reshape(points.shape), mu=0.5,
+                               model=contact, cone="exact")
+        assert np.all(result.code == 2)
