@@ -11,18 +11,22 @@ interior samples.
 from __future__ import annotations
 
 import json
+import os
 from fractions import Fraction
 
 import numpy as np
+import pybullet_data
 import pytest
 import shapely
 from matplotlib.font_manager import FontProperties
 from matplotlib.textpath import TextPath
 
 from exact import planar_hard_wrenches, positively_spans
+from forceclosure.batch import analyze_batch
 from forceclosure.cli import main
 from forceclosure.objects import POLYGONS, POLYHEDRA, Polygon, Polyhedron, bundled
 from forceclosure.synthesis.best import synthesize
+from test_outer_surface import distance_to_triangles, original_pieces, winding_number
 
 
 def input_edges(rings):
@@ -242,8 +246,6 @@ def test_one_margin_reaches_every_construction(obj, fingers, contact, mu):
     every construction feels it: the best regions shrink from 1e-3 to 0.2. With friction,
     the regions built with margin 0.2 hold (sampled, exact cones, independently of the
     certificate) with the cones narrowed by 0.2 rad."""
-    from forceclosure.batch import analyze_batch
-
     obj = bundled(obj)
     small = synthesize(obj, fingers, contact, mu, top=1, margin=1e-3).found
     large = synthesize(obj, fingers, contact, mu, top=1, margin=0.2).found
@@ -268,13 +270,6 @@ def test_real_meshes_moved_and_scaled_hold_on_the_original_geometry(name, finger
     """pybullet's meshes moved by up to 1e8 and scaled: every sampled tuple of the regions,
     mapped back to the file's coordinates, lies on a triangle of the file that no other
     piece encloses, and is force-closure (exact cones) with that triangle's own normal."""
-    import os
-
-    import pybullet_data
-    from test_outer_surface import distance_to_triangles, original_pieces, winding_number
-
-    from forceclosure.batch import analyze_batch
-
     path = os.path.join(pybullet_data.getDataPath(), name)
     mesh, pieces = original_pieces(path)
     size = float(np.linalg.norm(np.ptp(mesh.vertices, axis=0)))

@@ -46,8 +46,17 @@ from scipy.sparse.csgraph import breadth_first_order, connected_components
 
 from ..errors import InputError
 
-__all__ = ["OPEN_SHEET", "boundary_loops", "edge_table", "fix_winding", "orient_outward",
-           "pieces", "shell_labels", "winding_numbers"]
+__all__ = [
+    "OPEN_SHEET",
+    "boundary_loops",
+    "edge_table",
+    "fix_winding",
+    "orient_outward",
+    "pieces",
+    "shell_labels",
+    "walk_loops",
+    "winding_numbers",
+]
 
 #: An open shell whose mean winding number is within this of 0 is a sheet with no inside.
 OPEN_SHEET = 0.05
@@ -82,12 +91,23 @@ def boundary_loops(triangles: NDArray) -> list[NDArray[np.int64]]:
     [[0, 1, 2, 3]]
     """
     directed, ids, counts = edge_table(triangles)
+    return walk_loops(directed[counts[ids] == 1].tolist())
+
+
+def walk_loops(edges: list) -> list[NDArray[np.int64]]:
+    """Directed edges ``(a, b)`` that form closed paths, walked into loops of vertex indices.
+
+    Examples
+    --------
+    >>> [loop.tolist() for loop in walk_loops([(2, 0), (0, 1), (1, 2)])]
+    [[2, 0, 1]]
+    """
     nxt: dict[int, list[int]] = {}
-    for a, b in directed[counts[ids] == 1].tolist():
+    for a, b in edges:
         nxt.setdefault(a, []).append(b)
     loops = []
     while nxt:
-        start = min(nxt)
+        start = next(iter(nxt))
         loop, cur = [start], start
         while cur in nxt:
             outs = nxt[cur]

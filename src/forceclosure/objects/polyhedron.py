@@ -44,6 +44,7 @@ from .orient import (
     orient_outward,
     pieces,
     shell_labels,
+    walk_loops,
 )
 from .outer import outer_surface
 from .polygon import Polygon
@@ -560,7 +561,7 @@ def _split_curved(V, T, normals, areas, label, a, b, tol):
 
 def _loops(V, boundary, axes):
     """A face's boundary edges walked into loops, the counter-clockwise outer one first."""
-    loops = _walk(boundary.tolist())
+    loops = tuple(walk_loops(boundary.tolist()))
     if len(loops) == 1:
         return loops
     signed = [_area2d((V[loop] - V[loop[0]]) @ axes.T) for loop in loops]
@@ -572,27 +573,3 @@ def _area2d(ring):
     x, y = ring[:, 0], ring[:, 1]
     nxt = np.r_[1:len(ring), 0]
     return 0.5 * float(x @ y[nxt] - x[nxt] @ y)
-
-
-def _walk(boundary):
-    """Boundary edges into closed loops."""
-    nxt: dict[int, list[int]] = {}
-    for s, e in boundary:
-        nxt.setdefault(s, []).append(e)
-    loops = []
-    while nxt:
-        start = next(iter(nxt))
-        loop, cur = [start], start
-        while True:
-            outs = nxt[cur]
-            step = outs.pop()
-            if not outs:
-                del nxt[cur]
-            if step == start:
-                break
-            loop.append(step)
-            cur = step
-            if cur not in nxt:
-                break
-        loops.append(np.array(loop))
-    return tuple(loops)

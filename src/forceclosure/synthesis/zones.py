@@ -312,7 +312,11 @@ def _patch_for(face: PlanarFace, piece: NDArray, zones: SearchZones, finger: int
     for zone in zones.owned(finger):
         A = zones.facets[zones.at_vertex[zone]]  # (f, 6)
         at_centre = (w0 + centre[0] * wu + centre[1] * wv) @ A.T  # (g, f)
-        gen = int(np.argmax(at_centre.min(axis=1)))
+        # the generator deepest in the zone; ties (symmetric pyramids make exact ones) go to
+        # the lowest index, whatever the rounding, so that a moved or scaled object gets the
+        # same choice
+        depth = at_centre.min(axis=1)
+        gen = int(np.flatnonzero(depth >= depth.max() - 1e-9 * abs(depth.max()))[0])
         if at_centre[gen].min() <= ZONE_MARGIN:
             return None, ()
         rows.append(np.column_stack([wu[gen] @ A.T, wv[gen] @ A.T]))
