@@ -80,6 +80,21 @@ def test_inputs_folders_globs_and_urdfs(tmp_path):
         expand_inputs([tmp_path / "*.stl"])
 
 
+def test_a_urdf_stands_for_every_mesh_it_names(tmp_path):
+    """A link of two collision meshes and a visual one: the folder gives the URDF alone (the
+    old listing left out only the first collision mesh, so the others ran as objects)."""
+    cube = Path(pybullet_data.getDataPath()) / "cube.obj"
+    for name in ("a.obj", "b.obj", "look.obj", "other.obj"):
+        (tmp_path / name).write_bytes(cube.read_bytes())
+    (tmp_path / "r.urdf").write_text(
+        '<robot name="r"><link name="l">'
+        '<visual><geometry><mesh filename="look.obj"/></geometry></visual>'
+        '<collision><geometry><mesh filename="a.obj"/></geometry></collision>'
+        '<collision><origin xyz="3 0 0"/><geometry><mesh filename="package://r/b.obj"/>'
+        '</geometry></collision></link></robot>')
+    assert expand_inputs([tmp_path]) == [tmp_path / "other.obj", tmp_path / "r.urdf"]
+
+
 def test_urdf_scale():
     """A URDF stands for its collision mesh with the scale it gives (0.015 here)."""
     urdf = load_object(URDFS / "000" / "000.urdf")

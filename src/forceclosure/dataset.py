@@ -53,7 +53,8 @@ from typing import Any
 import numpy as np
 
 from .errors import InputError
-from .objects.io import MESH_SUFFIXES, POLYGON_SUFFIXES, ROBOT_SUFFIXES, urdf_mesh
+from .objects.io import MESH_SUFFIXES, POLYGON_SUFFIXES, ROBOT_SUFFIXES
+from .objects.urdf import mesh_files
 
 #: Files a folder contributes: polygons, meshes, robot descriptions.
 OBJECT_SUFFIXES = POLYGON_SUFFIXES + MESH_SUFFIXES + ROBOT_SUFFIXES
@@ -224,7 +225,7 @@ def expand_inputs(inputs: Iterable[str | Path]) -> list[Path]:
     for p in walked:
         if p.suffix.lower() in ROBOT_SUFFIXES:
             with suppress(InputError):  # a bad URDF is recorded as failed in its turn
-                meshes_of_urdfs.add(urdf_mesh(p)[0].resolve())
+                meshes_of_urdfs.update(m.resolve() for m in mesh_files(p))
     walked = [p for p in walked if p.resolve() not in meshes_of_urdfs]
     unique: dict[str, Path] = {}
     for p in named + walked:

@@ -27,8 +27,6 @@ from __future__ import annotations
 
 import csv
 import io
-import re
-import xml.etree.ElementTree as ET
 from pathlib import Path
 from typing import Any
 
@@ -46,7 +44,7 @@ from .svg import polygon_from_svg
 from .urdf import polyhedron_from_urdf
 
 __all__ = ["load_object", "polygon_from_csv", "polygon_from_json", "polygon_from_svg",
-           "polyhedron_from_mesh_file", "urdf_mesh"]
+           "polyhedron_from_mesh_file"]
 
 POLYGON_SUFFIXES = (".json", ".geojson", ".svg", ".csv")
 ROBOT_SUFFIXES = (".urdf",)
@@ -135,37 +133,6 @@ def polyhedron_from_mesh_file(path: Path, allow_open: bool = False,
     if scale is not None:
         vertices = vertices * scale
     return Polyhedron.from_arrays(vertices, triangles, name or path.stem, allow_open)
-
-
-def urdf_mesh(path: Path) -> tuple[Path, NDArray[np.float64]]:
-    """The first mesh file a URDF names (the first ``<collision>`` with a ``<mesh>``, else the
-    first ``<visual>`` one), and its per-axis scale.
-
-    Only for listing the files a URDF stands for (``forceclosure dataset``): it ignores
-    origins, primitives and every other piece. :func:`load_object` reads a URDF with
-    :func:`forceclosure.objects.urdf.polyhedron_from_urdf`."""
-    try:
-        root = ET.fromstring(path.read_text(encoding="utf-8"))
-    except (ET.ParseError, UnicodeDecodeError) as e:
-        raise InputError(f"{path.name}: not a URDF file: {_first_line(e)}") from None
-    mesh = root.find(".//collision/geometry/mesh")
-    if mesh is None:
-        mesh = root.find(".//visual/geometry/mesh")
-    if mesh is None or not mesh.get("filename"):
-        raise InputError(f"{path.name}: the URDF names no mesh file (boxes, cylinders and "
-                         "spheres are not read)")
-    filename = re.sub(r"^package://[^/]*/", "", mesh.get("filename", ""))
-    try:
-        scale = np.array([float(x) for x in mesh.get("scale", "1 1 1").split()])
-    except ValueError:
-        raise InputError(f"{path.name}: mesh scale {mesh.get('scale')!r} is not three "
-                         "numbers") from None
-    if scale.shape == (1,):
-        scale = np.repeat(scale, 3)
-    if scale.shape != (3,) or not np.all(np.isfinite(scale)) or np.any(scale <= 0):
-        raise InputError(f"{path.name}: mesh scale {mesh.get('scale')!r} is not three "
-                         "positive numbers")
-    return path.parent / filename, scale
 
 
 def load_object(source: str | Path | Any, allow_open: bool = False,

@@ -73,6 +73,7 @@ __all__ = [
     "box_mesh",
     "cylinder_mesh",
     "link_geometry",
+    "mesh_files",
     "origin_transform",
     "polyhedron_from_urdf",
     "resolve_mesh_filename",
@@ -338,6 +339,38 @@ def _label(link: ET.Element, index: int) -> str:
     return repr(name) if name else f"{index + 1} (unnamed)"
 
 
+def _robot(path: Path) -> ET.Element:
+    """The ``<robot>`` element of a URDF file, or one line saying why there is none."""
+    try:  # blank lines before the XML declaration (pybullet's biped2d has them) mean nothing
+        root = ET.fromstring(path.read_bytes().lstrip(b" \t\r\n"))
+    except ET.ParseError as e:
+        raise InputError(f"{path.name}: not a URDF file: {first_line(e)}") from None
+    if root.tag != "robot":
+        raise InputError(f"{path.name}: not a URDF file: the root element is <{root.tag}>, "
+                         "not <robot>")
+    return root
+
+
+def mesh_files(path: Path) -> list[Path]:
+    """Every mesh file a URDF names, in any link, collision or visual (for listing what a
+    URDF stands for, e.g. so that ``forceclosure dataset`` does not take them again); names
+    that cannot be resolved are left out.
+
+    Examples
+    --------
+    >>> import pybullet_data
+    >>> [p.name for p in mesh_files(Path(pybullet_data.getDataPath()) / "duck_vhacd.urdf")]
+    ['duck.obj', 'duck_vhacd.obj']
+    """
+    found = []
+    for mesh in _robot(path).iter("mesh"):
+        try:
+            found.append(resolve_mesh_filename(mesh.get("filename", ""), path))
+        except InputError:
+            continue
+    return found
+
+
 def link_geometry(path: Path, part: str | None = None) -> tuple[str, list[GeometryPiece],
                                                                 list[str]]:
     """The geometry pieces of the link ``part`` of a URDF (or of its only link with geometry).
@@ -353,13 +386,7 @@ def link_geometry(path: Path, part: str | None = None) -> tuple[str, list[Geomet
     >>> name, [(p.where, p.kind) for p in pieces]
     ('right_leg', [('collision 1', 'box')])
     """
-    try:  # blank lines before the XML declaration (pybullet's biped2d has them) mean nothing
-        root = ET.fromstring(path.read_bytes().lstrip(b" \t\r\n"))
-    except ET.ParseError as e:
-        raise InputError(f"{path.name}: not a URDF file: {first_line(e)}") from None
-    if root.tag != "robot":
-        raise InputError(f"{path.name}: not a URDF file: the root element is <{root.tag}>, "
-                         "not <robot>")
+    root = _robot(path)
     links = root.findall("link")
     if not links:
         raise InputError(f"{path.name}: the URDF has no <link>")
