@@ -202,6 +202,13 @@ def _demo_objects() -> None:
           f"{three.certify().holds} ({three.certify().method})")
 
 
+def _rounded(values, size: float) -> list:
+    """Coordinates for people: to 1e-4 of the object's size, whatever its scale (``--json``
+    prints the exact values that were certified)."""
+    decimals = max(0, 4 - int(np.floor(np.log10(size)))) if size > 0 else 4
+    return np.round(np.asarray(values, dtype=float), decimals).tolist()
+
+
 def _cmd_objects(args: argparse.Namespace) -> int:
     from .objects import POLYGONS, POLYHEDRA
 
@@ -248,7 +255,7 @@ def _cmd_inspect(args: argparse.Namespace) -> int:
                 print(f"  the file is {' and '.join(info['defects'])}: synthesize and dataset "
                       "need --allow-open for it")
         print(f"  size {info['size']:.6g} (bounding-box diagonal), bounds "
-              f"{np.round(lo, 6).tolist()} to {np.round(hi, 6).tolist()}")
+              f"{_rounded(lo, obj.size)} to {_rounded(hi, obj.size)}")
     if args.plot:
         from .plot import plot_object
 
@@ -297,17 +304,17 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
             print("  no choice of edges admits a force-closure grasp")
         for rank, r in enumerate(found, start=1):
             spans = "; ".join(f"edge {e}: {a} to {b}" for e, (a, b) in
-                              zip(r.edges, np.round(r.points, 4).tolist(), strict=True))
+                              zip(r.edges, _rounded(r.points, obj.size), strict=True))
             print(f"  {rank}. {spans}")
             print(f"     shortest segment {r.min_length:.4g} ({r.min_length / obj.size:.1%} of "
                   f"the object's size); certified: {r.certify().holds}")
         if args.vertices:
             print(f"  with a soft finger on a convex vertex ({len(corners)} best):")
             for rank, g in enumerate(corners, start=1):
-                vx = np.round(g.point, 4).tolist()
+                vx = _rounded(g.point, obj.size)
                 kind, k = g.other
-                where = (f"edge {k} from {np.round(obj.edges[k].point(g.segment[0]), 4).tolist()}"
-                         f" to {np.round(obj.edges[k].point(g.segment[1]), 4).tolist()} "
+                where = (f"edge {k} from {_rounded(obj.edges[k].point(g.segment[0]), obj.size)}"
+                         f" to {_rounded(obj.edges[k].point(g.segment[1]), obj.size)} "
                          f"({g.min_length:.4g} long)" if kind == "edge" else f"vertex {k}")
                 print(f"  {rank}. vertex {g.vertex} at {vx} with {where}; certified: "
                       f"{g.certify().holds}")
