@@ -16,7 +16,8 @@ surface** is kept:
   lose the triangles that lie inside a closed shell: the triangle's centroid
   strictly inside (generalised winding number above 3/4) and its corners
   inside or on it (above 1/4). A triangle that crosses a closed shell's
-  surface is kept whole, and said so; cutting it would need the union.
+  surface is dropped too, and said so: cutting it would need the union, and
+  kept whole it would let a region reach into the solid.
 
 Each change is said in a warning.
 
@@ -189,15 +190,18 @@ def outer_surface(V: NDArray, T: NDArray, labels: NDArray, closed: NDArray,
             deep |= w > 0.75
             centre |= winding_numbers(V, own, V[T[tris]].mean(axis=1)) > 0.75
         inside = centre & corners.all(axis=1)
-        keep[tris[inside]] = False
+        crosses = (centre | deep.any(axis=1)) & ~inside
+        # a triangle partly inside would let a region reach into the solid: it goes too (cutting
+        # it would need the union, which an open shell cannot join)
+        keep[tris[inside | crosses]] = False
         dropped += int(inside.sum())
-        crossing += int(((centre | deep.any(axis=1)) & ~inside).sum())
+        crossing += int(crosses.sum())
     if dropped:
         notes.append(f"dropped {dropped} triangles of open or non-manifold shells that lie "
                      "inside a closed shell")
     if crossing:
-        notes.append(f"{crossing} triangles of open or non-manifold shells cross into a closed "
-                     "shell (kept whole: no union with an open shell)")
+        notes.append(f"dropped {crossing} triangles of open or non-manifold shells that cross "
+                     "into a closed shell (no union with an open shell cuts them)")
     if keep.all():
         return V, T, notes
     vertices, triangles = [V], [T[keep]]
