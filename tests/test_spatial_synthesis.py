@@ -32,6 +32,7 @@ from forceclosure.synthesis import (
     three_hard_regions,
     zone_regions,
 )
+from forceclosure.synthesis.best import synthesize
 from forceclosure.synthesis.seven import cofactor_signs
 from forceclosure.synthesis.soft_pair import ANGLE_MARGIN, PYRAMID_EDGES
 from forceclosure.synthesis.zones import surface_samples
@@ -412,3 +413,32 @@ def test_synthesize_spatial_text_and_mesh(capsys):
                  "--top", "1", "--samples", "2000"]) == 0
     out = capsys.readouterr().out
     assert "grown on the mesh" in out and "certified: True (search zones)" in out
+
+
+def test_seven_minors_count_only_what_no_turn_of_the_normals_can_reach():
+    """cofactor_signs with ``turn``: where it proves one sign for normals that may turn by
+    t, random normals within t of the faces' (Theorem 1 through analyze, independently)
+    all close the grasp; as t grows the proof gives way before the grasp does."""
+    from forceclosure import Verdict, analyze, point_contact
+
+    r = synthesize(bundled("cube"), 7, "frictionless", top=1).found[0]
+    points = np.array([region[0].points.mean(axis=0) for region in r.regions])
+    normals = np.array([r.polyhedron.faces[region[0].face].normal for region in r.regions])
+    rng = np.random.default_rng(5)
+    proved = []
+    for t in (1e-6, 1e-3, 1e-2, 0.05, 0.2, 1.0):
+        pos, neg, zero = cofactor_signs(tuple(p[None] for p in points), normals, [t] * 7)
+        proved.append(zero == 0 and (pos == 0 or neg == 0))
+        if not proved[-1]:
+            continue
+        for _ in range(200):
+            axis = rng.normal(size=(7, 3))
+            axis -= np.einsum("ij,ij->i", axis, normals)[:, None] * normals
+            axis /= np.linalg.norm(axis, axis=1, keepdims=True)
+            angle = rng.uniform(0, t, 7)[:, None]
+            turned = np.cos(angle) * normals + np.sin(angle) * axis
+            grasp = [point_contact(p, n, "frictionless") for p, n in zip(points, turned,
+                                                                          strict=True)]
+            assert analyze(grasp).verdict is Verdict.CLOSURE
+    assert proved[0] and not proved[-1]
+    assert proved == sorted(proved, reverse=True)  # once refused, refused for larger turns

@@ -81,7 +81,8 @@ def _det_exact(M: NDArray) -> Fraction:
     return det
 
 
-def cofactor_signs(regions: tuple[NDArray, ...], normals: NDArray) -> tuple[int, int, int]:
+def cofactor_signs(regions: tuple[NDArray, ...], normals: NDArray,
+                   turn: ArrayLike | None = None) -> tuple[int, int, int]:
     """The signs of the seven signed minors at every tuple of region vertices.
 
     Parameters
@@ -89,22 +90,38 @@ def cofactor_signs(regions: tuple[NDArray, ...], normals: NDArray) -> tuple[int,
     regions : seven (k_i, 3) arrays
         Each region's vertices in object coordinates.
     normals : (7, 3) array
+    turn : (7,) array, optional
+        Radians each finger's normal may turn (a face merged from triangles
+        whose normals differ by up to its ``spread``). A minor then counts
+        only when it is farther from zero than any such turn can move it:
+        a turn of ``t`` moves the column ``(f, p x f)`` by at most
+        ``2 sin(t / 2) sqrt(1 + |p|^2)``, and a determinant whose columns
+        move by ``e_k`` moves by at most ``prod(|m_k| + e_k) - prod(|m_k|)``
+        (multilinearity and Hadamard's inequality). Minors too close count
+        as zero.
 
     Returns
     -------
     (positive, negative, zero) : counts over all minors and vertex tuples.
     """
     W = [_wrench(np.asarray(r, dtype=float), normals[i]) for i, r in enumerate(regions)]
+    turn = np.zeros(7) if turn is None else np.asarray(turn, dtype=float)
+    shift = [2 * np.sin(turn[i] / 2) * np.sqrt(1 + np.sum(np.asarray(r, float) ** 2, axis=1))
+             for i, r in enumerate(regions)]
     pos = neg = zero = 0
     for i in range(7):
         others = [k for k in range(7) if k != i]
         combos = np.array(list(itertools.product(*[range(len(W[k])) for k in others])))
         M = np.stack([W[k][combos[:, c]] for c, k in enumerate(others)], axis=2)  # (t, 6, 6)
         d = np.linalg.det(M) * (-1) ** i
-        bound = np.prod(np.linalg.norm(M, axis=1), axis=1)  # Hadamard
+        norms = np.linalg.norm(M, axis=1)  # (t, 6): the columns' lengths
+        bound = np.prod(norms, axis=1)  # Hadamard
+        moved = np.stack([shift[k][combos[:, c]] for c, k in enumerate(others)], axis=1)
+        reach = bound * np.expm1(np.sum(np.log1p(moved / norms), axis=1))  # how far turns go
         unsure = np.abs(d) <= FILTER * bound
         for t in np.flatnonzero(unsure):
             d[t] = float(np.sign(_det_exact(M[t]))) * (-1) ** i
+        d[np.abs(d) <= 1.001 * reach + FILTER * bound * (reach > 0)] = 0.0
         pos += int((d > 0).sum())
         neg += int((d < 0).sum())
         zero += int((d == 0).sum())
@@ -118,10 +135,13 @@ class SevenRegions(ZoneRegions):
     def certify(self) -> Certificate:
         """Exact: the seven signed minors keep one strict sign at every tuple of region
         vertices; they are multi-affine in the contact points, so they keep it
-        everywhere in the regions."""
+        everywhere in the regions. A face merged from triangles whose normals differ
+        (its ``spread``) counts a minor only when no such turn of the normal can
+        reach zero (:func:`cofactor_signs`)."""
         corners = tuple(region[0].points for region in self.regions)
-        normals = np.array([self.polyhedron.faces[r[0].face].normal for r in self.regions])
-        pos, neg, zero = cofactor_signs(corners, normals)
+        faces = [self.polyhedron.faces[r[0].face] for r in self.regions]
+        normals = np.array([f.normal for f in faces])
+        pos, neg, zero = cofactor_signs(corners, normals, [f.spread for f in faces])
         total = pos + neg + zero
         if zero == 0 and (pos == 0 or neg == 0):
             return Certificate(True, "exact multi-affine minors",
