@@ -139,8 +139,9 @@ def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
         turns by up to this angle; every construction with friction narrows
         its cones by it, four frictionless fingers in the plane hold for every
         force direction within it
-        (:func:`~forceclosure.synthesis.regions.check_margin`). Seven
-        frictionless fingers in space are proved at the nominal normals only.
+        (:func:`~forceclosure.synthesis.regions.check_margin`). Not applied to
+        seven frictionless fingers in space (proved for the faces' normals,
+        and their triangles', only).
     construction : {"maximal", "nguyen"}
         Maximal regions, or the paper's two-sided cone constructions (two or
         four fingers in the plane, two soft fingers in space).
