@@ -207,3 +207,24 @@ def test_synthesized_regions_lie_on_the_outer_surface(name, fingers, contact, sa
                         seed=seed)
     assert result.found and all(r.certify().holds for r in result.found)
     check_regions_on_outer_surface(path, result.found)
+
+
+def test_a_cap_whose_rim_leaves_the_closed_shell_is_not_made():
+    """An open-topped box wider than the closed cube it pokes into: capping its rim would
+    invent a lid over the 0.1-wide gap between the two, where there is no material. It is
+    not capped; its triangles inside the cube go, and no region lies on an invented lid:
+    every sampled region point is on a triangle of the input."""
+    cube_v, cube_t = _box([0, 0, 0], [1, 1, 1])
+    V, T = _box([-0.1, -0.1, -1], [1.1, 1.1, 0.5])
+    lid = np.flatnonzero(V[T][:, :, 2].min(axis=1) > 0.49)
+    cup = np.delete(T, lid, axis=0)
+    verts = np.vstack([cube_v, V])
+    tris = np.vstack([cube_t, cup + 8])
+    poly = Polyhedron.from_arrays(verts, tris, allow_open=True)
+    assert not any("capped" in w for w in poly.warnings)
+    tops = [f for f in poly.faces if f.normal[2] > 0.99]
+    assert all(abs(f.origin[2] - 1.0) < 1e-9 for f in tops)  # only the cube's own top
+    for r in synthesize(poly, 2, "soft", 0.5, top=3).found:
+        points, _ = r.sample(200, seed=1)
+        for q in points.reshape(-1, 3):
+            assert distance_to_triangles(q, verts[tris]).min() <= 1e-9

@@ -141,7 +141,12 @@ def outer_surface(V: NDArray, T: NDArray, labels: NDArray, closed: NDArray,
         Vc, Tc = _cap(V, own, loops)
         caps = Tc[len(own):]
         points = np.vstack([Vc[caps].mean(axis=1), Vc[len(V):]])
-        if not _inside_any(V, closed_tris, points, 0.75).all():
+        rims = np.concatenate(loops)
+        spokes = (Vc[caps[:, 1]] + Vc[caps[:, 2]]) / 2  # from each rim vertex to the centre
+        # the caps must lie in a closed shell: well inside at their middles, and their rims
+        # inside or on its surface (a cap whose rim leaves the solid would invent a surface)
+        if not (_inside_any(V, closed_tris, points, 0.75).all()
+                and _inside_any(V, closed_tris, np.vstack([V[rims], spokes]), 0.25).all()):
             continue
         solid = _manifold(Vc, Tc)
         if solid is not None and solid.volume() > tiny:
