@@ -165,6 +165,13 @@ class Polygon:
     name : str
     warnings : tuple of str
         What a loader did to read the file as drawn (e.g. curves tessellated), for people.
+    spread : float
+        Radians by which the normal of the object the polygon stands for may
+        differ from its edges' normals: 0 for a polygon given by its vertices,
+        the largest turn of a curve against its chord when a loader cut curves
+        into chords. Certificates narrow every friction cone by it (and
+        frictionless fingers hold for every normal within it), so nothing is
+        proved on a normal the real outline does not have.
     """
 
     outer: NDArray[np.float64]
@@ -172,10 +179,12 @@ class Polygon:
     edges: tuple[Edge, ...]
     name: str = "polygon"
     warnings: tuple[str, ...] = ()
+    spread: float = 0.0
 
     @classmethod
     def from_points(cls, outer: ArrayLike, holes: Sequence[ArrayLike] = (),
-                    name: str = "polygon", warnings: Sequence[str] = ()) -> Polygon:
+                    name: str = "polygon", warnings: Sequence[str] = (),
+                    spread: float = 0.0) -> Polygon:
         """Validate and normalise a polygon given by its vertices.
 
         Refuses, in one line naming the vertex or the place: non-finite
@@ -224,7 +233,8 @@ class Polygon:
         for e in edges:
             for arr in (e.start, e.end, e.normal):
                 arr.setflags(write=False)
-        return cls(kept[0], tuple(kept[1:]), tuple(edges), name, tuple(warnings))
+        return cls(kept[0], tuple(kept[1:]), tuple(edges), name, tuple(warnings),
+                   float(spread))
 
     @classmethod
     def from_shapely(cls, geometry: shapely.Polygon | shapely.MultiPolygon,
@@ -331,4 +341,5 @@ class Polygon:
                                                                           self.rings)),
                 "edges": len(self.edges), "holes": len(self.holes), "convex": self.convex,
                 "area": self.area, "perimeter": self.perimeter, "size": self.size,
-                "bounds": self.bounds.tolist(), "warnings": list(self.warnings)}
+                "bounds": self.bounds.tolist(), "spread": self.spread,
+                "warnings": list(self.warnings)}

@@ -225,24 +225,57 @@ def _pieces(bound: float, tol: float | None, where: str) -> int:
     return max(1, math.ceil(n))
 
 
-def _bezier(ctrl: NDArray[np.float64], tol: float | None, where: str) -> NDArray[np.float64]:
+#: Tangents sampled inside each chord to bound how far the curve turns from it.
+TURN_SAMPLES = 16
+
+
+def _turn(chord_ends: NDArray[np.float64], tangents: NDArray[np.float64]) -> float:
+    """How far (radians) a curve's direction strays from its chords: ``chord_ends`` (n + 1, 2)
+    and tangents (n, TURN_SAMPLES + 1, 2) sampled along each chord, ends included. The largest
+    angle seen, plus the largest between neighbouring samples (what lies between them)."""
+    def angle(a, b):
+        cross = np.abs(a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0])
+        norms = np.linalg.norm(a, axis=-1) * np.linalg.norm(b, axis=-1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.arcsin(np.clip(cross / norms, 0.0, 1.0))
+
+    chords = np.diff(chord_ends, axis=0)[:, None, :]
+    seen = np.nanmax(angle(tangents, chords), initial=0.0)
+    between = np.nanmax(angle(tangents[:, 1:], tangents[:, :-1]), initial=0.0)
+    return float(seen + between)
+
+
+def _bezier(ctrl: NDArray[np.float64], tol: float | None,
+            where: str) -> tuple[NDArray[np.float64], float]:
+    """Points along a Bézier curve (after its start), and how far it turns from its chords."""
     second = np.diff(ctrl, 2, axis=0)  # p'' is a blend of these, times deg (deg - 1)
     degree = len(ctrl) - 1
     bound = degree * (degree - 1) * float(np.linalg.norm(second, axis=1).max())
     n = _pieces(bound, tol, where)
-    s = np.arange(1, n + 1)[:, None] / n
-    if degree == 2:
-        pts = (1 - s) ** 2 * ctrl[0] + 2 * (1 - s) * s * ctrl[1] + s ** 2 * ctrl[2]
-    else:
-        pts = ((1 - s) ** 3 * ctrl[0] + 3 * (1 - s) ** 2 * s * ctrl[1]
-               + 3 * (1 - s) * s ** 2 * ctrl[2] + s ** 3 * ctrl[3])
+
+    def at(s):
+        if degree == 2:
+            return (1 - s) ** 2 * ctrl[0] + 2 * (1 - s) * s * ctrl[1] + s ** 2 * ctrl[2]
+        return ((1 - s) ** 3 * ctrl[0] + 3 * (1 - s) ** 2 * s * ctrl[1]
+                + 3 * (1 - s) * s ** 2 * ctrl[2] + s ** 3 * ctrl[3])
+
+    def tangent(s):
+        first = np.diff(ctrl, axis=0)
+        if degree == 2:
+            return (1 - s) * first[0] + s * first[1]
+        return (1 - s) ** 2 * first[0] + 2 * (1 - s) * s * first[1] + s ** 2 * first[2]
+
+    pts = at(np.arange(1, n + 1)[:, None] / n)
     pts[-1] = ctrl[-1]
-    return pts
+    fine = (np.arange(n)[:, None] + np.linspace(0, 1, TURN_SAMPLES + 1)[None]) / n
+    turn = _turn(np.vstack([ctrl[:1], pts]), tangent(fine[..., None]))
+    return pts, turn
 
 
 def _arc(seg: se.Arc, transform: NDArray[np.float64], tol: float | None,
-         where: str) -> tuple[NDArray[np.float64], bool]:
-    """Points along an elliptical arc (after its end) and whether it was a curve.
+         where: str) -> tuple[NDArray[np.float64], float | None]:
+    """Points along an elliptical arc (after its start), and how far it turns from its
+    chords (None: a straight line).
 
     The ellipse is ``c + u cos t + v sin t`` with ``u``, ``v`` the conjugate radii
     svgelements keeps (``prx``, ``pry``), which any affine map carries along, so
@@ -260,7 +293,7 @@ def _arc(seg: se.Arc, transform: NDArray[np.float64], tol: float | None,
     scale = float(np.linalg.norm(u) + np.linalg.norm(v))
     sweep = float(seg.sweep)
     if sweep == 0 or abs(det) <= 1e-12 * scale ** 2:  # a zero radius: a straight line
-        return end[None, :], False
+        return end[None, :], None
     if det < 0:  # svgelements flips the sweep of mirrored arcs; t runs with (u, v)
         sweep = -sweep
     cos_sin = np.linalg.solve(np.column_stack([u, v]), s0 - c)
@@ -275,7 +308,10 @@ def _arc(seg: se.Arc, transform: NDArray[np.float64], tol: float | None,
     t = t0 + sweep * np.arange(1, n + 1)[:, None] / n
     pts = cc + np.cos(t) * uu + np.sin(t) * vv
     pts[-1] = end
-    return pts, True
+    fine = t0 + sweep * (np.arange(n)[:, None] + np.linspace(0, 1, TURN_SAMPLES + 1)[None]) / n
+    tangents = sweep * (-np.sin(fine)[..., None] * uu + np.cos(fine)[..., None] * vv)
+    start = cc + math.cos(t0) * uu + math.sin(t0) * vv
+    return pts, _turn(np.vstack([start, pts]), tangents)
 
 
 @dataclass
@@ -296,18 +332,19 @@ class _Drawn:
                 if n.values.get("id")]
 
     def rings(self, tol: float | None,
-              where: str) -> tuple[list[NDArray[np.float64]], list[bool], bool]:
-        """The subpaths as point arrays, whether each was closed, and whether any curved."""
+              where: str) -> tuple[list[NDArray[np.float64]], list[bool], float | None]:
+        """The subpaths as point arrays, whether each was closed, and how far the curves
+        turn from their chords (None: no curves)."""
         with np.errstate(all="ignore"):  # overflow to inf is refused as not finite
             return self._rings(tol, where)
 
     def _rings(self, tol: float | None,
-               where: str) -> tuple[list[NDArray[np.float64]], list[bool], bool]:
+               where: str) -> tuple[list[NDArray[np.float64]], list[bool], float | None]:
         transform = _matrix(self.element.transform)
         linear, shift = transform[:2, :2], transform[:2, 2]
         rings: list[NDArray[np.float64]] = []
         closed: list[bool] = []
-        curved = False
+        curved: float | None = None
         current: list[NDArray[np.float64]] | None = None
         start = None
 
@@ -341,12 +378,15 @@ class _Drawn:
                     seg.control1, seg.control2)
                 ctrl = np.array([last, *(linear @ np.array([float(p.x), float(p.y)]) + shift
                                          for p in inner), end])
-                current.append(_bezier(ctrl, tol, where))
-                curved = curved or not np.allclose(np.diff(ctrl, 2, axis=0), 0)
-            elif isinstance(seg, se.Arc):
-                points, was_curve = _arc(seg, transform, tol, where)
+                points, turn = _bezier(ctrl, tol, where)
                 current.append(points)
-                curved = curved or was_curve
+                if not np.allclose(np.diff(ctrl, 2, axis=0), 0):
+                    curved = max(curved or 0.0, turn)
+            elif isinstance(seg, se.Arc):
+                points, turn = _arc(seg, transform, tol, where)
+                current.append(points)
+                if turn is not None:
+                    curved = max(curved or 0.0, turn)
             else:
                 raise InputError(f"{where}: unknown path segment {type(seg).__name__}")
         finish(False)
@@ -406,7 +446,7 @@ class _Candidate:
     shape: _Drawn
     rings: list[NDArray[np.float64]]
     closed: list[bool]
-    curved: bool
+    curved: float | None
     tol: float
     area: float
 
@@ -497,9 +537,10 @@ def _assemble(chosen: _Candidate, name: str, flip: float | None) -> Polygon:
             ring = ring[:-1]  # the closing point computed again along a curve
         rings.append((index, ring))
     warnings = []
-    if chosen.curved:
+    if chosen.curved is not None:
         warnings.append(f"curves tessellated into chords within {chosen.tol:.3g} of the true "
-                        f"curve ({SVG_TOLERANCE:g} of the shape's size)")
+                        f"curve ({SVG_TOLERANCE:g} of the shape's size), turning from them by "
+                        f"up to {chosen.curved:.3g} rad (every proof narrows its cones by that)")
     if not shape.filled:
         warnings.append(f"{shape.label} has no fill, only a stroke: read as the region its "
                         "outline encloses")
@@ -526,7 +567,8 @@ def _assemble(chosen: _Candidate, name: str, flip: float | None) -> Polygon:
                             "fill-rule nonzero fills it: read as filled, not as a hole")
             continue
         holes.append(ring)
-    polygon = Polygon.from_points(outer, holes, name=where, warnings=warnings)
+    polygon = Polygon.from_points(outer, holes, name=where, warnings=warnings,
+                                  spread=chosen.curved or 0.0)
     return replace(polygon, name=name)
 
 

@@ -12,6 +12,7 @@ first. A hand it cannot construct is refused with one line that says why.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -180,6 +181,11 @@ def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
     fingers = check_hand(obj.dim, fingers, contact, mu, top=top, construction=construction,
                          method=method)
     check_margin(margin)
+    # an object read from curves (chords) or curved primitives (facets) has normals that
+    # turn by up to its spread: build with at least that margin so that the proofs, which
+    # narrow the cones by it, can hold
+    spread = obj.spread if obj.dim == 2 else max((f.spread for f in obj.faces), default=0.0)
+    margin = max(margin, min(1.001 * spread, math.pi / 2 * 0.999))
     mu = 0.0 if contact == "frictionless" else float(mu)
     if obj.dim == 2:
         return Synthesis(_on_edges(obj, fingers, contact == "frictionless", mu, top, margin,

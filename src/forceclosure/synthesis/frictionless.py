@@ -150,8 +150,9 @@ class FrictionlessRegions(Regions):
         """
         es = [self.polygon.edges[k] for k in self.edges]
         inward = [exact_inward(e) for e in es]
-        cos, sin = Fraction(math.cos(self.margin)), Fraction(math.sin(self.margin))
-        fans = (-1, 1) if self.margin > 0 else (0,)
+        turn = max(self.margin, self.polygon.spread)  # the outline's normals turn too
+        cos, sin = Fraction(math.cos(turn)), Fraction(math.sin(turn))
+        fans = (-1, 1) if turn > 0 else (0,)
         corners = list(itertools.product(*self.segments))
         turns = list(itertools.product(fans, repeat=4))
         # a static filter: floating-point cofactors whose size exceeds a bound on their
@@ -161,7 +162,7 @@ class FrictionlessRegions(Regions):
         m = np.array([[float(x) for x in n] for n in inward])
         k = np.array(turns, dtype=float)[..., None]
         perp = np.stack([-m[:, 1], m[:, 0]], axis=1)
-        F = math.cos(self.margin) * m + k * math.sin(self.margin) * perp  # (turns, 4, 2)
+        F = math.cos(turn) * m + k * math.sin(turn) * perp  # (turns, 4, 2)
         C, bound = _cofactors_with_bounds(P[:, None], F[None])  # (corners, turns, 4)
         sure = np.abs(C) > 1e-12 * bound
         signs = set(np.sign(C[sure]).tolist())

@@ -33,7 +33,15 @@ from numpy.typing import NDArray
 from ..errors import InputError
 from ..objects.polygon import Edge, Polygon
 from .patches import clip
-from .regions import MARGIN, Certificate, Regions, check_edges, exact_inward, exact_point
+from .regions import (
+    MARGIN,
+    Certificate,
+    Regions,
+    check_edges,
+    exact_inward,
+    exact_point,
+    narrowed,
+)
 
 #: Default angular margin (radians) kept between region grasps and the cone boundary.
 ANGLE_MARGIN = MARGIN  # the one margin (regions.check_margin)
@@ -249,7 +257,9 @@ class IndependentRegions(Regions):
         e1, e2 = (self.polygon.edges[k] for k in self.edges)
         F = Fraction
         m_p, m_q = exact_inward(e1), exact_inward(e2)
-        mu_p, mu_q = F(self.mu[0]), F(self.mu[1])
+        # narrowed by the outline's spread: then the cone holds for every normal the real
+        # outline has along the edge
+        mu_p, mu_q = (F(narrowed(m, self.polygon.spread)) for m in self.mu)
 
         def inside(m: list[Fraction], mu: Fraction, w: list[Fraction]) -> bool:
             dot = m[0] * w[0] + m[1] * w[1]

@@ -49,14 +49,19 @@ got 2
 
 def narrowed(mu: float, margin: float) -> float:
     """The friction coefficient of the cone narrowed by ``margin`` radians (0 when nothing
-    is left of it).
+    is left of it); ``mu`` itself for no margin, and otherwise rounded down a little, so that
+    a proof with it never rests on a cone wider than the narrowed one.
 
     Examples
     --------
     >>> round(narrowed(1.0, math.pi / 8), 6)   # tan(pi/4 - pi/8)
     0.414214
+    >>> narrowed(0.3, 0.0)
+    0.3
     """
-    return math.tan(max(math.atan(mu) - margin, 0.0))
+    if margin <= 0:
+        return mu
+    return math.tan(max(math.atan(mu) - margin, 0.0)) * (1 - 1e-14)
 
 
 def check_edges(polygon: Polygon, edges, count: int) -> tuple[int, ...]:

@@ -86,7 +86,8 @@ class ThreeFingerRegions(Regions):
         cones = []
         for e, seg in zip((self.polygon.edges[k] for k in self.edges), self.segments,
                           strict=True):
-            cone = _extremes(_generators([[-x for x in exact_inward(e)]], F(self.mu)))
+            cone = _extremes(_generators([[-x for x in exact_inward(e)]],
+                                         F(narrowed(self.mu, self.polygon.spread))))
             cones.append(cone)
             for t in seg:
                 p = exact_point(e, t)

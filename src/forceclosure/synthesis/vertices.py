@@ -140,7 +140,7 @@ class VertexGrasp:
 
         def cone(indices):
             normals = [[-x for x in exact_inward(edges[i])] for i in indices]
-            return _extremes(_generators(normals, F(self.mu)))
+            return _extremes(_generators(normals, F(narrowed(self.mu, self.polygon.spread))))
 
         kind, k = self.other
         cone_p = cone(self.corners[0])
