@@ -351,3 +351,35 @@ def test_regions_on_tessellated_curves_hold_on_the_true_curve(tmp_path, capsys, 
                 contacts.append(point_contact(on, normal / np.linalg.norm(normal), "hard",
                                               mu=mu))
             assert decide(contacts, "exact")[0].verdict is Verdict.CLOSURE
+
+
+@pytest.mark.parametrize("mu", [0.6, 0.04])
+def test_regions_on_a_tessellated_urdf_cylinder_hold_on_the_true_cylinder(tmp_path, mu):
+    """A URDF <cylinder> is read as 72 facets whose normals are up to pi/72 (0.044 rad) off
+    the cylinder's; the proofs narrow every cone by that. Sampled pairs of two soft fingers,
+    moved onto the true cylinder (radially on the side, onto the plane on a cap) with its
+    true normal, are force-closure with exact cones; at mu 0.04 (below the turn) nothing is
+    claimed."""
+    from forceclosure.objects.io import load_object
+
+    urdf = tmp_path / "rod.urdf"
+    urdf.write_text('<robot name="rod"><link name="rod"><collision><geometry>'
+                    '<cylinder radius="0.5" length="2"/></geometry></collision></link></robot>')
+    rod = load_object(urdf)
+    assert min(f.spread for f in rod.faces) >= np.pi / 72
+    found = synthesize(rod, 2, "soft", mu, top=2).found
+    if mu < np.pi / 72:
+        assert found == []
+        return
+    assert found
+    for r in found:
+        points, _ = r.sample(500, seed=6)
+        p = points.reshape(-1, 3)
+        side = np.abs(p[:, 2]) < 1 - 1e-9
+        radial = np.column_stack([p[:, :2], np.zeros(len(p))])
+        radial /= np.maximum(np.linalg.norm(radial, axis=1, keepdims=True), 1e-300)
+        true_p = np.where(side[:, None], 0.5 * radial + [0, 0, 1] * p[:, 2:3], p)
+        true_n = np.where(side[:, None], radial, np.sign(p[:, 2:3]) * [0, 0, 1])
+        result = analyze_batch(true_p.reshape(points.shape), true_n.reshape(points.shape),
+                               mu=mu, model="soft", cone="exact")
+        assert np.all(result.code == 2)

@@ -25,7 +25,7 @@ its own ``(origin, u, v)``, with outward normal ``n = u x v``.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from itertools import pairwise
 
@@ -201,8 +201,13 @@ class Polyhedron:
 
     @classmethod
     def from_arrays(cls, vertices: ArrayLike, triangles: ArrayLike, name: str = "polyhedron",
-                    allow_open: bool = False) -> Polyhedron:
+                    allow_open: bool = False, spread: float = 0.0) -> Polyhedron:
         """Validate, repair and face-merge a triangle mesh.
+
+        ``spread`` (radians) is how far the normal of the surface the mesh
+        stands for may turn from its triangles' (a tessellated cylinder or
+        sphere); every face's ``spread`` is at least that, so that the proofs
+        narrow their cones by it.
 
         Examples
         --------
@@ -285,6 +290,8 @@ class Polyhedron:
                                        size, glued)
         for arr in (V, T, face_of):
             arr.setflags(write=False)
+        if spread > 0:
+            faces = tuple(replace(f, spread=max(f.spread, float(spread))) for f in faces)
         return cls(V, T, faces, face_of, name, watertight, tuple(warnings), tuple(defects))
 
     @classmethod

@@ -68,6 +68,7 @@ from .polyhedron import Polyhedron
 
 __all__ = [
     "CYLINDER_SECTIONS",
+    "CYLINDER_TURN",
     "TESSELLATION_TOLERANCE",
     "GeometryPiece",
     "box_mesh",
@@ -146,8 +147,10 @@ def cylinder_mesh(radius: float, length: float) -> tuple[NDArray[np.float64],
 
 
 @lru_cache(maxsize=1)
-def _unit_sphere() -> tuple[NDArray[np.float64], NDArray[np.int64]]:
-    """The coarsest icosphere whose facets are within the tolerance of the unit sphere."""
+def _unit_sphere() -> tuple[NDArray[np.float64], NDArray[np.int64], float]:
+    """The coarsest icosphere whose facets are within the tolerance of the unit sphere, and
+    how far the sphere's normal turns from a facet's over it (at most at a corner, where it
+    is the corner's radius)."""
     import trimesh
 
     for level in range(1, 8):
@@ -156,8 +159,14 @@ def _unit_sphere() -> tuple[NDArray[np.float64], NDArray[np.int64]]:
         normals = np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]])
         normals /= np.linalg.norm(normals, axis=1, keepdims=True)
         if 1 - np.abs(np.einsum("ij,ij->i", normals, V[T[:, 0]])).min() <= TESSELLATION_TOLERANCE:
-            return V, T
+            corner = V[T] / np.linalg.norm(V[T], axis=2, keepdims=True)
+            turn = np.arccos(np.clip(np.einsum("ikj,ij->ik", corner, normals), -1, 1)).max()
+            return V, T, float(turn) * (1 + 1e-9) + 1e-12
     raise AssertionError("no icosphere is fine enough")  # pragma: no cover
+
+
+#: How far a cylinder's normal turns from a side facet's over it: half the facet's angle.
+CYLINDER_TURN = math.pi / CYLINDER_SECTIONS * (1 + 1e-9)
 
 
 def sphere_mesh(radius: float) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
@@ -169,7 +178,7 @@ def sphere_mesh(radius: float) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     >>> bool(np.allclose(np.linalg.norm(V, axis=1), 2.0)), V.max(axis=0).tolist()
     (True, [2.0, 2.0, 2.0])
     """
-    V, T = _unit_sphere()
+    V, T, _ = _unit_sphere()
     return V * radius, T.copy()
 
 
@@ -188,6 +197,9 @@ class GeometryPiece:
     triangles : (m, 3) int array
     mesh_file : Path or None
         The mesh file read, for a ``mesh``.
+    turn : float
+        Radians the true surface's normal turns from the facets' (a tessellated
+        cylinder or sphere; 0 for boxes and meshes).
     """
 
     where: str
@@ -195,6 +207,7 @@ class GeometryPiece:
     vertices: NDArray[np.float64]
     triangles: NDArray[np.int64]
     mesh_file: Path | None = None
+    turn: float = 0.0
 
 
 def _numbers(text: str | None, count: tuple[int, ...], what: str, where: str,
@@ -299,15 +312,18 @@ def _piece(element: ET.Element, urdf: Path, link: str, which: str) -> GeometryPi
     shape = shapes[0]
     kind = shape.tag.rsplit("}", 1)[-1] if isinstance(shape.tag, str) else "?"
     mesh_file = None
+    turn = 0.0  # how far the true surface's normal turns from the facets'
     if kind == "box":
         V, T = box_mesh(_numbers(shape.get("size"), (3,), "box size", where, positive=True))
     elif kind == "cylinder":
         radius = _numbers(shape.get("radius"), (1,), "cylinder radius", where, positive=True)
         length = _numbers(shape.get("length"), (1,), "cylinder length", where, positive=True)
         V, T = cylinder_mesh(float(radius[0]), float(length[0]))
+        turn = CYLINDER_TURN
     elif kind == "sphere":
         V, T = sphere_mesh(float(_numbers(shape.get("radius"), (1,), "sphere radius", where,
                                           positive=True)[0]))
+        turn = _unit_sphere()[2]
     elif kind == "mesh":
         filename = shape.get("filename")
         if not filename:
@@ -331,7 +347,7 @@ def _piece(element: ET.Element, urdf: Path, link: str, which: str) -> GeometryPi
                          "are read)")
     transform = origin_transform(xyz, rpy)
     placed = V @ transform[:3, :3].T + transform[:3, 3]
-    return GeometryPiece(which, kind, placed, T, mesh_file)
+    return GeometryPiece(which, kind, placed, T, mesh_file, turn)
 
 
 def _label(link: ET.Element, index: int) -> str:
@@ -461,7 +477,10 @@ def polyhedron_from_urdf(path: Path, allow_open: bool = False,
     vertices = np.concatenate([p.vertices for p in pieces])
     triangles = np.concatenate([p.triangles + offset
                                 for p, offset in zip(pieces, offsets, strict=True)])
-    polyhedron = Polyhedron.from_arrays(vertices, triangles, path.stem, allow_open)
+    # a tessellated cylinder or sphere: every proof narrows its cones by how far the facets'
+    # normals are from the true surface's (all faces, to keep it simple and sound)
+    polyhedron = Polyhedron.from_arrays(vertices, triangles, path.stem, allow_open,
+                                        spread=max(p.turn for p in pieces))
     if not warnings:
         return polyhedron
     return replace(polyhedron, warnings=(*warnings, *polyhedron.warnings))

@@ -187,6 +187,8 @@ def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
     spread = obj.spread if obj.dim == 2 else max((f.spread for f in obj.faces), default=0.0)
     margin = max(margin, min(1.001 * spread, math.pi / 2 * 0.999))
     mu = 0.0 if contact == "frictionless" else float(mu)
+    if contact != "frictionless" and narrowed(mu, margin) <= 0:  # no cone left to prove with
+        return Synthesis([], "edges" if obj.dim == 2 else method, fingers, contact, mu)
     if obj.dim == 2:
         return Synthesis(_on_edges(obj, fingers, contact == "frictionless", mu, top, margin,
                                    construction), "edges", fingers, contact, mu)

@@ -296,8 +296,8 @@ def _nguyen(f1: PlanarFace, f2: PlanarFace, ring1: NDArray, ring2: NDArray,
 
 def soft_pair_regions(polyhedron: Polyhedron, face1: int, face2: int, mu: float,
                       margin: float = ANGLE_MARGIN,
-                      construction: str = "maximal", sides: int = SIDES
-                      ) -> SoftPairRegions | None:
+                      construction: str = "maximal", sides: int = SIDES,
+                      certified: bool = True) -> SoftPairRegions | None:
     """Independent regions for two soft fingers on two faces (§5.2), or None.
 
     Parameters
@@ -315,6 +315,9 @@ def soft_pair_regions(polyhedron: Polyhedron, face1: int, face2: int, mu: float,
         cone between disks.
     sides : int
         Sides of the maximal construction's polygons.
+    certified : bool
+        Return the regions only if their exact certificate holds (the search
+        of :func:`best_soft_pair_regions` proves only those it returns).
 
     Returns
     -------
@@ -358,7 +361,7 @@ def soft_pair_regions(polyhedron: Polyhedron, face1: int, face2: int, mu: float,
     patches = ((FacePatch.on(f1, best[1]),), (FacePatch.on(f2, best[2]),))
     apex = best[3] if construction == "nguyen" else None
     regions = SoftPairRegions(polyhedron, "soft", float(mu), patches, construction, apex)
-    return regions if regions.certify().holds else None
+    return regions if not certified or regions.certify().holds else None
 
 
 def best_soft_pair_regions(polyhedron: Polyhedron, mu: float, top: int = 5,
@@ -402,10 +405,17 @@ def best_soft_pair_regions(polyhedron: Polyhedron, mu: float, top: int = 5,
             if factor * bound[k] ** 2 <= kth:
                 break
         r = soft_pair_regions(polyhedron, int(i_idx[k]), int(j_idx[k]), mu, margin=margin,
-                              construction=construction, sides=sides)
+                              construction=construction, sides=sides, certified=False)
         if r is not None:
             found.append(r)
-    return sorted(found, key=lambda r: r.min_area, reverse=True)[:top]
+    found.sort(key=lambda r: r.min_area, reverse=True)
+    proved = []  # walk down the ranking, proving only what is returned
+    for r in found:
+        if len(proved) == top:
+            break
+        if r.certify().holds:
+            proved.append(r)
+    return proved
 
 
 def _inradius(face: PlanarFace) -> float:
