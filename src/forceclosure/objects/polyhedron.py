@@ -47,7 +47,7 @@ from .orient import (
     walk_loops,
 )
 from .outer import outer_surface
-from .polygon import Polygon
+from .polygon import Polygon, _signed_area
 
 #: Relative tolerance (of the object's size) for merging vertices.
 MERGE_RTOL = 1e-9
@@ -571,12 +571,6 @@ def _loops(V, boundary, axes):
     loops = tuple(walk_loops(boundary.tolist()))
     if len(loops) == 1:
         return loops
-    signed = [_area2d((V[loop] - V[loop[0]]) @ axes.T) for loop in loops]
+    signed = [_signed_area((V[loop] - V[loop[0]]) @ axes.T) for loop in loops]
     first = int(np.argmax(signed))
     return (loops[first], *(lp for i, lp in enumerate(loops) if i != first))
-
-
-def _area2d(ring):
-    x, y = ring[:, 0], ring[:, 1]
-    nxt = np.r_[1:len(ring), 0]
-    return 0.5 * float(x @ y[nxt] - x[nxt] @ y)

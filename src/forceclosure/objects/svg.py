@@ -57,8 +57,8 @@ import shapely
 import svgelements as se
 from numpy.typing import NDArray
 
-from ..errors import InputError
-from .polygon import RTOL, Polygon
+from ..errors import InputError, first_line
+from .polygon import RTOL, Polygon, _signed_area
 
 __all__ = ["SVG_TOLERANCE", "polygon_from_svg"]
 
@@ -79,11 +79,6 @@ _PATH_COMMANDS = "MmZzLlHhVvCcSsQqTtAa"
 _METRIC = {"mm": 96 / 25.4, "cm": 96 / 2.54}
 _LENGTH_ATTRIBUTES = ("x", "y", "width", "height", "rx", "ry", "cx", "cy", "r", "x1", "y1",
                       "x2", "y2")
-
-
-def _first_line(error: BaseException) -> str:
-    text = str(error).strip().splitlines()
-    return (text[0] if text else type(error).__name__)[:200]
 
 
 def _local(tag: Any) -> str:
@@ -393,11 +388,6 @@ class _Drawn:
         return rings, closed, curved
 
 
-def _area(ring: NDArray[np.float64]) -> float:
-    x, y = ring[:, 0], ring[:, 1]
-    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
-
-
 def _attribute(node: Any, key: str) -> str | None:
     value = node.values.get(se.SVG_STRUCT_ATTRIB, {}).get(key)
     return None if value is None else str(value).strip()
@@ -470,7 +460,7 @@ def _candidate(shape: _Drawn, name: str) -> _Candidate | str:
         raise
     except (ValueError, TypeError, AttributeError, ZeroDivisionError, OverflowError,
             IndexError, np.linalg.LinAlgError) as e:  # svgelements on odd input
-        raise InputError(f"{where}: cannot read its geometry: {_first_line(e)}") from None
+        raise InputError(f"{where}: cannot read its geometry: {first_line(e)}") from None
     if not shape.filled:
         if not shape.stroked:
             return "it has neither fill nor stroke"
@@ -479,14 +469,14 @@ def _candidate(shape: _Drawn, name: str) -> _Candidate | str:
     kept = [r for r in rings if len(np.unique(r, axis=0)) >= 3]
     if not kept:
         return "it encloses no area"
-    areas = sorted((abs(_area(r)) for r in kept), reverse=True)
+    areas = sorted((abs(_signed_area(r)) for r in kept), reverse=True)
     return _Candidate(shape, rings, closed, curved, tol, areas[0] - sum(areas[1:]))
 
 
 def _clip_check(svg: se.SVG, chosen: _Candidate, name: str) -> None:
     """Refuse a shape cut by a clip-path or mask: what is drawn is then not the shape."""
     shape = chosen.shape
-    outer = max((r for r in chosen.rings if len(r) >= 3), key=lambda r: abs(_area(r)))
+    outer = max((r for r in chosen.rings if len(r) >= 3), key=lambda r: abs(_signed_area(r)))
     region = shapely.Polygon(outer)
     for node in [*shape.ancestors, shape.element]:
         where = f"{name}: {shape.label}"
@@ -508,7 +498,7 @@ def _clip_check(svg: se.SVG, chosen: _Candidate, name: str) -> None:
                    @ np.linalg.inv(_matrix(se.Matrix(clip.values.get("transform", "")))))
         except (np.linalg.LinAlgError, ValueError) as e:
             raise InputError(f"{where}: cannot place its clip-path {url}: "
-                             f"{_first_line(e)}") from None
+                             f"{first_line(e)}") from None
         parts = []
         for child in clip:
             if isinstance(child, _SHAPES):
@@ -544,7 +534,7 @@ def _assemble(chosen: _Candidate, name: str, flip: float | None) -> Polygon:
     if not shape.filled:
         warnings.append(f"{shape.label} has no fill, only a stroke: read as the region its "
                         "outline encloses")
-    outer_at = max(range(len(rings)), key=lambda k: abs(_area(rings[k][1])))
+    outer_at = max(range(len(rings)), key=lambda k: abs(_signed_area(rings[k][1])))
     outer_index, outer = rings[outer_at]
     outer_poly = shapely.Polygon(outer)
     others = [(i, r) for k, (i, r) in enumerate(rings) if k != outer_at]
@@ -560,7 +550,7 @@ def _assemble(chosen: _Candidate, name: str, flip: float | None) -> Polygon:
         if host:
             raise InputError(f"{where}: subpath {i} lies inside subpath {host[0]}, itself "
                              "inside the outer boundary: nested islands are not read")
-        same_way = (_area(ring) > 0) == (_area(outer) > 0)
+        same_way = (_signed_area(ring) > 0) == (_signed_area(outer) > 0)
         if (not shape.evenodd and same_way and polys[i].is_valid
                 and outer_poly.is_valid and outer_poly.contains(polys[i])):
             warnings.append(f"subpath {i} of {shape.label} winds like the outer boundary, so "
@@ -604,7 +594,7 @@ def polygon_from_svg(text: str, name: str = "polygon", part: str | None = None) 
     try:
         root = ET.fromstring(text)
     except ET.ParseError as e:
-        raise InputError(f"{name}: not valid SVG/XML: {_first_line(e)}") from None
+        raise InputError(f"{name}: not valid SVG/XML: {first_line(e)}") from None
     flip = _prepare(root, name)
     try:
         svg = se.SVG.parse(io.StringIO(ET.tostring(root, encoding="unicode")), reify=True,
@@ -612,7 +602,7 @@ def polygon_from_svg(text: str, name: str = "polygon", part: str | None = None) 
     except InputError:
         raise
     except Exception as e:  # svgelements raises many types on odd documents
-        raise InputError(f"{name}: cannot read the SVG: {_first_line(e)}") from None
+        raise InputError(f"{name}: cannot read the SVG: {first_line(e)}") from None
     if not isinstance(svg, se.SVG):
         raise InputError(f"{name}: the SVG draws nothing")
     drawn, skipped = _collect(svg)

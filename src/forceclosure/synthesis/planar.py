@@ -38,6 +38,7 @@ from .regions import (
     Certificate,
     Regions,
     check_edges,
+    check_margin,
     exact_inward,
     exact_point,
     narrowed,
@@ -132,9 +133,7 @@ def _check_mu(mu_p: float, mu_q: float, margin: float = ANGLE_MARGIN) -> None:
     for mu in (mu_p, mu_q):
         if not (isinstance(mu, int | float) and math.isfinite(mu) and mu >= 0):
             raise InputError(f"friction coefficient must be a finite number >= 0, got {mu!r}")
-    if not (isinstance(margin, int | float) and 0 < margin < math.pi / 2):
-        raise InputError(f"margin must be an angle in radians between 0 and pi/2, got "
-                         f"{margin!r}")
+    check_margin(margin)
 
 
 def _shrunk_pair(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | None,
@@ -143,7 +142,7 @@ def _shrunk_pair(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | None
     mu_q = mu if mu_q is None else mu_q
     _check_mu(mu, mu_q, margin)
     e1, e2 = _edges(polygon, i, j)
-    shrink = [math.tan(max(math.atan(m) - margin, 0.0)) for m in (mu, mu_q)]
+    shrink = [narrowed(m, margin) for m in (mu, mu_q)]
     sector = (counter_overlapping_sector(e1.normal, shrink[0], e2.normal, shrink[1])
               if min(shrink) > 0 else None)
     return e1, e2, shrink, sector
@@ -411,7 +410,7 @@ def best_regions(polygon: Polygon, mu: float, top: int = 5, margin: float = ANGL
     if not isinstance(top, int) or isinstance(top, bool) or top < 1:
         raise InputError(f"'top' must be a positive integer, got {top!r}")
     _check_mu(mu, mu, margin)
-    shrunk = math.tan(max(math.atan(mu) - margin, 0.0))
+    shrunk = narrowed(mu, margin)
     edges = polygon.edges
     if shrunk <= 0:
         return []
