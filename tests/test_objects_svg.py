@@ -426,3 +426,18 @@ def test_random_svg_only_raises_input_error(tag, d, length, transform):
         assert "\n" not in str(e)
     else:
         assert p.area > 0 and p.to_shapely().is_valid
+
+
+def test_strokes_and_invisible_shapes_are_said_not_guessed():
+    """A stroked rectangle is read as its fill (10 x 10, exactly) with a warning that a
+    browser paints half the 4-wide stroke outside it; a shape with opacity 0 or a
+    transparent fill is never the object, however large, and the polygon says so."""
+    stroked = polygon_from_svg('<svg><rect width="10" height="10" '
+                               'style="fill:#ccc;stroke:#000;stroke-width:4"/></svg>')
+    assert stroked.area == 100.0
+    assert any("stroke 4 wide" in w for w in stroked.warnings)
+    for hidden in ('opacity="0"', 'fill="transparent"', 'fill-opacity="0%"'):
+        p = polygon_from_svg(f'<svg><rect width="10" height="10" {hidden}/>'
+                             '<rect x="20" width="2" height="3"/></svg>')
+        assert p.area == 6.0, hidden
+        assert p.warnings

@@ -320,6 +320,7 @@ class _Drawn:
     filled: bool
     stroked: bool
     evenodd: bool
+    stroke_width: float = 0.0
 
     @property
     def ids(self) -> list[str]:
@@ -388,6 +389,17 @@ class _Drawn:
         return rings, closed, curved
 
 
+def _number(value: Any, default: float) -> float:
+    """The leading number of a style value (``0``, ``0.5``, ``2px``, ``50%`` as 0.5)."""
+    if value is None:
+        return default
+    match = re.match(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(%?)", str(value))
+    if not match:
+        return default
+    number = float(match.group(1))
+    return number / 100 if match.group(2) else number
+
+
 def _attribute(node: Any, key: str) -> str | None:
     value = node.values.get(se.SVG_STRUCT_ATTRIB, {}).get(key)
     return None if value is None else str(value).strip()
@@ -421,11 +433,19 @@ def _collect(svg: se.SVG) -> tuple[list[_Drawn], Counter]:
                 uses = [a for a in ancestors if isinstance(a, se.Use) and a.values.get("id")]
                 if uses:
                     label += f' in <use id="{uses[-1].values["id"]}">'
+                if _number(values.get("opacity"), 1.0) == 0:
+                    skipped["invisible shape (opacity 0)"] += 1
+                    continue
                 fill = str(values.get("fill", "black")).strip().lower()
+                filled = (fill not in ("none", "transparent")
+                          and _number(values.get("fill-opacity"), 1.0) != 0)
                 stroke = str(values.get("stroke", "none")).strip().lower()
+                stroked = (stroke not in ("none", "", "transparent")
+                           and _number(values.get("stroke-opacity"), 1.0) != 0)
                 rule = str(values.get("fill-rule", "nonzero")).strip().lower()
-                drawn.append(_Drawn(child, ancestors, tag, label, fill != "none",
-                                    stroke not in ("none", ""), rule == "evenodd"))
+                width = _number(values.get("stroke-width"), 1.0) if stroked else 0.0
+                drawn.append(_Drawn(child, ancestors, tag, label, filled, stroked,
+                                    rule == "evenodd", width))
 
     walk(svg, [svg])
     return drawn, skipped
@@ -534,6 +554,10 @@ def _assemble(chosen: _Candidate, name: str, flip: float | None) -> Polygon:
     if not shape.filled:
         warnings.append(f"{shape.label} has no fill, only a stroke: read as the region its "
                         "outline encloses")
+    elif shape.stroke_width > 0:
+        warnings.append(f"{shape.label} is drawn with a stroke {shape.stroke_width:g} wide: "
+                        "read as its fill's outline, without the half of the stroke a browser "
+                        "paints outside it")
     outer_at = max(range(len(rings)), key=lambda k: abs(_signed_area(rings[k][1])))
     outer_index, outer = rings[outer_at]
     outer_poly = shapely.Polygon(outer)
