@@ -96,6 +96,18 @@ def exact_point(edge: Edge, t: float) -> list[Fraction]:
     return [Fraction(float(x)) for x in edge.point(t)]
 
 
+def first_proved(ranked: list, top: int) -> list:
+    """The first ``top`` region sets of a ranking whose certificates hold: a search proves
+    only what it returns, walking down its ranking."""
+    proved = []
+    for regions in ranked:
+        if len(proved) == top:
+            break
+        if regions.certify().holds:
+            proved.append(regions)
+    return proved
+
+
 @dataclass(frozen=True)
 class Certificate:
     """The proof that a region set is force-closure, and what it checked."""

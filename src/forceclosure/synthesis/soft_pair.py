@@ -45,7 +45,7 @@ from ..errors import InputError
 from ..objects.polygon import _signed_area
 from ..objects.polyhedron import PlanarFace, Polyhedron
 from .patches import FacePatch, SpatialRegions, clip, convex_pieces
-from .regions import MARGIN, Certificate, narrowed
+from .regions import MARGIN, Certificate, first_proved, narrowed
 
 #: Default margin (radians) taken off each friction cone's half-angle.
 ANGLE_MARGIN = MARGIN  # the one margin (regions.check_margin)
@@ -409,13 +409,7 @@ def best_soft_pair_regions(polyhedron: Polyhedron, mu: float, top: int = 5,
         if r is not None:
             found.append(r)
     found.sort(key=lambda r: r.min_area, reverse=True)
-    proved = []  # walk down the ranking, proving only what is returned
-    for r in found:
-        if len(proved) == top:
-            break
-        if r.certify().holds:
-            proved.append(r)
-    return proved
+    return first_proved(found, top)
 
 
 def _inradius(face: PlanarFace) -> float:

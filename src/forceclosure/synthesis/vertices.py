@@ -28,7 +28,15 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..objects.polygon import Polygon
-from .regions import MARGIN, Certificate, check_margin, exact_inward, exact_point, narrowed
+from .regions import (
+    MARGIN,
+    Certificate,
+    check_margin,
+    exact_inward,
+    exact_point,
+    first_proved,
+    narrowed,
+)
 
 
 def convex_vertices(polygon: Polygon) -> list[tuple[int, int, int]]:
@@ -212,13 +220,7 @@ def vertex_grasps(polygon: Polygon, mu: float, top: int = 5,
                     found.append(VertexGrasp(polygon, v, ("vertex", w), None, float(mu),
                                              ((a, b), (a2, b2))))
     found.sort(key=lambda g: (-round(g.min_length / polygon.size, 12), g.vertex, g.other))
-    certified = []  # walk down the ranking, proving only what is returned
-    for g in found:
-        if len(certified) == top:
-            break
-        if g.certify().holds:
-            certified.append(g)
-    return certified
+    return first_proved(found, top)
 
 
 def _interval(p: NDArray, edge, cone_p, cone_q) -> tuple[float, float] | None:
