@@ -24,6 +24,7 @@ from matplotlib.textpath import TextPath
 from exact import planar_hard_wrenches, positively_spans
 from forceclosure.batch import analyze_batch
 from forceclosure.cli import main
+from forceclosure.errors import InputError
 from forceclosure.objects import POLYGONS, POLYHEDRA, Polygon, Polyhedron, bundled
 from forceclosure.synthesis.best import synthesize
 from test_outer_surface import distance_to_triangles, original_pieces, winding_number
@@ -323,17 +324,18 @@ def test_regions_on_tessellated_curves_hold_on_the_true_curve(tmp_path, capsys, 
     """An SVG circle or ellipse is read as chords whose normals are up to 0.07 rad off the
     curve's; the proofs narrow every cone by that turn. Every sampled pair in the printed
     regions, moved onto the true curve and given its true normal, is force-closure (exact,
-    in rationals); where the friction cannot cover the turn (mu 0.05 < 0.07 rad) nothing is
-    claimed."""
+    in rationals); where the friction cannot cover the turn (mu 0.05 < 0.07 rad) the command
+    refuses in one line saying so."""
     from forceclosure import point_contact
     from forceclosure.closure import Verdict, decide
 
     path = tmp_path / "curve.svg"
     path.write_text(f'<svg xmlns="http://www.w3.org/2000/svg">{shape}</svg>')
-    record = synthesize_json(capsys, path, "--mu", str(mu), "--top", "5")
     if mu < 0.07:
-        assert record["grasps"] == []
+        assert main(["synthesize", str(path), "--json", "--mu", str(mu)]) == 2
+        assert "as far as the object's normals turn" in capsys.readouterr().err
         return
+    record = synthesize_json(capsys, path, "--mu", str(mu), "--top", "5")
     assert record["grasps"]
     a, b = (2.0, 1.0) if "ellipse" in shape else (1.0, 1.0)
     theta = np.linspace(0, 2 * np.pi, 200_001)
@@ -358,8 +360,8 @@ def test_regions_on_a_tessellated_urdf_cylinder_hold_on_the_true_cylinder(tmp_pa
     """A URDF <cylinder> is read as 72 facets whose normals are up to pi/72 (0.044 rad) off
     the cylinder's; the proofs narrow every cone by that. Sampled pairs of two soft fingers,
     moved onto the true cylinder (radially on the side, onto the plane on a cap) with its
-    true normal, are force-closure with exact cones; at mu 0.04 (below the turn) nothing is
-    claimed."""
+    true normal, are force-closure with exact cones; at mu 0.04 (below the turn) it is
+    refused in one line."""
     from forceclosure.objects.io import load_object
 
     urdf = tmp_path / "rod.urdf"
@@ -367,10 +369,11 @@ def test_regions_on_a_tessellated_urdf_cylinder_hold_on_the_true_cylinder(tmp_pa
                     '<cylinder radius="0.5" length="2"/></geometry></collision></link></robot>')
     rod = load_object(urdf)
     assert min(f.spread for f in rod.faces) >= np.pi / 72
-    found = synthesize(rod, 2, "soft", mu, top=2).found
     if mu < np.pi / 72:
-        assert found == []
+        with pytest.raises(InputError, match="normals turn from its chords or facets"):
+            synthesize(rod, 2, "soft", mu, top=2)
         return
+    found = synthesize(rod, 2, "soft", mu, top=2).found
     assert found
     for r in found:
         points, _ = r.sample(500, seed=6)

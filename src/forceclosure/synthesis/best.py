@@ -185,10 +185,15 @@ def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
     # turn by up to its spread: build with at least that margin so that the proofs, which
     # narrow the cones by it, can hold
     spread = obj.spread if obj.dim == 2 else max((f.spread for f in obj.faces), default=0.0)
-    margin = max(margin, min(1.001 * spread, math.pi / 2 * 0.999))
+    needed = min(1.001 * spread, math.pi / 2 * 0.999)
     mu = 0.0 if contact == "frictionless" else float(mu)
-    if contact != "frictionless" and narrowed(mu, margin) <= 0:  # no cone left to prove with
-        return Synthesis([], "edges" if obj.dim == 2 else method, fingers, contact, mu)
+    if contact != "frictionless" and narrowed(mu, max(margin, needed)) <= 0:
+        why = (f"the margin {margin:g} rad" if margin >= needed else
+               f"{needed:.3g} rad, as far as the object's normals turn from its chords or "
+               "facets")
+        raise InputError(f"mu {mu:g}: its friction cone (atan(mu) = {math.atan(mu):.3g} rad) "
+                         f"leaves nothing once narrowed by {why}")
+    margin = max(margin, needed)
     if obj.dim == 2:
         return Synthesis(_on_edges(obj, fingers, contact == "frictionless", mu, top, margin,
                                    construction), "edges", fingers, contact, mu)
