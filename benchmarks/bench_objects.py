@@ -7,6 +7,11 @@ finely subdivided box, whose 98k triangles merge into 6 faces. trimesh's own
 load with processing and its ``facets`` (which leaves one-triangle faces out
 and checks no flatness) is timed in the same run for reference.
 
+Then the convex decompositions of pybullet_data (several overlapping
+shells each, reduced to their outer surface by a manifold3d union): the
+first 100 ``random_urdfs`` and ``duck_vhacd.obj``, against trimesh's plain
+load of the same files (which keeps the shells, inner faces and all).
+
     uv run python benchmarks/bench_objects.py
 """
 
@@ -14,10 +19,13 @@ from __future__ import annotations
 
 import tempfile
 import time
+from contextlib import suppress
 from pathlib import Path
 
+import pybullet_data
 import trimesh
 
+from forceclosure.errors import InputError
 from forceclosure.objects.io import load_object
 
 
@@ -44,6 +52,26 @@ def main() -> None:
             theirs, _ = best_of(lambda path=path: trimesh.load(path, process=True).facets)
             print(f"{name:18} {len(poly.triangles):9d} {len(poly.faces):7d} {ours:11.2f} s "
                   f"{theirs:7.2f} s")
+    data = Path(pybullet_data.getDataPath())
+    decompositions = {
+        "random_urdfs x100": [data / "random_urdfs" / f"{i:03d}" / f"{i:03d}.obj"
+                              for i in range(100)],
+        "duck_vhacd": [data / "duck_vhacd.obj"],
+    }
+    print(f"\n{'decomposition':18} {'files':>9} {'shells':>7} {'forceclosure':>13} {'trimesh':>9}")
+    for name, paths in decompositions.items():
+        def ours(paths=paths):
+            loaded = []
+            for p in paths:
+                with suppress(InputError):  # the few with non-manifold pieces
+                    loaded.append(load_object(p))
+            return loaded
+
+        t_ours, loaded = best_of(ours, repeat=1)
+        t_theirs, _ = best_of(lambda paths=paths: [trimesh.load(p, force="mesh")
+                                                   for p in paths], repeat=1)
+        shells = sum(p.shells for p in loaded)
+        print(f"{name:18} {len(paths):9d} {shells:7d} {t_ours:11.2f} s {t_theirs:7.2f} s")
 
 
 if __name__ == "__main__":
