@@ -442,3 +442,61 @@ def test_seven_minors_count_only_what_no_turn_of_the_normals_can_reach():
             assert analyze(grasp).verdict is Verdict.CLOSURE
     assert proved[0] and not proved[-1]
     assert proved == sorted(proved, reverse=True)  # once refused, refused for larger turns
+
+
+def _turned(normals: np.ndarray, angle: float, rng: np.random.Generator) -> np.ndarray:
+    """Each normal turned by a random angle up to ``angle`` (a quarter exactly ``angle``)
+    about a random axis across it."""
+    axis = rng.normal(size=normals.shape)
+    axis -= np.sum(axis * normals, axis=-1, keepdims=True) * normals
+    axis /= np.linalg.norm(axis, axis=-1, keepdims=True)
+    t = rng.uniform(0, angle, (*normals.shape[:-1], 1))
+    t[rng.random(t.shape) < 0.25] = angle
+    return np.cos(t) * normals + np.sin(t) * axis
+
+
+def _frictionless_closure(points: np.ndarray, normals: np.ndarray) -> bool:
+    """Seven frictionless wrenches close iff they have rank 6 and the one null vector has
+    all entries strictly of one sign (Theorem 1, by singular values, not by our code)."""
+    W = np.column_stack([np.concatenate([-n, np.cross(p - points.mean(axis=0), -n)])
+                         for p, n in zip(points, normals, strict=True)])
+    _, s, vt = np.linalg.svd(W)
+    null = vt[-1] * np.sign(vt[-1].sum())
+    return bool(s[5] > 1e-9 * s[0] and null.min() > 1e-9)
+
+
+@pytest.mark.parametrize("name", ["cube", "l-prism"])
+def test_seven_frictionless_regions_hold_for_normals_turned_by_the_margin(name):
+    """With --margin t, every tuple of points in the seven regions closes for normals
+    turned by up to t in any direction (at the regions' corners too); a larger margin
+    gives smaller regions; the certificate says what it covers."""
+    obj = bundled(name)
+    small = synthesize(obj, 7, "frictionless", top=1, margin=1e-3).found[0]
+    large = synthesize(obj, 7, "frictionless", top=1, margin=0.01).found[0]
+    assert large.min_area < small.min_area
+    assert "turned by up to 0.01 rad" in large.certify().detail
+    rng = np.random.default_rng(4)
+    for r, t in ((small, 1e-3), (large, 0.01)):
+        points, normals = r.sample(300, seed=1)
+        corners = [np.vstack([p.points for p in region]) for region in r.regions]
+        picks = np.stack([c[rng.integers(len(c), size=300)] for c in corners], axis=1)
+        points = np.concatenate([points, picks])
+        normals = np.concatenate([normals, normals[:300]])
+        for P, N in zip(points, normals, strict=True):
+            assert _frictionless_closure(P, _turned(N, t, rng))
+
+
+def test_frictionless_fingers_grown_on_a_mesh_hold_for_turned_normals():
+    """Search zones for frictionless fingers (regions grown on the mesh) with a margin: every
+    generator of the pyramid around the forces within the margin must reach its zones, so
+    sampled tuples close with normals turned by the margin."""
+    r = synthesize(bundled("cube"), 7, "frictionless", top=1, method="mesh",
+                   margin=0.02).found[0]
+    assert r.certify().holds and r.margin == 0.02
+    rng = np.random.default_rng(6)
+    points, normals = r.sample(500, seed=2)
+    for P, N in zip(points, normals, strict=True):
+        assert _frictionless_closure(P, _turned(N, 0.02, rng))
+    # the check can fail: turned by 0.3 rad, some of the same tuples do not close
+    assert not all(_frictionless_closure(P, _turned(N, 0.3, rng))
+                   for P, N in zip(points, normals, strict=True))

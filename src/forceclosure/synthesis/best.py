@@ -139,10 +139,9 @@ def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
         Radians: the regions stay force-closure when every contact normal
         turns by up to this angle; every construction with friction narrows
         its cones by it, four frictionless fingers in the plane hold for every
-        force direction within it
-        (:func:`~forceclosure.synthesis.regions.check_margin`). Not applied to
-        seven frictionless fingers in space (proved for the faces' normals,
-        and their triangles', only).
+        force direction within it, seven frictionless fingers in space keep
+        the signs of their minors for every normal within it
+        (:func:`~forceclosure.synthesis.regions.check_margin`).
     construction : {"maximal", "nguyen"}
         Maximal regions, or the paper's two-sided cone constructions (two or
         four fingers in the plane, two soft fingers in space).
@@ -234,7 +233,8 @@ def _on_polyhedron(poly: Polyhedron, fingers: int, contact: str, mu: float, top:
     elif method == "faces" and key == (3, "hard"):
         found = best_three_hard_regions(poly, mu, top=top, seed=seed, margin=margin)
     elif method == "faces":
-        found = best_seven_frictionless_regions(poly, top=top, samples=samples, seed=seed)
+        found = best_seven_frictionless_regions(poly, top=top, samples=samples, seed=seed,
+                                               margin=margin)
     else:
         found = []
         for p in prototype_grasps(poly, fingers, contact, narrowed(mu, margin), count=top,

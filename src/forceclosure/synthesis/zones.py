@@ -25,6 +25,7 @@ each patch's vertices (linear conditions, so that is exact).
 
 from __future__ import annotations
 
+import math
 from collections import deque
 from dataclasses import dataclass
 from fractions import Fraction
@@ -48,6 +49,29 @@ EDGES = 8
 #: Every zone condition holds with at least this margin, ``a_k . w >= ZONE_MARGIN``.
 ZONE_MARGIN = 1e-6
 MODELS = ("frictionless", "hard", "soft")
+
+
+def finger_generators(model: str, mu: float, margin: float, edges: int = EDGES
+                      ) -> tuple[str, float, bool]:
+    """The generators a finger's patches are built and proved with, as
+    ``(model, mu, every)``: with friction, the cone narrowed by ``margin``, of which one
+    generator per zone is enough; frictionless, every force within ``margin`` of the
+    normal, so *every* generator of the pyramid whose faces touch that cone (its edges
+    at ``tan(margin) / cos(pi / edges)``) must lie in each zone.
+
+    Examples
+    --------
+    >>> finger_generators("hard", 0.5, 0.0)
+    ('hard', 0.5, False)
+    >>> model, mu, every = finger_generators("frictionless", 0.0, 1e-3)
+    >>> model, every, bool(mu * np.cos(np.pi / EDGES) >= np.tan(1e-3))
+    ('hard', True, True)
+    """
+    if model != "frictionless":
+        return model, narrowed(mu, margin), False
+    if margin <= 0:
+        return "frictionless", 0.0, False
+    return "hard", math.tan(margin) / math.cos(math.pi / edges) * (1 + 1e-12), True
 
 
 @dataclass(frozen=True, eq=False)
@@ -202,8 +226,10 @@ class ZoneRegions(SpatialRegions):
     @property
     def cone_mu(self) -> float:
         """The friction of the cones the regions are built and proved with: ``mu``'s cone
-        narrowed by ``margin`` radians (:func:`~forceclosure.synthesis.regions.check_margin`)."""
-        return narrowed(self.mu, self.margin) if self.model != "frictionless" else 0.0
+        narrowed by ``margin`` radians (:func:`~forceclosure.synthesis.regions.check_margin`);
+        for frictionless fingers, the pyramid around every force within ``margin`` of the
+        normal (:func:`finger_generators`)."""
+        return finger_generators(self.model, self.mu, self.margin, self.edges)[1]
 
     def certify(self) -> Certificate:
         """Exact on the pyramids: the prototype's hull is closed with the origin inside;
@@ -266,19 +292,20 @@ def _zone_certificate(r: ZoneRegions) -> Certificate:
                                f"face {turned.index}'s triangles turn by {turned.spread:.3g} "
                                f"rad, more than the margin of {r.margin:g}")
     checked = 0
+    model, mu, every = finger_generators(r.model, r.mu, r.margin, r.edges)
     for finger, (region, choices) in enumerate(zip(r.regions, r.choices, strict=True)):
         for patch, chosen in zip(region, choices, strict=True):
             face = r.polyhedron.faces[patch.face]
             G = _generators(patch.points, np.repeat(face.normal[None], len(patch.points), 0),
-                            r.model, r.cone_mu, r.edges, z.reference, z.length_scale)
+                            model, mu, r.edges, z.reference, z.length_scale)
             for zone, gen in chosen:
-                values = G[:, gen, :] @ z.facets[z.at_vertex[zone]].T  # (vertices, facets)
-                checked += values.size
-                if values.min() > 1e-9:
-                    continue
-                for (vi, fi) in np.argwhere(values <= 1e-9):
-                    if not _exact_positive(patch.points[vi], face.normal, gen, r, z,
-                                           z.at_vertex[zone][fi]):
+                for g in range(G.shape[1]) if every else [gen]:
+                    values = G[:, g, :] @ z.facets[z.at_vertex[zone]].T  # (vertices, facets)
+                    checked += values.size
+                    for (vi, fi) in np.argwhere(values <= 1e-9):
+                        if _exact_positive(patch.points[vi], face.normal, g, model, mu, r.edges,
+                                           z, z.at_vertex[zone][fi]):
+                            continue
                         return Certificate(False, "search zones",
                                            f"finger {finger + 1}: at {patch.points[vi].tolist()}"
                                            f" on face {patch.face} a wrench leaves its zone")
@@ -287,9 +314,9 @@ def _zone_certificate(r: ZoneRegions) -> Certificate:
                        f"{checked} linear zone conditions hold at the patch vertices")
 
 
-def _exact_positive(point, normal, gen, r, z, facet) -> bool:
+def _exact_positive(point, normal, gen, model, mu, edges, z, facet) -> bool:
     """``a_k . w > 0`` in rationals, for the generator's wrench at ``point``."""
-    G = _generators(point[None], normal[None], r.model, r.cone_mu, r.edges, z.reference,
+    G = _generators(point[None], normal[None], model, mu, edges, z.reference,
                     z.length_scale)[0, gen]
     force = [Fraction(x) for x in G[:3]]
     arm = [(Fraction(p) - Fraction(c)) / Fraction(z.length_scale)
@@ -303,9 +330,11 @@ def _exact_positive(point, normal, gen, r, z, facet) -> bool:
 
 
 def _patch_for(face: PlanarFace, piece: NDArray, zones: SearchZones, finger: int,
-               affine: tuple[NDArray, NDArray, NDArray], hint: NDArray | None):
+               affine: tuple[NDArray, NDArray, NDArray], hint: NDArray | None,
+               every: bool = False):
     """The part of a convex piece where the finger reaches all its zones, and the choices;
-    ``affine`` is the finger's generators on the face (:func:`_affine_wrenches`)."""
+    ``affine`` is the finger's generators on the face (:func:`_affine_wrenches`), of which
+    one per zone must lie in it, or ``every`` one (:func:`finger_generators`)."""
     w0, wu, wv = affine
     centre = piece.mean(axis=0) if hint is None else hint
     rows, rhs, chosen = [], [], []
@@ -317,10 +346,11 @@ def _patch_for(face: PlanarFace, piece: NDArray, zones: SearchZones, finger: int
         # same choice
         depth = at_centre.min(axis=1)
         gen = int(np.flatnonzero(depth >= depth.max() - 1e-9 * abs(depth.max()))[0])
-        if at_centre[gen].min() <= ZONE_MARGIN:
-            return None, ()
-        rows.append(np.column_stack([wu[gen] @ A.T, wv[gen] @ A.T]))
-        rhs.append(ZONE_MARGIN - w0[gen] @ A.T)
+        for g in range(len(w0)) if every else [gen]:
+            if at_centre[g].min() <= ZONE_MARGIN:
+                return None, ()
+            rows.append(np.column_stack([wu[g] @ A.T, wv[g] @ A.T]))
+            rhs.append(ZONE_MARGIN - w0[g] @ A.T)
         chosen.append((int(zone), gen))
     ring = clip(piece, np.vstack(rows), np.concatenate(rhs)) if rows else piece
     if len(ring) < 3 or _signed_area(ring) <= 1e-12 * face.polygon.size ** 2:
@@ -408,9 +438,10 @@ def zone_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike, model
     max_patches : int
         Stop growing a region after this many patches.
     margin : float
-        Radians taken off every friction cone's half-angle, in the
-        construction and in the proof
-        (:func:`~forceclosure.synthesis.regions.check_margin`).
+        Radians each normal may turn: taken off every friction cone's
+        half-angle; a frictionless finger holds for every force within it of
+        the normal (:func:`finger_generators`); in the construction and in the
+        proof (:func:`~forceclosure.synthesis.regions.check_margin`).
 
     Examples
     --------
@@ -440,15 +471,15 @@ def zone_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike, model
     N = np.array([f.normal for f in faces])
     mu = 0.0 if model == "frictionless" else float(mu)
     margin = check_margin(margin)
-    cone_mu = 0.0 if model == "frictionless" else narrowed(mu, margin)
-    zones = search_zones(P, N, model, cone_mu, edges)
+    built, cone_mu, every = finger_generators(model, mu, margin, edges)
+    zones = search_zones(P, N, model, 0.0 if every else cone_mu, edges)
     graph = _face_graph(polyhedron) if grow else {}
     regions, choices = [], []
     for finger, (face, (_, uv, _)) in enumerate(zip(faces, located, strict=True)):
         pieces = convex_pieces(face)
         start = _containing(pieces, uv)
-        affine = _affine_wrenches(face, zones, model, cone_mu, edges)
-        ring, chosen = _patch_for(face, pieces[start], zones, finger, affine, uv)
+        affine = _affine_wrenches(face, zones, built, cone_mu, edges)
+        ring, chosen = _patch_for(face, pieces[start], zones, finger, affine, uv, every)
         if ring is None:  # the prototype point itself sits on a zone's boundary
             raise InputError(f"finger {finger + 1}: the prototype is too close to the "
                              "boundary of force closure to grow regions around it")
@@ -469,10 +500,10 @@ def zone_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike, model
                 seen.add(f_index)
             f_pieces = convex_pieces(f)
             f_affine = affine if f_index == face.index else _affine_wrenches(
-                f, zones, model, cone_mu, edges)
+                f, zones, built, cone_mu, edges)
             added = False
             for k in (range(len(f_pieces)) if which is None else [which]):
-                ring, chosen = _patch_for(f, f_pieces[k], zones, finger, f_affine, None)
+                ring, chosen = _patch_for(f, f_pieces[k], zones, finger, f_affine, None, every)
                 if ring is None:
                     continue
                 patch = FacePatch.on(f, ring)
