@@ -208,6 +208,16 @@ def test_polygons_moved_far_or_scaled_keep_their_geometry_and_grasps(offset, sca
                                        atol=1e-9, err_msg=f"{name}, {fingers} fingers")
 
 
+def test_a_millimetre_cube_far_away_keeps_every_triangle():
+    """A cube of side 2^-9 at 2^27 (about 1e8; every coordinate exact in floating point):
+    the key that merges duplicate vertices overflowed there and every triangle was lost.
+    Its volume and area are exact."""
+    obj = bundled("cube")
+    moved = Polyhedron.from_arrays(obj.vertices * 2.0**-10 + 2.0**27, obj.triangles)
+    assert len(moved.triangles) == 12 and len(moved.faces) == 6
+    assert moved.volume == 2.0**-27 and moved.area == 6 * 2.0**-18
+
+
 @pytest.mark.parametrize("offset,scale", [(1.2e7, 1.0), (1e8, 1.0), (0.0, 1e-4),
                                           (0.0, 1e4)])
 def test_polyhedra_moved_far_or_scaled_keep_their_geometry(offset, scale):
@@ -299,23 +309,43 @@ def test_real_meshes_moved_and_scaled_hold_on_the_original_geometry(name, finger
         assert np.all(result.code == 2)
 
 
-@pytest.mark.parametrize("name,offset,scale", [("cube", 1e8, 1.0),
-                                               ("triangular-prism", -3e5, 2.0**-12),
-                                               ("l-prism", 1e8, 16.0)])
-def test_three_hard_fingers_far_away_or_scaled(name, offset, scale):
-    """§5.3 through sampled prototypes and search zones: moved by 1e8, or moved and scaled
-    by a power of two, the best regions' sizes relative to the object are the same to six
-    digits (ties between symmetric generators are broken by index, not by rounding).
-    Sampling does not make this exact for every scale: a scale that is not a power of two
-    rounds the samples differently, and a near tie between prototypes may go the other way
-    (docs/objects.md)."""
+@pytest.mark.parametrize("name,fingers,contact,offset,scale", [
+    ("cube", 3, "hard", 1e8, 1.0), ("triangular-prism", 3, "hard", -3e5, 2.0**-12),
+    ("l-prism", 3, "hard", 1e8, 1e4), ("hexagonal-prism", 3, "hard", 0.0, 1e-4),
+    ("hexagonal-prism", 3, "hard", 2e7, 3.0), ("cube", 7, "frictionless", 1e3, 1e-4),
+    ("cube", 7, "frictionless", 1e8, 1.0),
+    ("l-prism", 7, "frictionless", 0.0, 1e4)])
+def test_sampled_constructions_far_away_or_scaled(name, fingers, contact, offset, scale):
+    """§5.3 and §5.5 through sampled prototypes and search zones: moved by up to 1e8 and
+    scaled by 1e-4, 3 or 1e4, the best regions' sizes relative to the object are the same
+    to six digits. The samples are drawn in each face's own frame, so they differ only by
+    rounding; ties (between symmetric generators, the hexagonal prism's equal faces, equal
+    regions) are broken by index on values rounded to 12 digits, not by that rounding."""
     obj = bundled(name)
     moved = Polyhedron.from_arrays(obj.vertices * scale + offset, obj.triangles)
-    want = synthesize(obj, 3, "hard", 0.5, top=2).found
-    got = synthesize(moved, 3, "hard", 0.5, top=2).found
+    want = synthesize(obj, fingers, contact, 0.5, top=2).found
+    got = synthesize(moved, fingers, contact, 0.5, top=2).found
     assert len(got) == len(want) == 2
     np.testing.assert_allclose([r.min_area / moved.size**2 for r in got],
                                [r.min_area / obj.size**2 for r in want], rtol=1e-6)
+    assert all(r.certify().holds for r in got)
+
+
+@pytest.mark.parametrize("offset,scale", [(0.0, 1e-4), (5e6, 1e4)])
+def test_regions_grown_on_a_real_mesh_far_away_or_scaled(offset, scale):
+    """Regions grown on pybullet's bunny (search zones around sampled prototypes): scaled by
+    1e-4 or moved and scaled by 1e4, the same regions relative to the object's size."""
+    import trimesh
+
+    mesh = trimesh.load(os.path.join(pybullet_data.getDataPath(), "bunny.obj"),
+                        force="mesh", process=False)
+    obj = Polyhedron.from_arrays(mesh.vertices, mesh.faces, allow_open=True)
+    moved = Polyhedron.from_arrays(mesh.vertices * scale + offset, mesh.faces, allow_open=True)
+    want = synthesize(obj, 3, "hard", 0.6, top=2, samples=2000, seed=1)
+    got = synthesize(moved, 3, "hard", 0.6, top=2, samples=2000, seed=1)
+    assert got.method == want.method == "mesh" and len(got.found) == len(want.found) == 2
+    np.testing.assert_allclose([r.min_area / moved.size**2 for r in got.found],
+                               [r.min_area / obj.size**2 for r in want.found], rtol=1e-6)
 
 
 @pytest.mark.parametrize("shape,mu", [('<circle r="1"/>', 0.3), ('<ellipse rx="2" ry="1"/>', 0.3),

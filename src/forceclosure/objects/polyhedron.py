@@ -147,7 +147,8 @@ def _unique_rows(key: NDArray[np.int64]) -> tuple[NDArray[np.int64], NDArray[np.
 
 def _merge_vertices(vertices: NDArray, triangles: NDArray, size: float,
                     warnings: list[str]) -> tuple[NDArray, NDArray]:
-    key = np.round(vertices / (MERGE_RTOL * size)).astype(np.int64)
+    # from the bounding box's corner, so that far-away coordinates cannot overflow the key
+    key = np.round((vertices - vertices.min(axis=0)) / (MERGE_RTOL * size)).astype(np.int64)
     first, inverse = _unique_rows(key)
     merged = len(vertices) - len(first)
     if merged:

@@ -20,7 +20,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..objects import Polygon, Polyhedron
-from .regions import MARGIN, check_margin, narrowed
+from .regions import MARGIN, check_margin, narrowed, tie_rounded
 
 #: The paper's constructions on faces (§5.2, §5.3, §5.5), by (fingers, contact).
 ON_FACES = {(2, "soft"): "§5.2", (3, "hard"): "§5.3", (7, "frictionless"): "§5.5"}
@@ -243,6 +243,6 @@ def _on_polyhedron(poly: Polyhedron, fingers: int, contact: str, mu: float, top:
                 found.append(zone_regions(poly, p, contact, mu, grow=True, margin=margin))
             except InputError:  # a prototype on the boundary of closure: skip it
                 continue
-        found.sort(key=lambda r: -r.min_area)
+        found.sort(key=lambda r: -tie_rounded(r.min_area / poly.size**2))
     # every region set returned is proved; one whose proof fails is not returned
     return Synthesis([r for r in found if r.certify().holds], method, fingers, contact, mu)

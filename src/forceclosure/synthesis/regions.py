@@ -96,6 +96,19 @@ def exact_point(edge: Edge, t: float) -> list[Fraction]:
     return [Fraction(float(x)) for x in edge.point(t)]
 
 
+def tie_rounded(value: float) -> float:
+    """``value`` to eight significant digits, for ranking: sizes that differ by less (as
+    the rounding of far-away or scaled coordinates makes them) are ties, which a stable sort
+    then breaks by index, so that a moved or scaled object ranks as the original does.
+
+    Examples
+    --------
+    >>> tie_rounded(0.125) == tie_rounded(0.124999999935)
+    True
+    """
+    return float(f"{value:.8g}")
+
+
 def first_proved(ranked: list, top: int) -> list:
     """The first ``top`` region sets of a ranking whose certificates hold: a search proves
     only what it returns, walking down its ranking."""

@@ -34,7 +34,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..errors import InputError
 from ..objects.polyhedron import Polyhedron
 from .patches import FacePatch
-from .regions import MARGIN, Certificate, check_margin
+from .regions import MARGIN, Certificate, check_margin, tie_rounded
 from .zones import Prototype, ZoneRegions, prototype_grasps, zone_regions
 
 #: Corners kept per region, so that a minor is checked at ``MAX_CORNERS ** 6`` tuples.
@@ -349,4 +349,5 @@ def best_seven_frictionless_regions(polyhedron: Polyhedron, top: int = 3,
             found.append(r)
         if len(found) >= 3 * top:
             break
-    return sorted(found, key=lambda r: -r.min_area)[:top]
+    size = polyhedron.size
+    return sorted(found, key=lambda r: -tie_rounded(r.min_area / size**2))[:top]

@@ -45,7 +45,7 @@ from ..errors import InputError
 from ..objects.polygon import _signed_area
 from ..objects.polyhedron import PlanarFace, Polyhedron
 from .patches import FacePatch, SpatialRegions, clip, convex_pieces
-from .regions import MARGIN, Certificate, first_proved, narrowed
+from .regions import MARGIN, Certificate, first_proved, narrowed, tie_rounded
 
 #: Default margin (radians) taken off each friction cone's half-angle.
 ANGLE_MARGIN = MARGIN  # the one margin (regions.check_margin)
@@ -395,7 +395,7 @@ def best_soft_pair_regions(polyhedron: Polyhedron, mu: float, top: int = 5,
         return []
     inradius = np.array([_inradius(f) for f in faces])
     bound = np.minimum(inradius[i_idx], inradius[j_idx])
-    order = np.argsort(-bound, kind="stable")
+    order = np.argsort([-tie_rounded(b / polyhedron.size) for b in bound], kind="stable")
     found: list[SoftPairRegions] = []
     # the largest region inside a disk of radius r: a regular polygon around it, or the disk
     factor = sides * math.tan(math.pi / sides) if construction == "maximal" else math.pi
@@ -408,7 +408,7 @@ def best_soft_pair_regions(polyhedron: Polyhedron, mu: float, top: int = 5,
                               construction=construction, sides=sides, certified=False)
         if r is not None:
             found.append(r)
-    found.sort(key=lambda r: r.min_area, reverse=True)
+    found.sort(key=lambda r: -tie_rounded(r.min_area / polyhedron.size**2))
     return first_proved(found, top)
 
 

@@ -35,7 +35,7 @@ from numpy.typing import ArrayLike
 from ..closure import Verdict, vector_closure
 from ..errors import InputError
 from ..objects.polyhedron import Polyhedron
-from .regions import MARGIN, check_margin, narrowed
+from .regions import MARGIN, check_margin, narrowed, tie_rounded
 from .soft_pair import _check_faces, _check_mu
 from .zones import EDGES, ZoneRegions, prototype_grasps, zone_regions
 
@@ -193,7 +193,10 @@ def best_three_hard_regions(polyhedron: Polyhedron, mu: float, top: int = 5,
     _check_mu(mu, 0.0)
     if top < 1:
         raise InputError(f"top must be at least 1, got {top}")
-    order = sorted(range(len(polyhedron.faces)), key=lambda f: -polyhedron.faces[f].area)
+    # ties (equal faces of a symmetric object) go to the lower index, whatever the rounding
+    size = polyhedron.size
+    order = sorted(range(len(polyhedron.faces)),
+                   key=lambda f: (-tie_rounded(polyhedron.faces[f].area / size**2), f))
     chosen = order[:max_faces]
     found = []
     for triple in itertools.combinations_with_replacement(chosen, 3):
@@ -203,4 +206,4 @@ def best_three_hard_regions(polyhedron: Polyhedron, mu: float, top: int = 5,
                                margin=margin)
         if r is not None:
             found.append(r)
-    return sorted(found, key=lambda r: -r.min_area)[:top]
+    return sorted(found, key=lambda r: -tie_rounded(r.min_area / size**2))[:top]
