@@ -41,6 +41,7 @@ from .batch import CHUNK, analyze_batch, epsilon_batch
 from .contacts import MODELS, Cone
 from .errors import InputError, clip
 from .files import regular_file
+from .grasp_file import MAX_COORDINATE
 
 __all__ = ["ERROR", "AnalysisInterrupted", "GraspArrays", "NpzResults", "analyze_npz",
            "iter_chunks", "load_results", "open_npz"]
@@ -88,7 +89,7 @@ def _open_member(archive: zipfile.ZipFile, name: str, path: str, whole: bool = T
         raise InputError(f"{path}: array '{name}' is not a valid .npy array: "
                          f"{clip(str(e))}") from None
     claimed = int(np.prod(shape, dtype=object)) * dtype.itemsize
-    most = _member_bytes(archive, name, path, regular_file(path))
+    most = max(0, _member_bytes(archive, name, path, regular_file(path)) - f.tell())
     if whole and claimed > most:
         f.close()
         raise InputError(f"{path}: array '{name}' claims shape {clip(str(shape), 80)} "
@@ -252,9 +253,15 @@ def _problems(chunk: dict[str, NDArray], offset: int) -> tuple[NDArray[np.bool_]
     """Rows with bad numbers, and a one-line message for each."""
     P, N = chunk["points"], chunk["normals"]
     n, k, _ = P.shape
-    tests = [("'point' has a non-finite coordinate", ~np.all(np.isfinite(P), axis=2)),
-             ("'normal' has a non-finite coordinate", ~np.all(np.isfinite(N), axis=2)),
-             ("'normal' is a zero vector", np.linalg.norm(np.nan_to_num(N), axis=2) <= 1e-12)]
+    with np.errstate(over="ignore", invalid="ignore"):
+        tests = [("'point' has a non-finite coordinate", ~np.all(np.isfinite(P), axis=2)),
+                 ("'normal' has a non-finite coordinate", ~np.all(np.isfinite(N), axis=2)),
+                 (f"'point' has a coordinate beyond {MAX_COORDINATE:g} in magnitude",
+                  np.any(np.abs(P) > MAX_COORDINATE, axis=2)),
+                 (f"'normal' has a coordinate beyond {MAX_COORDINATE:g} in magnitude",
+                  np.any(np.abs(N) > MAX_COORDINATE, axis=2)),
+                 ("'normal' is a zero vector",
+                  np.linalg.norm(np.nan_to_num(N), axis=2) <= 1e-12)]
     for name in ("mu", "torsion"):
         if name in chunk:
             v = np.broadcast_to(chunk[name], (n, k))
