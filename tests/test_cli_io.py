@@ -94,7 +94,7 @@ def test_no_quality_says_so_instead_of_no_friction_closes_it(tmp_path, capsys):
                                       "least_friction": "not computed (--no-quality)"}
 
 
-@pytest.mark.parametrize("digits, message", [(400, "an integer of 401 digits"),
+@pytest.mark.parametrize("digits, message", [(400, "beyond the largest float"),
                                              (5000, "beyond the largest float")])
 def test_huge_integers_are_a_grasp_error_not_an_internal_one(tmp_path, capsys, digits, message):
     text = json.dumps({"grasps": [PINCH, PINCH, PINCH]})
@@ -163,6 +163,10 @@ def test_fifos_devices_and_symlink_loops_are_refused_in_one_line(tmp_path, capsy
         assert main(["analyze", str(path)]) == 2  # would block or read forever
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and message in err, err
+    shape = tmp_path / "shape.json"  # inspect reads objects the same way
+    os.mkfifo(shape)
+    assert main(["inspect", str(shape)]) == 2
+    assert "is a FIFO" in capsys.readouterr().err
 
 
 def test_a_json_file_beyond_the_cap_is_refused_without_reading_it_all(tmp_path, capsys):

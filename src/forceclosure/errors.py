@@ -111,9 +111,7 @@ def parse_json(text: str, source: str) -> Any:
 
 
 def _parse_int(digits: str) -> int | float:
-    """A JSON integer: exact when Python converts it (up to 4,300 digits), else as a float
-    (``inf`` when too large for one), which the fields' own checks then refuse."""
-    try:
-        return int(digits)
-    except ValueError:  # more digits than int() converts
-        return float(digits)
+    """A JSON integer: exact up to 300 digits, else as a float (``inf`` beyond the largest),
+    which the fields' own checks then refuse; never Python's error for 4,300 digits, nor an
+    ``OverflowError`` where a float is made of it."""
+    return int(digits) if len(digits) <= 300 else float(digits)

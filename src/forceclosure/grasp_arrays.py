@@ -74,17 +74,29 @@ def _member_bytes(archive: zipfile.ZipFile, name: str, path: str, file_size: int
     return min(info.file_size, most)
 
 
+#: What reading a damaged zip archive raises (zipfile's own errors and those beneath it).
+_ZIP_ERRORS = (zipfile.BadZipFile, zlib.error, EOFError, OSError, ValueError,
+               NotImplementedError, RuntimeError)
+
+
+def _member(archive: zipfile.ZipFile, name: str, path: str) -> IO[bytes]:
+    try:
+        return archive.open(name + ".npy")
+    except _ZIP_ERRORS as e:  # a bad local header, an encrypted or unsupported member
+        raise InputError(f"{path}: array '{name}' is damaged: {clip(str(e))}") from None
+
+
 def _open_member(archive: zipfile.ZipFile, name: str, path: str, whole: bool = True,
                  ) -> tuple[IO[bytes], tuple[int, ...], bool, np.dtype, int]:
     """A member opened past its ``.npy`` header, the header's shape, order and dtype, and the
     most bytes of data it can hold. With ``whole`` (an array read at once), refused unless
     it can hold the bytes its shape claims."""
-    f: IO[bytes] = archive.open(name + ".npy")
+    f = _member(archive, name, path)
     try:
         version = npy.read_magic(f)
         read = npy.read_array_header_1_0 if version == (1, 0) else npy.read_array_header_2_0
         shape, fortran, dtype = read(f)
-    except (ValueError, EOFError, OSError, zipfile.BadZipFile, zlib.error) as e:
+    except _ZIP_ERRORS as e:
         f.close()
         raise InputError(f"{path}: array '{name}' is not a valid .npy array: "
                          f"{clip(str(e))}") from None
@@ -116,7 +128,7 @@ class _Rows:
     def read(self, rows: int) -> NDArray[np.float64]:
         try:
             data = self._file.read(rows * self._row)
-        except (zipfile.BadZipFile, zlib.error, EOFError, OSError) as e:
+        except _ZIP_ERRORS as e:
             raise InputError(f"array '{self.name}' is damaged ({clip(str(e))})") from None
         got = len(data) // self._row if self._row else rows
         if len(data) != got * self._row:
@@ -149,10 +161,10 @@ class GraspArrays:
 
 def _small(archive: zipfile.ZipFile, name: str, path: str) -> NDArray:
     _open_member(archive, name, path)[0].close()  # its size checked first
-    with archive.open(name + ".npy") as f:
+    with _member(archive, name, path) as f:
         try:
             return npy.read_array(f, allow_pickle=False)
-        except (ValueError, EOFError, OSError, zipfile.BadZipFile, zlib.error) as e:
+        except _ZIP_ERRORS as e:
             raise InputError(f"{path}: array '{name}' cannot be read: {clip(str(e))}") from None
 
 
@@ -174,7 +186,7 @@ def open_npz(path: str) -> GraspArrays:
         archive = zipfile.ZipFile(path)
     except FileNotFoundError:
         raise InputError(f"{path}: no such file") from None
-    except (zipfile.BadZipFile, OSError, ValueError, EOFError):
+    except _ZIP_ERRORS:
         raise InputError(f"{path}: not an .npz archive") from None
     with archive:
         names = {n[:-4] for n in archive.namelist() if n.endswith(".npy")}
