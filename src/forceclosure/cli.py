@@ -117,7 +117,8 @@ def _analyze_arrays(args: argparse.Namespace) -> int:
     start = time.perf_counter()
     try:
         with tqdm(total=info.count, initial=before, unit=" grasps", unit_scale=True,
-                  file=sys.stderr, disable=None, desc=os.path.basename(args.file)) as bar:
+                  file=sys.stderr, disable=None,
+                  desc=printable(os.path.basename(args.file), 40)) as bar:
             results = analyze_npz(args.file, chunk=args.chunk, epsilon=args.epsilon,
                                   progress=bar.update, resume=resume)
     except AnalysisInterrupted as stop:
