@@ -374,3 +374,63 @@ def test_sigkill_during_the_save_leaves_the_previous_results_intact(tmp_path):
     # what a SIGKILL cannot clean: one hidden temporary, never the target
     assert [p.name.startswith(".r.npz.") for p in tmp_path.iterdir() if p.suffix == ".tmp"] == [
         True]
+
+
+def test_resuming_keeps_the_bad_rows_and_refuses_other_options(tmp_path, capsys, monkeypatch):
+    """Ctrl-C (in this process: raised from the third chunk's analysis) with --epsilon; a
+    re-run without --epsilon is refused, the same command resumes and counts the bad rows
+    it did not analyse again."""
+    import forceclosure.grasp_arrays as ga
+
+    P, N, mu, closed = _pinches(100, np.random.default_rng(11))
+    N[5, 0] = 0.0  # bad rows: one before the interruption, one after
+    P[80, 1, 1] = np.nan
+    grasps = tmp_path / "g.npz"
+    np.savez(grasps, points=P, normals=N, mu=mu)
+    out = tmp_path / "r.npz"
+    analyse, calls = ga._analyse_rows, []
+
+    def interrupted_third(*args):
+        calls.append(1)
+        if len(calls) == 3:
+            raise KeyboardInterrupt
+        analyse(*args)
+    monkeypatch.setattr(ga, "_analyse_rows", interrupted_third)
+    command = ["analyze", str(grasps), "--out", str(out), "--chunk", "20", "--epsilon"]
+    assert main(command) == 130
+    assert "interrupted: 40 of 100 grasps analysed, saved in" in capsys.readouterr().err
+    monkeypatch.setattr(ga, "_analyse_rows", analyse)
+    assert main(command[:-1]) == 2  # without --epsilon
+    assert "holds partial results computed with --epsilon" in capsys.readouterr().err
+    assert int(np.load(out)["done"]) == 40
+    assert main(command) == 2
+    captured = capsys.readouterr()
+    assert captured.err.splitlines() == [
+        "forceclosure: error: grasp 81, contact 2: 'point' has a non-finite coordinate",
+        "forceclosure: error: 1 grasps with bad input among the 40 analysed before this run "
+        "resumed (their verdict is -1 in the results)"]
+    assert "resumed: 40 grasps were analysed before" in captured.out
+    final = np.load(out)
+    expected = np.where(closed, 2, 0)
+    expected[[5, 80]] = -1
+    np.testing.assert_array_equal(final["verdict"], expected)
+    eps = final["epsilon"]  # positive exactly for the closed grasps, NaN for bad input
+    assert np.all(eps[expected == 2] > 0) and np.all(eps[expected == 0] == 0)
+    assert np.isnan(eps[[5, 80]]).all()
+
+
+def test_inspect_refuses_coordinates_beyond_1e100_and_nan_geojson_in_one_line(tmp_path, capsys):
+    import warnings
+
+    far = tmp_path / "far.json"
+    far.write_text("[[1e200, 0], [-0.5, 0.866], [-0.5, -0.866]]")
+    nan = tmp_path / "nan.geojson"
+    nan.write_text('{"type": "Polygon", "coordinates": [[[1, 0], [NaN, 0.8], [-0.5, -0.8], '
+                   '[1, 0]]]}')
+    for path, message in ((far, "vertex 1 is beyond 1e100 in magnitude"),
+                          (nan, "vertex 2 is not finite")):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")  # a warning would be a second line on stderr
+            assert main(["inspect", str(path)]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and message in err, err
