@@ -7,8 +7,10 @@ force-closure, what failed, and which motion nothing resists;
 bundled examples.
 
 Exit status: 0 when every grasp was analysed, 2 when the input (or one grasp
-of it) was bad — each problem reported in one line, the good grasps still
-analysed — and 1 on an internal error.
+of it) was bad, or the results could not be written — each problem reported
+in one line, the good grasps still analysed — 130 when interrupted (Ctrl-C;
+``analyze FILE.npz --out`` then saves the grasps done, to be resumed), and 1
+on an internal error.
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import signal
 import sys
 from importlib import resources
 from typing import Any
@@ -24,34 +27,33 @@ import numpy as np
 
 from . import __version__
 from .closure import TOLERANCE
-from .errors import InputError
+from .errors import InputError, clip, printable
+from .files import read_text
 from .grasp_file import GraspFile, parse_grasp_file, result_record
 
 
 def _read(path: str) -> str:
-    if path == "-":
-        return sys.stdin.read()
-    try:
-        with open(path, encoding="utf-8") as f:
-            return f.read()
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such file") from None
-    except IsADirectoryError:
-        raise InputError(f"{path}: is a directory, not a grasp file") from None
-    except UnicodeDecodeError:
-        raise InputError(f"{path}: not a text file (expected JSON)") from None
-    except OSError as e:
-        raise InputError(f"{path}: cannot read: {e.strerror}") from None
+    return read_text(path, what="a JSON grasp file")
+
+
+def _error(message: str) -> None:
+    """One line on standard error, safe for a terminal (names may hold escapes)."""
+    print(f"forceclosure: error: {printable(message)}", file=sys.stderr)
 
 
 def _human(record: dict[str, Any], label: str, explanation: str) -> str:
-    lines = [f"{label}: {explanation}"]
+    lines = [f"{printable(label)}: {explanation}"]
+    nulls = record.get("null_reasons", {})
     quality = []
-    if record.get("epsilon") is not None:
+    if record.get("epsilon") is not None and None not in (record["reference"],
+                                                          record["length_scale"]):
         ref = ", ".join(f"{x:.3g}" for x in record["reference"])
         quality.append(f"epsilon {record['epsilon']:.3g} (L1; torques about ({ref}) "
                        f"per length {record['length_scale']:.3g})")
-    if "least_friction" in record and record["verdict"] is not None:
+    if "least_friction" in nulls:  # not computed: say so, not "no friction closes it"
+        quality.append(("epsilon and least friction " if "epsilon" in nulls else
+                        "least friction ") + nulls["least_friction"])
+    elif "least_friction" in record and record["verdict"] is not None:
         mu = record["least_friction"]
         quality.append("no friction coefficient closes it" if mu is None
                        else f"least friction {mu:.4g}")
@@ -65,13 +67,13 @@ def _analyze_file(grasp_file: GraspFile, as_json: bool, quality: bool, out) -> i
     for entry in grasp_file.grasps:
         record, analysis = result_record(entry, grasp_file.cone, quality)
         if analysis is None:
-            print(f"forceclosure: error: {record['error']}", file=sys.stderr)
+            _error(record["error"])
             status = 2
         elif not as_json:
             print(_human(record, entry.label, analysis.explain()), file=out)
         records.append(record)
     if as_json:
-        json.dump({"results": records}, out, indent=2)
+        json.dump({"results": records}, out, indent=2, allow_nan=False)
         out.write("\n")
     return status
 
@@ -90,54 +92,136 @@ def _cmd_analyze(args: argparse.Namespace) -> int:
 
 
 def _analyze_arrays(args: argparse.Namespace) -> int:
-    """A large grasp set from an .npz: a chunk at a time, a progress bar, a summary."""
+    """A large grasp set from an .npz: a chunk at a time, a progress bar, a summary; with
+    --out, the results saved atomically, also on Ctrl-C (partial, resumed by a re-run)."""
     import time
 
     from tqdm import tqdm
 
-    from .grasp_arrays import analyze_npz, open_npz
+    from .grasp_arrays import ERROR, AnalysisInterrupted, analyze_npz, open_npz
 
     if args.chunk < 1:
         raise InputError(f"--chunk must be a positive number of grasps, got {args.chunk}")
+    if args.out:
+        from .atomic import check_output
+
+        check_output(args.out, inputs=[args.file])
     info = open_npz(args.file)
+    resume, source = None, None
+    if args.out:
+        from .files import fingerprint
+
+        source = fingerprint(args.file)
+        resume = _partial_results(args.out, source, args.epsilon)
+    before = 0 if resume is None else resume.done
     start = time.perf_counter()
-    with tqdm(total=info.count, unit=" grasps", unit_scale=True, file=sys.stderr,
-              disable=None, desc=os.path.basename(args.file)) as bar:
-        results = analyze_npz(args.file, chunk=args.chunk, epsilon=args.epsilon,
-                              progress=bar.update)
+    try:
+        with tqdm(total=info.count, initial=before, unit=" grasps", unit_scale=True,
+                  file=sys.stderr, disable=None,
+                  desc=printable(os.path.basename(args.file), 40)) as bar:
+            results = analyze_npz(args.file, chunk=args.chunk, epsilon=args.epsilon,
+                                  progress=bar.update, resume=resume)
+    except AnalysisInterrupted as stop:
+        return _interrupted(args, stop.results, source)
     seconds = time.perf_counter() - start
     shown = results.errors[:20]
     for line in shown:
-        print(f"forceclosure: error: {line}", file=sys.stderr)
+        _error(line)
     if len(results.errors) > len(shown):
-        print(f"forceclosure: error: ... and {len(results.errors) - len(shown)} more grasps "
-              "with bad input (their verdict is -1 in the results)", file=sys.stderr)
+        _error(f"... and {len(results.errors) - len(shown)} more grasps with bad input (their "
+               "verdict is -1 in the results)")
+    earlier = int(np.sum(results.code[:before] == ERROR))
+    if earlier:
+        _error(f"{earlier:,} grasps with bad input among the {before:,} analysed before this "
+               "run resumed (their verdict is -1 in the results)")
     if args.out:
-        results.save(args.out)
+        _save(_with_input(results, source), args.out)
     counts = results.counts()
+    ran = info.count - before
     summary = {"file": args.file, "grasps": info.count, "contacts": info.contacts,
                "dim": info.dim, "models": info.models, "cone": str(info.cone), **counts,
                "seconds": round(seconds, 3),
-               "grasps_per_second": round(info.count / seconds) if seconds > 0 else None,
-               "out": args.out}
+               "grasps_per_second": round(ran / seconds) if seconds > 0 else None,
+               "out": args.out, "resumed": before}
     if results.epsilon is not None:
         closed = results.epsilon[results.code == 2]
         summary["epsilon_median"] = float(np.median(closed)) if len(closed) else None
     if args.json:
-        json.dump(summary, sys.stdout, indent=2)
+        json.dump(summary, sys.stdout, indent=2, allow_nan=False)
         sys.stdout.write("\n")
     else:
         kind = "planar" if info.dim == 2 else "spatial"
-        print(f"{args.file}: {info.count:,} grasps of {info.contacts} "
+        print(f"{printable(args.file)}: {info.count:,} grasps of {info.contacts} "
               f"{'/'.join(sorted(set(info.models)))} contacts ({kind}, {info.cone} cones)")
         print(f"  closure {counts['closure']:,}, marginal {counts['marginal']:,}, "
               f"none {counts['none']:,}, bad input {counts['errors']:,}")
         if summary.get("epsilon_median") is not None:
             print(f"  epsilon (L1, 8-edge pyramids) of the closed grasps: median "
                   f"{summary['epsilon_median']:.4g}")
+        if before:
+            print(f"  resumed: {before:,} grasps were analysed before, by an interrupted run")
         print(f"  {seconds:.2f} s ({summary['grasps_per_second'] or 0:,} grasps/s)"
-              + (f"; results in {args.out}" if args.out else ""))
-    return 2 if results.errors else 0
+              + (f"; results in {printable(args.out)}" if args.out else ""))
+    return 2 if results.errors or earlier else 0
+
+
+def _with_input(results, source: str | None):
+    from dataclasses import replace
+
+    return replace(results, input=source)
+
+
+def _partial_results(out: str, source: str, epsilon: bool):
+    """The partial results in ``out`` to resume, or None when there are none there (no file,
+    or complete results, which are replaced); refused when they are of another input."""
+    from .grasp_arrays import load_results
+
+    if not os.path.exists(out):
+        return None
+    try:
+        saved = load_results(out)
+    except InputError:
+        return None  # not results of a partial run: replaced, as any complete file is
+    if not saved.partial:
+        return None
+    if saved.input != source:
+        raise InputError(f"{clip(out)}: holds the partial results of another grasp file (or "
+                         "of an earlier version of this one); remove it to start again, or "
+                         "give another --out")
+    if (saved.epsilon is not None) != epsilon:
+        flag = "with" if saved.epsilon is not None else "without"
+        raise InputError(f"{clip(out)}: holds partial results computed {flag} --epsilon; "
+                         f"resume {flag} it, or remove the file to start again")
+    return saved
+
+
+def _save(results, out: str) -> None:
+    """Save with Ctrl-C held off: a second Ctrl-C must not lose what the first one saves."""
+    try:
+        previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    except ValueError:  # not the main thread: signals are not ours to handle
+        previous = None
+    try:
+        results.save(out)
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGINT, previous)
+
+
+def _interrupted(args: argparse.Namespace, results, source: str | None) -> int:
+    total = len(results.code)
+    if not args.out:
+        _interrupt_line(f"interrupted after {results.done:,} of {total:,} grasps; nothing "
+                        "saved (give --out to keep the results and resume them)")
+        return 130
+    _save(_with_input(results, source), args.out)
+    _interrupt_line(f"interrupted: {results.done:,} of {total:,} grasps analysed, saved in "
+                    f"{printable(args.out)} (partial); run the same command again to resume")
+    return 130
+
+
+def _interrupt_line(message: str) -> None:
+    print(f"forceclosure: {message}", file=sys.stderr)
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
@@ -472,7 +556,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-quality", action="store_true",
                    help="skip epsilon and least friction (faster)")
     p.add_argument("--out", metavar="RESULTS.npz",
-                   help=".npz input: save verdict codes, ranks and margins here")
+                   help=".npz input: save verdict codes, ranks and margins in exactly this "
+                        "file, atomically; on Ctrl-C the grasps done are saved (partial) and "
+                        "the same command resumes them")
     p.add_argument("--epsilon", action="store_true",
                    help=".npz input: also the Ferrari-Canny epsilon of the closed grasps "
                         "(saved as 'epsilon' with --out)")
@@ -555,7 +641,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return args.run(args)
     except InputError as e:
-        print(f"forceclosure: error: {e}", file=sys.stderr)
+        _error(str(e))
         return 2
     except KeyboardInterrupt:
         print("forceclosure: interrupted", file=sys.stderr)
@@ -566,7 +652,7 @@ def main(argv: list[str] | None = None) -> int:
     except Exception as e:  # an internal error: one line unless debugging
         if os.environ.get("FORCECLOSURE_DEBUG"):
             raise
-        print(f"forceclosure: internal error: {type(e).__name__}: {e} "
+        print(f"forceclosure: internal error: {type(e).__name__}: {printable(clip(str(e)))} "
               "(set FORCECLOSURE_DEBUG=1 for the traceback)", file=sys.stderr)
         return 1
 

@@ -20,7 +20,6 @@ other grasps are still read.
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass
 from typing import Any
@@ -29,12 +28,15 @@ import numpy as np
 
 from .closure import Analysis, Verdict, analyze
 from .contacts import MODELS, Cone, Contact, check_grasp, make_contact
-from .errors import InputError, parse_json
+from .errors import InputError, clip, parse_json, shown
 from .quality import epsilon, least_friction
 
 CONTACT_KEYS = {"point", "points", "normal", "normals", "model", "mu", "torsion"}
 GRASP_KEYS = {"name", "contacts", "reference", "length_scale"}
 FILE_KEYS = {"cone", "grasps", "contacts", "name", "reference", "length_scale", "$schema"}
+#: The largest coordinate (of a point, normal or reference) and length scale read: beyond
+#: it, products of coordinates overflow (1e308 is the largest float) and no verdict is exact.
+MAX_COORDINATE = 1e100
 
 
 @dataclass(frozen=True, eq=False)
@@ -51,27 +53,44 @@ class GraspEntry:
     @property
     def label(self) -> str:
         """``grasp 3`` or ``grasp 3 ("pinch")``."""
-        return f"grasp {self.index}" + (f' ("{self.name}")' if self.name else "")
+        return f"grasp {self.index}" + (f' ("{clip(self.name, 80)}")' if self.name else "")
 
 
 def _number(value: Any, field: str) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float):
-        raise InputError(f"field '{field}' must be a number, got {json.dumps(value)}")
-    if not math.isfinite(value):
-        raise InputError(f"field '{field}' must be finite, got {value}")
-    return float(value)
+        raise InputError(f"field '{field}' must be a number, got {shown(value)}")
+    try:
+        number = float(value)
+    except OverflowError:  # an integer of hundreds of digits
+        raise InputError(f"field '{field}' must be finite, got an integer of "
+                         f"{len(str(abs(value))):,} digits") from None
+    if math.isnan(number):
+        raise InputError(f"field '{field}' must be finite, got NaN")
+    if math.isinf(number):
+        raise InputError(f"field '{field}' must be finite, got {'-' if number < 0 else ''}"
+                         "Infinity or a number beyond the largest float (1.8e308)")
+    return number
+
+
+def _bounded(value: Any, field: str) -> float:
+    number = _number(value, field)
+    if abs(number) > MAX_COORDINATE:
+        raise InputError(f"field '{field}' is too large: {number:g} (at most "
+                         f"{MAX_COORDINATE:g} in magnitude; rescale the grasp)")
+    return number
 
 
 def _coords(value: Any, field: str) -> list[float]:
     if not isinstance(value, list) or len(value) not in (2, 3):
         raise InputError(f"field '{field}' must be a list of 2 or 3 numbers, "
-                         f"got {json.dumps(value)}")
-    return [_number(v, field) for v in value]
+                         f"got {shown(value)}")
+    return [_bounded(v, field) for v in value]
 
 
 def _coord_list(value: Any, field: str) -> list[list[float]]:
     if not isinstance(value, list) or not value:
-        raise InputError(f"field '{field}' must be a non-empty list of coordinate lists")
+        raise InputError(f"field '{field}' must be a non-empty list of coordinate lists, "
+                         f"got {shown(value)}")
     return [_coords(v, field) for v in value]
 
 
@@ -82,26 +101,26 @@ def parse_cone(spec: Any) -> str | Cone:
     if isinstance(spec, dict) and set(spec) <= {"edges", "fit"}:
         edges = spec.get("edges", 8)
         if isinstance(edges, bool) or not isinstance(edges, int):
-            raise InputError(f"cone: 'edges' must be an integer, got {json.dumps(edges)}")
+            raise InputError(f"cone: 'edges' must be an integer, got {shown(edges)}")
         return Cone(edges, spec.get("fit", "inscribed"))
     raise InputError(f"field 'cone' must be \"exact\" or {{\"edges\": k, \"fit\": "
-                     f"\"inscribed\"|\"circumscribed\"}}, got {json.dumps(spec)}")
+                     f"\"inscribed\"|\"circumscribed\"}}, got {shown(spec)}")
 
 
 def parse_contact(data: Any) -> Contact:
     """One contact object of the file format, validated."""
     if not isinstance(data, dict):
-        raise InputError(f"must be an object, got {json.dumps(data)}")
+        raise InputError(f"must be an object, got {shown(data)}")
     unknown = set(data) - CONTACT_KEYS
     if unknown:
-        raise InputError(f"unknown field '{sorted(unknown)[0]}'")
+        raise InputError(f"unknown field '{clip(sorted(unknown)[0], 80)}'")
     for a, b in (("point", "points"), ("normal", "normals")):
         if (a in data) == (b in data):
             raise InputError(f"give exactly one of '{a}' and '{b}'")
     model = data.get("model", "hard")
     if model not in MODELS:
         raise InputError(f"field 'model' must be one of {', '.join(MODELS)}, "
-                         f"got {json.dumps(model)}")
+                         f"got {shown(model)}")
     mu = _number(data.get("mu", 0.0), "mu")
     torsion = data.get("torsion")
     torsion = None if torsion is None else _number(torsion, "torsion")
@@ -123,10 +142,10 @@ def _parse_grasp(index: int, data: Any) -> GraspEntry:
     name = name if isinstance(name, str) else None
     try:
         if not isinstance(data, dict):
-            raise InputError(f"must be an object with 'contacts', got {json.dumps(data)[:60]}")
+            raise InputError(f"must be an object with 'contacts', got {shown(data, 60)}")
         unknown = set(data) - GRASP_KEYS
         if unknown:
-            raise InputError(f"unknown field '{sorted(unknown)[0]}'")
+            raise InputError(f"unknown field '{clip(sorted(unknown)[0], 80)}'")
         if "contacts" not in data:
             raise InputError("missing field 'contacts'")
         if not isinstance(data["contacts"], list) or not data["contacts"]:
@@ -141,7 +160,7 @@ def _parse_grasp(index: int, data: Any) -> GraspEntry:
         reference = data.get("reference")
         reference = None if reference is None else _coords(reference, "reference")
         scale = data.get("length_scale")
-        scale = None if scale is None else _number(scale, "length_scale")
+        scale = None if scale is None else _bounded(scale, "length_scale")
         if scale is not None and scale <= 0:
             raise InputError(f"field 'length_scale' must be > 0, got {scale:g}")
         if reference is not None and len(reference) != contacts[0].dim:
@@ -149,8 +168,8 @@ def _parse_grasp(index: int, data: Any) -> GraspEntry:
                              f"contacts have {contacts[0].dim}")
         return GraspEntry(index, name, contacts, reference, scale, None)
     except InputError as e:
-        return GraspEntry(index, name, None, None, None, str(e.within(
-            f"grasp {index}" + (f' ("{name}")' if name else ""))))
+        entry = GraspEntry(index, name, None, None, None, None)
+        return GraspEntry(index, name, None, None, None, str(e.within(entry.label)))
 
 
 @dataclass(frozen=True, eq=False)
@@ -179,7 +198,7 @@ def parse_grasp_file(text: str, source: str = "input") -> GraspFile:
                          "'contacts'")
     unknown = set(data) - FILE_KEYS
     if unknown:
-        raise InputError(f"{source}: unknown field '{sorted(unknown)[0]}'")
+        raise InputError(f"{source}: unknown field '{clip(sorted(unknown)[0], 80)}'")
     try:
         cone = parse_cone(data.get("cone", "exact"))
     except InputError as e:
@@ -202,20 +221,57 @@ def _num(x: float | None) -> float | None:
     return None if x is None or not math.isfinite(x) else float(x)
 
 
-def result_record(entry: GraspEntry, cone: str | Cone, quality: bool = True,
-                  ) -> tuple[dict[str, Any], Analysis | None]:
-    """The ``--json`` record of one grasp (keys in docs/analysis.md), and its analysis."""
-    if entry.error is not None:
-        return {"name": entry.name, "error": entry.error}, None
+def _finite(value: Any) -> bool:
+    """No NaN or infinity anywhere in a number or nested list of numbers."""
+    if isinstance(value, float):
+        return math.isfinite(value)
+    if isinstance(value, list | tuple):
+        return all(_finite(v) for v in value)
+    return True
+
+
+#: Why a value is null in a record, when not for its usual reason (``null_reasons``).
+NOT_COMPUTED = "not computed (--no-quality)"
+NOT_FINITE = "not a finite number (the computation overflowed)"
+
+
+def _analyse(entry: GraspEntry, cone: str | Cone, quality: bool,
+             ) -> tuple[Analysis, float | None, float | None]:
     a = analyze(entry.contacts, cone=cone, reference=entry.reference,
                 length_scale=entry.length_scale)
-    closed = a.verdict is Verdict.CLOSURE
     eps = mu_star = None
     if quality:
-        if closed:
+        if a.verdict is Verdict.CLOSURE:
             eps = epsilon(entry.contacts, reference=entry.reference,
                           length_scale=entry.length_scale).value
         mu_star = least_friction(entry.contacts, cone=cone)
+    return a, eps, mu_star
+
+
+def result_record(entry: GraspEntry, cone: str | Cone, quality: bool = True,
+                  ) -> tuple[dict[str, Any], Analysis | None]:
+    """The ``--json`` record of one grasp (keys in docs/analysis.md), and its analysis.
+
+    A grasp that cannot be analysed gets ``{"name", "error"}`` (the error
+    names the grasp) and no analysis. No value is NaN or infinite: such a
+    value is ``null``, and ``null_reasons`` says why, as it does for the
+    quality left out with ``quality=False``.
+
+    Examples
+    --------
+    >>> f = parse_grasp_file('{"contacts": [{"point": [-1, 0], "normal": [-1, 0], "mu": 0.3},'
+    ...                      '{"point": [1, 0], "normal": [1, 0], "mu": 0.3}]}')
+    >>> record, _ = result_record(f.grasps[0], f.cone, quality=False)
+    >>> record["verdict"], record["least_friction"], record["null_reasons"]["least_friction"]
+    ('closure', None, 'not computed (--no-quality)')
+    """
+    if entry.error is not None:
+        return {"name": entry.name, "error": entry.error}, None
+    try:
+        a, eps, mu_star = _analyse(entry, cone, quality)
+    except InputError as e:
+        return {"name": entry.name, "error": str(e.within(entry.label))}, None
+    closed = a.verdict is Verdict.CLOSURE
     record = {
         "name": entry.name,
         "verdict": a.verdict.value,
@@ -234,4 +290,14 @@ def result_record(entry: GraspEntry, cone: str | Cone, quality: bool = True,
         "length_scale": a.length_scale,
         "contact_forces": None if a.contact_forces is None else a.contact_forces.tolist(),
     }
+    reasons = {key: NOT_FINITE for key, value in record.items() if not _finite(value)}
+    reasons.update({key: NOT_FINITE for key, value in (("margin", a.margin), ("epsilon", eps))
+                    if value is not None and not math.isfinite(value)})  # least friction:
+    # infinite when no friction closes the grasp, its usual null
+    if not quality:
+        reasons.update(epsilon=NOT_COMPUTED, least_friction=NOT_COMPUTED)
+    for key in reasons:
+        record[key] = None
+    if reasons:
+        record["null_reasons"] = reasons
     return record, a

@@ -36,6 +36,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError, parse_json
 from ..errors import first_line as _first_line
+from ..files import regular_file
 from .examples import POLYGONS, POLYHEDRA, bundled
 from .meshfile import MESH_SUFFIXES, read_mesh_arrays
 from .polygon import Polygon
@@ -76,7 +77,8 @@ def polygon_from_json(data: Any, name: str = "polygon") -> Polygon:
         return polygon_from_json(data.get("geometry"), name)
     if kind in ("Polygon", "MultiPolygon"):
         try:
-            geometry = shapely.geometry.shape(data)
+            with np.errstate(all="ignore"):  # NaN coordinates are refused below, in one line
+                geometry = shapely.geometry.shape(data)
         except Exception as e:  # shapely raises several types for bad GeoJSON
             raise InputError(f"{name}: bad GeoJSON {kind}: {_first_line(e)}") from None
         return Polygon.from_shapely(geometry, name)
@@ -180,6 +182,7 @@ def load_object(source: str | Path | Any, allow_open: bool = False,
                          "(see 'forceclosure objects')")
     if path.is_dir():
         raise InputError(f"{source}: is a directory")
+    regular_file(str(path))  # a FIFO or a device would block or never end
     suffix = path.suffix.lower()
     if part is not None and suffix not in (".svg", *ROBOT_SUFFIXES):
         raise InputError(f"{path.name}: part '{part}' given, but only SVG files (element ids) "

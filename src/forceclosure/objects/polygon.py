@@ -81,7 +81,7 @@ class Edge:
 def _ring_array(points: ArrayLike, what: str) -> NDArray[np.float64]:
     try:
         ring = np.asarray(points, dtype=float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InputError(f"{what}: vertices must be numbers") from None
     if ring.size == 0:
         raise InputError(f"{what}: no vertices")
@@ -90,6 +90,10 @@ def _ring_array(points: ArrayLike, what: str) -> NDArray[np.float64]:
     bad = np.flatnonzero(~np.all(np.isfinite(ring), axis=1))
     if len(bad):
         raise InputError(f"{what}: vertex {bad[0] + 1} is not finite: {ring[bad[0]].tolist()}")
+    huge = np.flatnonzero(np.any(np.abs(ring) > 1e100, axis=1))
+    if len(huge):  # beyond it, squared lengths overflow and no tolerance means anything
+        raise InputError(f"{what}: vertex {huge[0] + 1} is beyond 1e100 in magnitude: "
+                         f"{ring[huge[0]].tolist()} (rescale the object)")
     if len(ring) > 1 and np.array_equal(ring[0], ring[-1]):
         ring = ring[:-1]  # an explicitly closed ring (GeoJSON, SVG 'Z' after a return)
     return ring
