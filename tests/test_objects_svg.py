@@ -441,3 +441,25 @@ def test_strokes_and_invisible_shapes_are_said_not_guessed():
                              '<rect x="20" width="2" height="3"/></svg>')
         assert p.area == 6.0, hidden
         assert p.warnings
+
+
+@pytest.mark.parametrize("tolerance", [1e-2, 1e-4, 1e-6])
+def test_a_stated_tolerance_bounds_the_chords_of_a_circle(tolerance):
+    """tolerance= is kept: every chord of a circle of radius 2 (size: its diagonal, 4√2)
+    lies within tolerance × size of the circle (closed form: a chord spanning an angle θ
+    sags r(1 - cos θ/2) at its middle), its vertices lie on the circle, and a smaller
+    tolerance gives more chords."""
+    import math
+
+    p = polygon_from_svg('<svg><circle r="2"/></svg>', tolerance=tolerance)
+    ring = p.outer
+    np.testing.assert_allclose(np.linalg.norm(ring, axis=1), 2.0, rtol=1e-12)
+    mid = (ring + np.roll(ring, -1, axis=0)) / 2
+    assert np.max(2.0 - np.linalg.norm(mid, axis=1)) <= tolerance * 4 * math.sqrt(2)
+    assert f"({tolerance:g} of the shape's size)" in p.warnings[0]
+
+
+@pytest.mark.parametrize("bad", [0, -1e-3, 0.5, float("nan"), "1e-3"])
+def test_a_tolerance_out_of_range_is_refused(bad):
+    with pytest.raises(InputError, match="tolerance must be"):
+        polygon_from_svg('<svg><circle r="2"/></svg>', tolerance=bad)

@@ -216,7 +216,7 @@ def _pieces(bound: float, tol: float | None, where: str) -> int:
     n = math.sqrt(bound / (8 * tol)) if tol > 0 else math.inf
     if not n <= MAX_PIECES:
         raise InputError(f"{where}: a curve would need more than {MAX_PIECES} chords to stay "
-                         f"within {SVG_TOLERANCE:g} of the shape's size")
+                         f"within {tol:.3g} of the true curve")
     return max(1, math.ceil(n))
 
 
@@ -459,9 +459,10 @@ class _Candidate:
     curved: float | None
     tol: float
     area: float
+    relative: float
 
 
-def _candidate(shape: _Drawn, name: str) -> _Candidate | str:
+def _candidate(shape: _Drawn, name: str, tolerance: float) -> _Candidate | str:
     """The shape's subpaths at the stated tolerance, or why it encloses no region."""
     where = f"{name}: {shape.label}"
     try:
@@ -474,7 +475,7 @@ def _candidate(shape: _Drawn, name: str) -> _Candidate | str:
         size = float(np.linalg.norm(np.ptp(points, axis=0)))
         if size == 0:
             return "it is a single point"
-        tol = SVG_TOLERANCE * size
+        tol = tolerance * size
         rings, closed, curved = shape.rings(tol, where)
     except InputError:
         raise
@@ -490,7 +491,7 @@ def _candidate(shape: _Drawn, name: str) -> _Candidate | str:
     if not kept:
         return "it encloses no area"
     areas = sorted((abs(_signed_area(r)) for r in kept), reverse=True)
-    return _Candidate(shape, rings, closed, curved, tol, areas[0] - sum(areas[1:]))
+    return _Candidate(shape, rings, closed, curved, tol, areas[0] - sum(areas[1:]), tolerance)
 
 
 def _clip_check(svg: se.SVG, chosen: _Candidate, name: str) -> None:
@@ -549,7 +550,7 @@ def _assemble(chosen: _Candidate, name: str, flip: float | None) -> Polygon:
     warnings = []
     if chosen.curved is not None:
         warnings.append(f"curves tessellated into chords within {chosen.tol:.3g} of the true "
-                        f"curve ({SVG_TOLERANCE:g} of the shape's size), turning from them by "
+                        f"curve ({chosen.relative:g} of the shape's size), turning from them by "
                         f"up to {chosen.curved:.3g} rad (every proof narrows its cones by that)")
     if not shape.filled:
         warnings.append(f"{shape.label} has no fill, only a stroke: read as the region its "
@@ -586,7 +587,8 @@ def _assemble(chosen: _Candidate, name: str, flip: float | None) -> Polygon:
     return replace(polygon, name=name)
 
 
-def polygon_from_svg(text: str, name: str = "polygon", part: str | None = None) -> Polygon:
+def polygon_from_svg(text: str, name: str = "polygon", part: str | None = None,
+                     tolerance: float = SVG_TOLERANCE) -> Polygon:
     """A polygon from SVG text, read as a browser draws it, with y up.
 
     Parameters
@@ -598,6 +600,9 @@ def polygon_from_svg(text: str, name: str = "polygon", part: str | None = None) 
     part : str, optional
         The ``id`` of the element to read (a shape, or a group or ``<use>`` around
         it). Without it, the largest drawn shape is read.
+    tolerance : float
+        How far chords may stray from a curve, relative to the shape's size
+        (its bounding-box diagonal); default :data:`SVG_TOLERANCE`.
 
     Returns
     -------
@@ -614,7 +619,13 @@ def polygon_from_svg(text: str, name: str = "polygon", part: str | None = None) 
     >>> disk = polygon_from_svg('<svg viewBox="0 0 4 4"><circle cx="2" cy="2" r="2"/></svg>')
     >>> round(disk.area, 1), disk.warnings[0].startswith("curves tessellated")  # pi r^2 = 12.57
     (12.5, True)
+    >>> fine = polygon_from_svg('<svg><circle r="2"/></svg>', tolerance=1e-6)
+    >>> len(disk.outer), len(fine.outer), round(fine.area, 4), round(fine.spread, 4)
+    (44, 1324, 12.5663, 0.0027)
     """
+    if not (isinstance(tolerance, int | float) and 0 < tolerance <= 0.1):
+        raise InputError(f"{name}: tolerance must be a number in (0, 0.1], relative to the "
+                         f"shape's size; got {tolerance!r}")
     try:
         root = ET.fromstring(text)
     except ET.ParseError as e:
@@ -644,7 +655,7 @@ def polygon_from_svg(text: str, name: str = "polygon", part: str | None = None) 
         drawn = picked
     candidates, refused = [], []
     for shape in drawn:
-        found = _candidate(shape, name)
+        found = _candidate(shape, name, tolerance)
         (candidates if isinstance(found, _Candidate) else refused).append((shape, found))
     if not candidates:
         if refused:
