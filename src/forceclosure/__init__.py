@@ -9,35 +9,64 @@ Examples
 'closure'
 """
 
-from importlib.metadata import PackageNotFoundError, version
+from __future__ import annotations
 
-from .closure import (
-    TOLERANCE,
-    Analysis,
-    VectorClosure,
-    Verdict,
-    analyze,
-    force_direction_closure,
-    torque_closure,
-    vector_closure,
-)
-from .contacts import (
-    Cone,
-    Contact,
-    WrenchSet,
-    edge_contact,
-    face_contact,
-    generating_wrenches,
-    point_contact,
-    vertex_contact,
-)
-from .errors import ForceClosureError, InputError
-from .motion import Motion, motion_of
+from importlib import import_module
+from importlib.metadata import PackageNotFoundError, version
+from typing import TYPE_CHECKING, Any
 
 try:
     __version__ = version("forceclosure")
 except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0+unknown"
+
+#: Where each public name lives. They are imported on first use, so that ``import
+#: forceclosure`` (and ``forceclosure --help``) does not load numpy and scipy.
+_HOME = {
+    **dict.fromkeys(["TOLERANCE", "Analysis", "VectorClosure", "Verdict", "analyze",
+                     "force_direction_closure", "torque_closure", "vector_closure"], "closure"),
+    **dict.fromkeys(["Cone", "Contact", "WrenchSet", "edge_contact", "face_contact",
+                     "generating_wrenches", "point_contact", "vertex_contact"], "contacts"),
+    **dict.fromkeys(["ForceClosureError", "InputError"], "errors"),
+    **dict.fromkeys(["Motion", "motion_of"], "motion"),
+}
+
+
+def __getattr__(name: str) -> Any:
+    if name in _HOME:
+        value = getattr(import_module(f".{_HOME[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'forceclosure' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_HOME))
+
+
+if TYPE_CHECKING:  # for type checkers and editors: the same names, eagerly
+    from .closure import (
+        TOLERANCE,
+        Analysis,
+        VectorClosure,
+        Verdict,
+        analyze,
+        force_direction_closure,
+        torque_closure,
+        vector_closure,
+    )
+    from .contacts import (
+        Cone,
+        Contact,
+        WrenchSet,
+        edge_contact,
+        face_contact,
+        generating_wrenches,
+        point_contact,
+        vertex_contact,
+    )
+    from .errors import ForceClosureError, InputError
+    from .motion import Motion, motion_of
 
 __all__ = [
     "TOLERANCE",

@@ -23,13 +23,13 @@ import sys
 from importlib import resources
 from typing import Any
 
-import numpy as np
-
 from . import __version__
-from .closure import TOLERANCE
 from .errors import InputError, clip, printable
 from .files import read_text
-from .grasp_file import GraspFile, parse_grasp_file, result_record
+from .tolerance import TOLERANCE
+
+# numpy, scipy and the library's own modules are imported where a command needs them, so
+# that `forceclosure --help` answers at once
 
 
 def _read(path: str) -> str:
@@ -62,7 +62,9 @@ def _human(record: dict[str, Any], label: str, explanation: str) -> str:
     return "\n".join(lines)
 
 
-def _analyze_file(grasp_file: GraspFile, as_json: bool, quality: bool, out) -> int:
+def _analyze_file(grasp_file, as_json: bool, quality: bool, out) -> int:
+    from .grasp_file import result_record
+
     records, status = [], 0
     for entry in grasp_file.grasps:
         record, analysis = result_record(entry, grasp_file.cone, quality)
@@ -79,6 +81,8 @@ def _analyze_file(grasp_file: GraspFile, as_json: bool, quality: bool, out) -> i
 
 
 def _cmd_analyze(args: argparse.Namespace) -> int:
+    from .grasp_file import parse_grasp_file
+
     if args.file.endswith(".npz"):
         return _analyze_arrays(args)
     if args.out:
@@ -96,6 +100,7 @@ def _analyze_arrays(args: argparse.Namespace) -> int:
     --out, the results saved atomically, also on Ctrl-C (partial, resumed by a re-run)."""
     import time
 
+    import numpy as np
     from tqdm import tqdm
 
     from .grasp_arrays import ERROR, AnalysisInterrupted, analyze_npz, open_npz
@@ -225,6 +230,8 @@ def _interrupt_line(message: str) -> None:
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
+    from .grasp_file import parse_grasp_file
+
     examples = resources.files("forceclosure") / "examples"
     print(f"forceclosure {__version__}: Nguyen (1988) force-closure analysis on the bundled "
           "examples\n")
@@ -249,6 +256,8 @@ def _cmd_demo(args: argparse.Namespace) -> int:
 
 def _demo_objects() -> None:
     """Planar synthesis on the bundled polygons; two soft fingers on each polyhedron."""
+    import numpy as np
+
     from .closure import analyze
     from .contacts import point_contact
     from .objects import POLYGONS, POLYHEDRA, bundled
@@ -289,6 +298,8 @@ def _demo_objects() -> None:
 def _rounded(values, size: float) -> list:
     """Coordinates for people: to 1e-4 of the object's size, whatever its scale (``--json``
     prints the exact values that were certified)."""
+    import numpy as np
+
     decimals = max(0, 4 - int(np.floor(np.log10(size)))) if size > 0 else 4
     return np.round(np.asarray(values, dtype=float), decimals).tolist()
 
@@ -305,6 +316,8 @@ def _cmd_objects(args: argparse.Namespace) -> int:
 
 
 def _cmd_inspect(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from .objects.io import load_object
 
     obj = load_object(args.object, allow_open=True, part=args.part)  # describe open meshes too
@@ -513,6 +526,37 @@ def _cmd_dataset(args: argparse.Namespace) -> int:
     return 2 if summary.failed or summary.timeout else 0
 
 
+def _cmd_warmup(args: argparse.Namespace) -> int:
+    """Compile every batch kernel now, one line each, instead of on first use."""
+    import time
+
+    import numpy as np
+
+    from .batch import analyze_batch, epsilon_batch, least_friction_batch
+    from .two_finger import two_finger_closure
+
+    points = np.array([[[1.0, 0, 0], [-1, 0.5, 0], [-1, -0.5, 0.1]]])  # three hard fingers
+    normals = np.array([[[1.0, 0, 0], [-1, 0, 0], [-1, 0, 0]]])
+    steps = [
+        ("verdicts, Theorem 1", lambda: analyze_batch(points, normals, mu=0.5)),
+        ("least friction", lambda: least_friction_batch(points, normals)),
+        ("Ferrari-Canny epsilon", lambda: epsilon_batch(points, normals, mu=0.5)),
+        ("two-finger pairs, Corollary 3", lambda: two_finger_closure(
+            [0.0, 0, 1], [0.0, 0, 1], [0.0, 0, -1], [0.0, 0, -1], 0.5)),
+    ]
+    total = time.perf_counter()
+    from .kernels import pairs, quality, theorem1  # noqa: F401 - says first if it compiles
+
+    for k, (label, run) in enumerate(steps, start=1):
+        print(f"[{k}/{len(steps)}] {label} ...", end=" ", flush=True, file=sys.stderr)
+        start = time.perf_counter()
+        run()
+        print(f"{time.perf_counter() - start:.1f} s", file=sys.stderr)
+    print(f"forceclosure: kernels ready in {time.perf_counter() - total:.1f} s (cached for "
+          "later runs)", file=sys.stderr)
+    return 0
+
+
 def _synthesis_options(p: argparse.ArgumentParser) -> None:
     """The hand and the construction: options shared by ``synthesize`` and ``dataset``."""
     p.add_argument("--contact", choices=("hard", "soft", "frictionless"), default="hard",
@@ -567,6 +611,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(run=_cmd_analyze)
     d = sub.add_parser("demo", help="analyse the bundled example grasps")
     d.set_defaults(run=_cmd_demo)
+    w = sub.add_parser("warmup", help="compile the batch kernels now (once per installation; "
+                                      "otherwise on first use)")
+    w.set_defaults(run=_cmd_warmup)
     o = sub.add_parser("objects", help="list the bundled example objects")
     o.set_defaults(run=_cmd_objects)
     i = sub.add_parser("inspect", help="summarise an object: polygon or polyhedron",

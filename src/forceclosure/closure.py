@@ -41,10 +41,7 @@ from scipy.optimize import linprog
 from .contacts import Cone, Contact, WrenchSet, check_grasp, generating_wrenches
 from .errors import InputError
 from .motion import Motion, motion_of, shift_twist
-
-#: The one tolerance behind ``marginal``: margins, singular-value ratios and
-#: repelling work within it of zero are on the boundary.
-TOLERANCE = 1e-6
+from .tolerance import TOLERANCE
 
 #: Pyramid sizes tried, in turn, to bracket an exact circular friction cone.
 EXACT_CONE_EDGES = (8, 16, 32, 64, 128, 256)

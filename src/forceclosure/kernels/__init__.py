@@ -7,8 +7,36 @@ disk, so only the first run of a new installation pays for compilation.
 
 from __future__ import annotations
 
+import logging
+import os
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+
+_log = logging.getLogger("forceclosure")
+_announced = False
+
+
+def announce_compiling(*kernels) -> None:
+    """Say once per process, as a warning on the ``forceclosure`` logger (standard error
+    unless configured), that compilation is about to take a while: when one of these
+    kernels has no compiled code cached on disk (numba's cache index), as on the first run
+    after installing.
+    """
+    global _announced
+    if _announced:
+        return
+    for kernel in kernels:
+        try:
+            index = kernel._cache._cache_file._index_path
+        except AttributeError:  # another numba's layout: say nothing rather than guess
+            return
+        if not os.path.exists(index):
+            _announced = True
+            _log.warning("forceclosure: compiling the batch kernels for this machine, once "
+                         "(about a minute; cached for later runs; `forceclosure warmup` "
+                         "does it ahead)")
+            return
 
 
 def kernel_array(a: ArrayLike, dtype: type = np.float64) -> NDArray:

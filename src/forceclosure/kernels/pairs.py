@@ -19,6 +19,8 @@ import math
 import numba as nb
 import numpy as np
 
+from . import announce_compiling
+
 #: Pair codes, as in :mod:`forceclosure.two_finger`.
 NONE, MARGINAL, CLOSURE = 0, 1, 2
 #: A pair whose code is not final: spatial soft fingers, non-antiparallel
@@ -146,3 +148,6 @@ def pair_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, code, least):  # pragma: no cov
         code[i] = c
         least[i] = _least(cp, sp, cq, sq)
     return flagged
+
+
+announce_compiling(pair_kernel)

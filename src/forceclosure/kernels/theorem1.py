@@ -37,6 +37,7 @@ from collections import namedtuple
 import numba as nb
 import numpy as np
 
+from . import announce_compiling
 from .simplex import INFEASIBLE, OPTIMAL, solve_tableau, tableau
 
 NONE, MARGINAL, CLOSURE, DEFER = 0, 1, 2, 3
@@ -762,3 +763,6 @@ def least_friction_kernel(points, normals, tors, model, edges, fit, exact, tol, 
                 else:
                     lo = mid
             out[g] = math.tan(hi)
+
+
+announce_compiling(closure_kernel, least_friction_kernel)

@@ -1,0 +1,78 @@
+"""Start-up loads only what a command needs (issue 18): `forceclosure --help`, `--version`
+and `import forceclosure` load no numpy, scipy or numba; the public names still arrive on
+first use. (Times are measured in benchmarks/bench_startup.py, not asserted here.)"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+HEAVY = ("numpy", "scipy", "numba", "trimesh", "shapely", "matplotlib")
+
+PROBE = """
+import sys
+{code}
+heavy = sorted({{m.split('.')[0] for m in sys.modules}} & set({heavy!r}))
+print('HEAVY:' + ','.join(heavy))
+"""
+
+
+def loaded_after(code: str) -> list[str]:
+    out = subprocess.run([sys.executable, "-c", PROBE.format(code=code, heavy=HEAVY)],
+                         capture_output=True, text=True, check=True).stdout
+    line = next(x for x in out.splitlines() if x.startswith("HEAVY:"))
+    return [m for m in line.removeprefix("HEAVY:").split(",") if m]
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["--version"], ["analyze", "--help"],
+                                  ["synthesize", "--help"], ["dataset", "--help"]])
+def test_help_and_version_load_nothing_heavy(argv):
+    code = ("from forceclosure.cli import main\n"
+            f"try:\n    main({argv!r})\nexcept SystemExit as e:\n    assert e.code == 0")
+    assert loaded_after(code) == []
+
+
+def test_import_forceclosure_loads_names_on_first_use():
+    assert loaded_after("import forceclosure") == []
+    assert "numpy" in loaded_after("from forceclosure import analyze")
+    import forceclosure
+
+    assert set(forceclosure.__all__) <= set(dir(forceclosure))
+    for name in forceclosure.__all__:
+        assert getattr(forceclosure, name) is not None
+    with pytest.raises(AttributeError, match="no attribute 'nonsense'"):
+        forceclosure.nonsense  # noqa: B018
+
+
+def test_warmup_compiles_every_kernel_with_a_line_each(capsys):
+    from forceclosure.cli import main
+
+    assert main(["warmup"]) == 0
+    err = capsys.readouterr().err.splitlines()
+    assert [line.split(" ...")[0] for line in err if line.startswith("[")] == [
+        "[1/4] verdicts, Theorem 1", "[2/4] least friction", "[3/4] Ferrari-Canny epsilon",
+        "[4/4] two-finger pairs, Corollary 3"]
+    assert err[-1].startswith("forceclosure: kernels ready in")
+
+
+def test_compiling_is_announced_once_when_nothing_is_cached(tmp_path, caplog, monkeypatch):
+    """A kernel whose numba cache index is missing on disk gets one warning per process;
+    one whose index exists gets none."""
+    from types import SimpleNamespace
+
+    from forceclosure import kernels
+
+    def kernel(index):
+        return SimpleNamespace(_cache=SimpleNamespace(_cache_file=SimpleNamespace(
+            _index_path=str(index))))
+
+    (tmp_path / "cached.nbi").write_bytes(b"")
+    monkeypatch.setattr(kernels, "_announced", False)
+    kernels.announce_compiling(kernel(tmp_path / "cached.nbi"))
+    assert not caplog.records
+    kernels.announce_compiling(kernel(tmp_path / "cached.nbi"), kernel(tmp_path / "no.nbi"))
+    kernels.announce_compiling(kernel(tmp_path / "no.nbi"))
+    assert [r.getMessage().split(",")[0] for r in caplog.records] == [
+        "forceclosure: compiling the batch kernels for this machine"]
