@@ -22,7 +22,7 @@ from exact import planar_hard_wrenches, positively_spans, spatial_pyramid4_wrenc
 from forceclosure import Cone, InputError, point_contact
 from forceclosure.batch import _CODES, analyze_batch, least_friction_batch
 from forceclosure.closure import decide
-from forceclosure.quality import least_friction
+from forceclosure.quality import least_friction_reference
 from forceclosure.two_finger import two_finger_closure
 
 #: Grasps compared with the reference path in total: 10k in the README's test command (about
@@ -316,8 +316,8 @@ def test_least_friction_matches_closed_forms_and_the_reference():
     P, N = _sphere(rng, 60, 3, 3, 0.3)
     ours = least_friction_batch(P, N, model="hard", cone=Cone(8))
     for g in range(len(P)):
-        ref = least_friction([point_contact(P[g, i], N[g, i], "hard") for i in range(3)],
-                             cone=Cone(8))
+        ref = least_friction_reference(
+            [point_contact(P[g, i], N[g, i], "hard") for i in range(3)], cone=Cone(8))
         assert (math.isinf(ref) and math.isinf(ours[g])) or math.isclose(ours[g], ref,
                                                                          rel_tol=1e-5), g
 

@@ -253,7 +253,7 @@ def least_friction_batch(points: ArrayLike, normals: ArrayLike, *,
     >>> least_friction_batch(P, N, model="soft", cone=Cone(8)).round(6).tolist()
     [0.1]
     """
-    from .quality import MU_MAX, least_friction
+    from .quality import MU_MAX, least_friction_reference
 
     _check_engine(engine)
     grasps = _validate(points, normals, 0.0, model, torsion)
@@ -281,7 +281,7 @@ def least_friction_batch(points: ArrayLike, normals: ArrayLike, *,
                                      exact, float(tol), maxm, MU_MAX, float(rtol), out, deferred)
         todo = np.flatnonzero(deferred)
     for g in todo:
-        out[g] = least_friction(grasps.contacts(g), cone=cone, tol=tol, rtol=rtol)
+        out[g] = least_friction_reference(grasps.contacts(g), cone=cone, tol=tol, rtol=rtol)
     return out
 
 

@@ -28,6 +28,11 @@ from .errors import InputError, clip, printable
 from .files import read_text
 from .tolerance import TOLERANCE
 
+#: A least friction below this is reported as "any positive friction": the bisection's
+#: smallest steps are within the verdict's tolerance band, where the test cannot tell a
+#: grasp that closes with any friction from one that needs a trace of it.
+ANY_POSITIVE = 100 * TOLERANCE
+
 # numpy, scipy and the library's own modules are imported where a command needs them, so
 # that `forceclosure --help` answers at once
 
@@ -56,6 +61,9 @@ def _human(record: dict[str, Any], label: str, explanation: str) -> str:
     elif "least_friction" in record and record["verdict"] is not None:
         mu = record["least_friction"]
         quality.append("no friction coefficient closes it" if mu is None
+                       else "least friction 0 (closed without friction)" if mu == 0
+                       else f"least friction {mu:.2g}, within the test's tolerance of 0: any "
+                            "positive friction closes it" if mu < ANY_POSITIVE
                        else f"least friction {mu:.4g}")
     if quality:
         lines.append("  " + "; ".join(quality))

@@ -156,6 +156,33 @@ def least_friction(contacts: Sequence[Contact], *, cone: str | Cone = "exact",
     0.1
     """
     contacts = check_grasp(contacts)
+    if all(len(c.points) == 1 and len(c.normals) == 1 for c in contacts):
+        # point contacts: one compiled bisection (Corollary 3 in closed form for planar
+        # pairs), the reference below only where the kernel defers
+        from .batch import least_friction_batch
+
+        models = ["hard" if c.model == "frictionless" else c.model for c in contacts]
+        torsion = [[np.nan if c.torsion is None else c.torsion for c in contacts]]
+        return float(least_friction_batch(
+            [[c.point for c in contacts]], [[c.normal for c in contacts]], model=models,
+            torsion=torsion, cone=cone, tol=tol, rtol=rtol)[0])
+    return least_friction_reference(contacts, cone=cone, tol=tol, rtol=rtol)
+
+
+def least_friction_reference(contacts: Sequence[Contact], *, cone: str | Cone = "exact",
+                             tol: float = TOLERANCE, rtol: float = 1e-6) -> float:
+    """:func:`least_friction` by bisection over full analyses (:func:`forceclosure.analyze`'s
+    path): for any contacts, and the reference the compiled kernel is checked against.
+
+    Examples
+    --------
+    >>> from forceclosure import point_contact
+    >>> grasp = [point_contact([-1, 0], [-1, 0], "hard"),
+    ...          point_contact([1, 0.2], [1, 0], "hard")]
+    >>> round(least_friction_reference(grasp), 6)
+    0.1
+    """
+    contacts = check_grasp(contacts)
     pair = (len(contacts) == 2 and all(len(c.points) == 1 and len(c.normals) == 1
                                        for c in contacts)
             and all(c.model != "soft" or c.torsion is None for c in contacts))

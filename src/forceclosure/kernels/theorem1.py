@@ -721,11 +721,16 @@ def least_friction_kernel(points, normals, tors, model, edges, fit, exact, tol, 
     n_grasps, k, d = points.shape
     model_f = model.copy()
     model_0 = model.copy()  # without friction a hard finger is a frictionless one (one column)
+    columns_0 = 0  # primitive wrenches without friction: a force, and a soft finger's torques
     for i in range(k):
         if model_f[i] == FRICTIONLESS:
             model_f[i] = HARD
         if model_0[i] == HARD:
             model_0[i] = FRICTIONLESS
+        columns_0 += 3 if (model[i] == SOFT and d == 3) else 1
+    # fewer vectors than the dimension plus one never span it positively: not closed
+    # without friction, whatever the geometry (no need to decide it)
+    frictionless_can_close = columns_0 >= (3 if d == 2 else 6) + 1
     n_blocks = (n_grasps + BLOCK - 1) // BLOCK
     for blk in nb.prange(n_blocks):
         work = _work(maxm, max(edges, EXACT_EDGES[-1]))
@@ -735,8 +740,10 @@ def least_friction_kernel(points, normals, tors, model, edges, fit, exact, tol, 
         for g in range(blk * BLOCK, min(n_grasps, (blk + 1) * BLOCK)):
             deferred[g] = False
             mu[:] = 0.0
-            c = grasp(points[g], normals[g], mu, tors[g], model_0, edges, fit, exact, tol,
-                      work, ref, y)[0]
+            c = NONE
+            if frictionless_can_close:
+                c = grasp(points[g], normals[g], mu, tors[g], model_0, edges, fit, exact, tol,
+                          work, ref, y)[0]
             if c in (CLOSURE, DEFER):
                 out[g] = 0.0
                 deferred[g] = c == DEFER

@@ -1,0 +1,68 @@
+"""Least friction of one grasp (issue 18): the compiled bisection against the reference.
+
+``quality.least_friction`` on point contacts runs one compiled bisection on
+the cone half-angle (each step a Theorem 1 verdict in the kernel);
+``quality.least_friction_reference`` is the same bisection over full
+analyses (what every grasp paid before). Both with exact cones, one grasp at
+a time, as the command line computes it for each grasp of a file; the same
+grasps in the same run:
+
+* three hard fingers around a ball's equator (Fig. 9: any positive friction
+  closes it, so the bisection runs to the tolerance band);
+* random three-hard-finger grasps on a sphere, normals tilted (most close
+  at some friction);
+* random two-soft-finger grasps in space.
+
+    uv run python benchmarks/bench_least_friction.py [--grasps 20]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from forceclosure import point_contact
+from forceclosure.quality import least_friction, least_friction_reference
+
+
+def grasps(kind: str, count: int, rng: np.random.Generator) -> list:
+    if kind == "equator":
+        t = np.array([0.0, 2 * np.pi / 3, 4 * np.pi / 3])
+        p = np.c_[np.cos(t), np.sin(t), np.zeros(3)]
+        return [[point_contact(q, q, "hard") for q in p]] * count
+    k, model = (3, "hard") if kind == "three hard" else (2, "soft")
+    out = []
+    for _ in range(count):
+        p = rng.normal(size=(k, 3))
+        p /= np.linalg.norm(p, axis=1, keepdims=True)
+        out.append([point_contact(q, q + rng.normal(scale=0.2, size=3), model) for q in p])
+    return out
+
+
+def timed(fn, cases) -> tuple[float, list[float]]:
+    start = time.perf_counter()
+    values = [fn(g) for g in cases]
+    return (time.perf_counter() - start) / len(cases), values
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--grasps", type=int, default=20)
+    args = parser.parse_args()
+    rng = np.random.default_rng(0)
+    least_friction(grasps("equator", 1, rng)[0])  # compile or load the kernels first
+    print(f"{'grasps':<28} {'compiled':>10} {'reference':>10} {'ratio':>7}  agree (rel 1e-4)")
+    for kind in ("equator", "three hard", "two soft"):
+        cases = grasps(kind, args.grasps, rng)
+        fast, a = timed(least_friction, cases)
+        ref, b = timed(least_friction_reference, cases)
+        agree = sum((x == y) or (np.isfinite(y) and abs(x - y) <= 1e-4 * y) or
+                    (x < 1e-4 and y < 1e-4) for x, y in zip(a, b, strict=True))
+        print(f"{kind:<28} {fast * 1e3:>8.2f}ms {ref * 1e3:>8.1f}ms {ref / fast:>6.0f}x  "
+              f"{agree}/{len(cases)}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
