@@ -824,11 +824,9 @@ def run_dataset(inputs: Sequence[str | Path], out: str | Path, job: Job = Job(),
     """
     paths = expand_inputs(inputs)
     if job.mode == "synthesize":  # a hand no object can serve: refuse before any work
-        from .objects import POLYGONS
         from .synthesis.best import check_hand
 
-        for dim in sorted({2 if p.suffix.lower() in POLYGON_SUFFIXES or str(p) in POLYGONS
-                           else 3 for p in paths}):
+        for dim in _dims(paths):
             check_hand(dim, job.fingers, job.contact, job.mu, top=job.top,
                        construction=job.construction, method=job.method)
     out = Path(out)
@@ -967,7 +965,7 @@ def _die_with_parent() -> None:
             os._exit(1)
 
 
-def _worker_init(job: Job) -> None:
+def _worker_init(job: Job, dims: tuple[int, ...] = (2, 3)) -> None:
     """A pool worker: dies with the run; its kernels run on one thread (the pool already
     uses every core); and they are loaded before its first object, whose time limit would
     otherwise pay for it (seconds: a fresh worker, the one replacing a killed worker too,
@@ -976,24 +974,27 @@ def _worker_init(job: Job) -> None:
 
     _die_with_parent()
     numba.set_num_threads(1)
-    _warm_up(job)
+    _warm_up(job, dims)
 
 
-def _warm_up(job: Job) -> None:
-    """Run the job's compiled kernels once on small bundled objects (errors ignored)."""
+def _warm_up(job: Job, dims: tuple[int, ...]) -> None:
+    """Run the job's compiled kernels once on small bundled objects of the dimensions
+    ``dims`` (errors ignored)."""
     from dataclasses import replace
 
     with suppress(Exception):
         if job.mode == "synthesize":
             small = replace(job, samples=min(job.samples, 200), top=1, timeout=None)
-            for name in ("square", "cube"):
+            for name in [("square", "cube")[d - 2] for d in dims]:
                 process_object(name, small)
             return
         from .batch import analyze_batch, epsilon_batch
 
-        for P, N in ((np.array([[[-1.0, 0.0], [1.0, 0.1]]]), np.array([[[-1.0, 0.0], [1.0, 0.0]]])),
-                     (np.array([[[-1.0, 0, 0], [1, 0.1, 0], [0, 1, 0]]]),
-                      np.array([[[-1.0, 0, 0], [1, 0, 0], [0, 1, 0]]]))):
+        pinches = {2: (np.array([[[-1.0, 0.0], [1.0, 0.1]]]),
+                       np.array([[[-1.0, 0.0], [1.0, 0.0]]])),
+                   3: (np.array([[[-1.0, 0, 0], [1, 0.1, 0], [0, 1, 0]]]),
+                       np.array([[[-1.0, 0, 0], [1, 0, 0], [0, 1, 0]]]))}
+        for P, N in (pinches[d] for d in dims):
             closed = analyze_batch(P, N, mu=0.5)
             if len(closed.code):
                 epsilon_batch(P, N, mu=0.5)
@@ -1038,6 +1039,15 @@ class _Watchdog(threading.Thread):
             since = {pid: t for pid, t in since.items() if pid in pids}
 
 
+def _dims(paths: Iterable[Path]) -> tuple[int, ...]:
+    """The dimensions of the objects at ``paths``, as their names tell (polygon files and
+    bundled polygons are planar)."""
+    from .objects import POLYGONS
+
+    return tuple(sorted({2 if p.suffix.lower() in POLYGON_SUFFIXES or str(p) in POLYGONS
+                         else 3 for p in paths}))
+
+
 def _local_pool(workers: int, run: _Run, job: Job,
                 finish: Callable[[str, dict[str, Any]], None],
                 say: Callable[[str], object]) -> None:
@@ -1052,7 +1062,8 @@ def _local_pool(workers: int, run: _Run, job: Job,
     from pebble import ProcessExpired, ProcessPool
 
     hard = None if job.timeout is None else job.timeout + HARD_GRACE
-    pool = ProcessPool(workers, context=_context(), initializer=_worker_init, initargs=(job,))
+    pool = ProcessPool(workers, context=_context(), initializer=_worker_init,
+                       initargs=(job, _dims(run.todo.values())))
     arrived: queue.SimpleQueue[tuple[str, Future]] = queue.SimpleQueue()
     pending = 0
 
