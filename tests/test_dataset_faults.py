@@ -351,15 +351,27 @@ def _wait_for(condition, seconds: float = 60) -> None:
         time.sleep(0.02)
 
 
+def _hooked(tmp_path: Path) -> dict[str, str]:
+    """The environment of a command whose workers get stuck on 'stuck.obj' (:data:`STUCK`)."""
+    hook = tmp_path / "hook"
+    hook.mkdir(exist_ok=True)
+    (hook / "sitecustomize.py").write_text(STUCK)
+    shutil.copy(URDFS / "000" / "000.obj", tmp_path / "stuck.obj")
+    return {**os.environ, "PYTHONPATH": os.pathsep.join(
+        [str(hook), *filter(None, [os.environ.get("PYTHONPATH")])])}
+
+
 def test_concurrent_run_refused_and_killed_driver(tmp_path, urdf_truth, capsys):
-    """A run in progress: a second one on the same --out is refused in one line. The first
-    is killed alone (SIGKILL, not its process group): its workers vanish with it, the
-    lock with them, and the same command completes with exactly one correct record per
+    """A run in progress, one of its workers stuck (taking no signal, as in compiled code):
+    a second run on the same --out is refused in one line. The first is killed alone
+    (SIGKILL, not its process group): its workers vanish with it, the stuck one included,
+    and so does the lock; the same command completes with exactly one correct record per
     object, leaving the earlier records as they were."""
     out = tmp_path / "out"
-    inputs = [*map(str, _urdfs(8))]
+    env = _hooked(tmp_path)
+    inputs = [str(tmp_path / "stuck.obj"), *map(str, _urdfs(8))]
     argv = [*CLI, *inputs, "--out", str(out), *HARD_ARGS, "--workers", "2"]
-    run = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    run = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
     try:
         _wait_for(lambda: len(list((out / "objects").glob("*.json"))) >= 2)
         assert main(["dataset", *inputs, "--out", str(out), *HARD_ARGS]) == 2
@@ -375,11 +387,12 @@ def test_concurrent_run_refused_and_killed_driver(tmp_path, urdf_truth, capsys):
     _, alive = psutil.wait_procs(descendants, timeout=10)
     assert alive == []
     earlier = {f.name: f.read_bytes() for f in (out / "objects").glob("*.json")}
-    assert 2 <= len(earlier) < 8
+    assert 2 <= len(earlier) < 9 and record_name(tmp_path / "stuck.obj") not in earlier
     again = run_dataset(inputs, out, HARD, workers=2, progress=False)
-    assert (again.skipped, again.done) == (len(earlier), 8)
+    assert (again.skipped, again.done) == (len(earlier), 9)
     records = _records(out)
-    assert {n: _strip(r) for n, r in records.items()} == urdf_truth
+    truth = {**urdf_truth, **_truth([tmp_path / "stuck.obj"], HARD)}
+    assert {n: _strip(r) for n, r in records.items()} == truth
     assert all((out / "objects" / n).read_bytes() == b for n, b in earlier.items())
     assert _tmp_files(out) == []
 
@@ -407,13 +420,8 @@ d._synthesize = _stuck
 def test_worker_stuck_in_compiled_code(tmp_path):
     """A worker that takes no signal (as in compiled code) is killed at the time limit and
     its object recorded as 'timeout' with the reason; the others complete."""
-    hook = tmp_path / "hook"
-    hook.mkdir()
-    (hook / "sitecustomize.py").write_text(STUCK)
-    shutil.copy(URDFS / "000" / "000.obj", tmp_path / "stuck.obj")
+    env = _hooked(tmp_path)
     inputs = [str(tmp_path / "stuck.obj"), *map(str, _urdfs(3))]
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join(
-        [str(hook), *filter(None, [os.environ.get("PYTHONPATH")])])}
     # (without the kill, the run would wait for the stuck worker forever)
     done = subprocess.run([*CLI, *inputs, "--out", str(tmp_path / "out"), *HARD_ARGS,
                            "--workers", "2", "--timeout", "2", "--json"], env=env,

@@ -952,17 +952,41 @@ def _context() -> multiprocessing.context.BaseContext:
 
 
 def _die_with_parent() -> None:
-    """Linux: this process gets ``SIGKILL`` when its parent dies (``PR_SET_PDEATHSIG``), a
-    signal no compiled code can delay. A worker's parent is the fork server, which exits
-    when the run does, however it ends."""
-    if not sys.platform.startswith("linux"):
+    """Linux: this worker gets ``SIGKILL`` when the run ends, however it ends, a signal no
+    compiled code can delay.
+
+    A worker's parent is the fork server, which exits when no process holds
+    the write end of its "alive" pipe: the run, and every process it started
+    (each inherits it, to start processes of its own). A worker starts none,
+    so it lets go of its copy; then the server exits with the run, and the
+    kernel kills the worker (``PR_SET_PDEATHSIG``). A thread watching the run
+    (its sentinel) does the same where the kernel cannot, as long as the
+    worker's code lets threads run.
+    """
+    with suppress(Exception):  # a private attribute of multiprocessing.forkserver
+        from multiprocessing import forkserver
+
+        server = forkserver._forkserver
+        if server._forkserver_alive_fd is not None:
+            os.close(server._forkserver_alive_fd)
+            server._forkserver_alive_fd = None
+    if sys.platform.startswith("linux"):
+        with suppress(OSError, AttributeError):
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(1, signal.SIGKILL, 0, 0, 0)  # PR_SET_PDEATHSIG
+    parent = multiprocessing.parent_process()
+    if parent is None:
         return
-    with suppress(OSError, AttributeError):
-        libc = ctypes.CDLL(None, use_errno=True)
-        libc.prctl(1, signal.SIGKILL, 0, 0, 0)  # PR_SET_PDEATHSIG
-        parent = multiprocessing.parent_process()
-        if parent is not None and not parent.is_alive():  # died before the call
-            os._exit(1)
+    if not parent.is_alive():  # the run died before this
+        os._exit(1)
+
+    def watch() -> None:
+        from multiprocessing.connection import wait
+
+        wait([parent.sentinel])
+        os.kill(os.getpid(), signal.SIGKILL)
+
+    threading.Thread(target=watch, name="forceclosure-run-watch", daemon=True).start()
 
 
 def _worker_init(job: Job, dims: tuple[int, ...] = (2, 3)) -> None:
