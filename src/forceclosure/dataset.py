@@ -67,7 +67,6 @@ import signal
 import socket
 import string
 import sys
-import tempfile
 import threading
 import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
@@ -83,6 +82,8 @@ import numpy as np
 from .errors import InputError
 from .objects.io import MESH_SUFFIXES, POLYGON_SUFFIXES, ROBOT_SUFFIXES
 from .objects.urdf import mesh_files
+from .outdir import atomic_file, locked, remove_temporaries, write_atomically
+from .workers import Watchdog, die_with_run
 
 __all__ = [
     "COLUMNS",
@@ -571,67 +572,7 @@ def process_object(path: str | Path, job: Job) -> dict[str, Any]:
     return record
 
 
-# -- writing ----------------------------------------------------------------------------------
-
-@contextmanager
-def _atomic(path: Path) -> Iterator[Any]:
-    """A binary file that becomes ``path`` only once fully written and synced: a temporary
-    file of unpredictable name in the same folder, renamed over ``path``; removed if
-    anything fails (a full disk, say)."""
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            os.fchmod(f.fileno(), 0o644)
-            yield f
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        with suppress(OSError):
-            os.unlink(tmp)
-        raise
-
-
-def _write_atomically(path: Path, text: str) -> None:
-    with _atomic(path) as f:
-        f.write(text.encode("utf-8"))
-
-
-def _remove_temporaries(out: Path) -> None:
-    """Temporary files left by a run that was killed while writing (the lock is held, so no
-    run is writing now)."""
-    for folder in (out, out / "objects"):
-        for tmp in folder.glob(".*.tmp"):
-            with suppress(OSError):
-                tmp.unlink()
-
-
-@contextmanager
-def _locked(out: Path) -> Iterator[None]:
-    """Hold ``out/.lock`` (``flock``) for the run, or refuse in one line naming its holder.
-
-    The kernel releases the lock when the holder dies, however it dies, so a
-    killed run never leaves ``DIR`` locked. (``flock`` may not lock across
-    machines on some network file systems.)
-    """
-    import fcntl
-
-    path = out / ".lock"
-    fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
-    try:
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            holder = os.pread(fd, 200, 0).decode("utf-8", "replace").split()
-            who = f" (pid {holder[0]} on {holder[1]})" if len(holder) >= 2 else ""
-            raise InputError(f"--out {out}: another run{who} is writing there; wait for it "
-                             "to end, or use another --out") from None
-        os.ftruncate(fd, 0)
-        os.pwrite(fd, f"{os.getpid()} {socket.gethostname()}\n".encode(), 0)
-        yield
-    finally:
-        os.close(fd)
-
+# -- the results folder ------------------------------------------------------------------
 
 def _check_job(out: Path, job: Job) -> None:
     path = out / "job.json"
@@ -652,7 +593,7 @@ def _check_job(out: Path, job: Job) -> None:
             raise InputError(f"{out} holds results of another job ({what}); use another "
                              "--out, or the same options to resume")
     else:
-        _write_atomically(path, json.dumps(wanted, indent=2) + "\n")
+        write_atomically(path, json.dumps(wanted, indent=2) + "\n")
 
 
 #: The columns of results.parquet, in order: (name, pyarrow type name).
@@ -705,7 +646,7 @@ def write_table(out: Path, records: Iterable[dict[str, Any]]) -> Path:
 
     table = _table(records)
     path = out / "results.parquet"
-    with _atomic(path) as f:
+    with atomic_file(path) as f:
         pq.write_table(table, f)
     return path
 
@@ -837,8 +778,8 @@ def run_dataset(inputs: Sequence[str | Path], out: str | Path, job: Job = Job(),
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as e:
         raise InputError(f"--out {out}: cannot create it ({e.strerror})") from None
-    with _locked(out):
-        _remove_temporaries(out)
+    with locked(out):
+        remove_temporaries([out, folder])
         try:
             _check_job(out, job)
         except OSError as e:
@@ -874,7 +815,7 @@ def _run_locked(paths: list[Path], out: Path, job: Job, executor: Executor | Non
         nonlocal computed
         record = {**record, "job": identity, "input": stamps[name]}
         try:
-            _write_atomically(folder / name, json.dumps(record) + "\n")
+            write_atomically(folder / name, json.dumps(record) + "\n")
         except OSError as e:
             raise _OutputFailed(e) from e
         records[name] = record
@@ -951,44 +892,6 @@ def _context() -> multiprocessing.context.BaseContext:
     return context
 
 
-def _die_with_parent() -> None:
-    """Linux: this worker gets ``SIGKILL`` when the run ends, however it ends, a signal no
-    compiled code can delay.
-
-    A worker's parent is the fork server, which exits when no process holds
-    the write end of its "alive" pipe: the run, and every process it started
-    (each inherits it, to start processes of its own). A worker starts none,
-    so it lets go of its copy; then the server exits with the run, and the
-    kernel kills the worker (``PR_SET_PDEATHSIG``). A thread watching the run
-    (its sentinel) does the same where the kernel cannot, as long as the
-    worker's code lets threads run.
-    """
-    with suppress(Exception):  # a private attribute of multiprocessing.forkserver
-        from multiprocessing import forkserver
-
-        server = forkserver._forkserver
-        if server._forkserver_alive_fd is not None:
-            os.close(server._forkserver_alive_fd)
-            server._forkserver_alive_fd = None
-    if sys.platform.startswith("linux"):
-        with suppress(OSError, AttributeError):
-            libc = ctypes.CDLL(None, use_errno=True)
-            libc.prctl(1, signal.SIGKILL, 0, 0, 0)  # PR_SET_PDEATHSIG
-    parent = multiprocessing.parent_process()
-    if parent is None:
-        return
-    if not parent.is_alive():  # the run died before this
-        os._exit(1)
-
-    def watch() -> None:
-        from multiprocessing.connection import wait
-
-        wait([parent.sentinel])
-        os.kill(os.getpid(), signal.SIGKILL)
-
-    threading.Thread(target=watch, name="forceclosure-run-watch", daemon=True).start()
-
-
 def _worker_init(job: Job, dims: tuple[int, ...] = (2, 3)) -> None:
     """A pool worker: dies with the run; its kernels run on one thread (the pool already
     uses every core); and they are loaded before its first object, whose time limit would
@@ -996,7 +899,7 @@ def _worker_init(job: Job, dims: tuple[int, ...] = (2, 3)) -> None:
     timed out its first object under a short limit)."""
     import numba
 
-    _die_with_parent()
+    die_with_run()
     numba.set_num_threads(1)
     _warm_up(job, dims)
 
@@ -1022,45 +925,6 @@ def _warm_up(job: Job, dims: tuple[int, ...]) -> None:
             closed = analyze_batch(P, N, mu=0.5)
             if len(closed.code):
                 epsilon_batch(P, N, mu=0.5)
-
-
-def _stopped(pid: int) -> bool:
-    """Whether process ``pid`` is stopped (``SIGSTOP``, ``SIGTSTP``, traced); Linux only."""
-    try:
-        with open(f"/proc/{pid}/stat", "rb") as f:
-            return f.read().rpartition(b")")[2].split()[0] in (b"T", b"t")
-    except (OSError, IndexError):
-        return False
-
-
-class _Watchdog(threading.Thread):
-    """Kills a pool worker that stays stopped :data:`STALL_SECONDS`; its object is then run
-    again on a fresh worker (a stopped worker would otherwise stall the run forever)."""
-
-    def __init__(self, say: Callable[[str], object]) -> None:
-        super().__init__(name="forceclosure-watchdog", daemon=True)
-        self.say = say
-        self.halt = threading.Event()
-        self.killed: set[int] = set()
-
-    def run(self) -> None:
-        since: dict[int, float] = {}
-        while not self.halt.wait(min(0.5, STALL_SECONDS / 4)):
-            now = time.monotonic()
-            pids = {p.pid for p in multiprocessing.active_children()
-                    if p.name.startswith("pebble_pool_worker") and p.pid is not None}
-            for pid in pids:
-                if not _stopped(pid):
-                    since.pop(pid, None)
-                    continue
-                since.setdefault(pid, now)
-                if now - since[pid] >= STALL_SECONDS and pid not in self.killed:
-                    self.say(f"forceclosure: warning: worker {pid} stopped for "
-                             f"{STALL_SECONDS:g} s; killed, its object is run again")
-                    with suppress(OSError):
-                        os.kill(pid, signal.SIGKILL)
-                    self.killed.add(pid)
-            since = {pid: t for pid, t in since.items() if pid in pids}
 
 
 def _dims(paths: Iterable[Path]) -> tuple[int, ...]:
@@ -1097,7 +961,7 @@ def _local_pool(workers: int, run: _Run, job: Job,
         pending += 1
         future.add_done_callback(lambda f, name=name: arrived.put((name, f)))
 
-    watchdog = _Watchdog(say)
+    watchdog = Watchdog(STALL_SECONDS, say)
     watchdog.start()
     try:
         for name in list(run.todo):
