@@ -463,3 +463,14 @@ def test_stopped_worker(tmp_path, monkeypatch, urdf_truth):
     assert (summary.done, summary.computed) == (8, 8)
     assert f"forceclosure: warning: worker {stopped[0]} stopped for 1 s" in "\n".join(lines)
     assert {n: _strip(r) for n, r in _records(out).items()} == urdf_truth
+
+
+def test_names_cannot_forge_log_lines(tmp_path, capsys):
+    """A file named with a newline and an ANSI escape: its failure is one plain line."""
+    evil = tmp_path / "a\nforceclosure: done: all fine \x1b[32m.stl"
+    evil.write_bytes(b"solid nothing\n garbage \x00\n")
+    assert main(["dataset", str(evil), "cube", "--out", str(tmp_path / "out"), *SOFT_ARGS,
+                 "--workers", "1"]) == 2
+    err = capsys.readouterr().err
+    assert "\x1b" not in err and err.count("\n") == 1
+    assert err.startswith("forceclosure: failed: a\\nforceclosure: done: all fine \\x1b[32m.stl")

@@ -99,6 +99,7 @@ __all__ = [
     "expand_inputs",
     "fingerprint",
     "grasp_file_of",
+    "printable",
     "process_object",
     "record_name",
     "row_of",
@@ -659,6 +660,8 @@ def _damage(record: Any, path: Path, identity: dict[str, Any], stamp: str) -> st
     missing = [k for k in ("path", "name", "status", "error", "job", "input")
                if k not in record]
     if missing:
+        if missing == ["job", "input"]:
+            return "written by an older forceclosure (no job and input stamps)"
         return f"fields missing ({', '.join(missing)})"
     if record["path"] != _key(path):
         return f"the record of another object ({str(record['path'])[:200]!r})"
@@ -796,7 +799,10 @@ def _run_locked(paths: list[Path], out: Path, job: Job, executor: Executor | Non
     names = {record_name(p): p for p in paths}
     bar = tqdm(total=0, unit="obj", desc="objects", file=sys.stderr,
                disable=not progress if progress is not None else None, dynamic_ncols=True)
-    say = log or (lambda line: bar.write(line, file=sys.stderr))
+    write = log or (lambda line: bar.write(line, file=sys.stderr))
+
+    def say(line: str) -> None:
+        write(printable(line))
     identity = job.identity()
     stamps = {n: fingerprint(p, job) for n, p in names.items()}
     held = _held(folder, names, identity, stamps, say)
@@ -856,6 +862,21 @@ def _run_locked(paths: list[Path], out: Path, job: Job, executor: Executor | Non
                    computed=computed, skipped=skipped,
                    seconds=time.perf_counter() - start, workers=workers, out=out,
                    interrupted=interrupted)
+
+
+_CONTROL = re.compile(r"[\x00-\x1f\x7f-\x9f]")
+
+
+def printable(line: str) -> str:
+    r"""A log line as one line of plain text: control characters (newlines, ANSI escapes in
+    a file name) shown as escapes, so that no name can forge or colour a line.
+
+    Examples
+    --------
+    >>> print(printable("failed: a\nforceclosure: done \x1b[32mok"))
+    failed: a\nforceclosure: done \x1b[32mok
+    """
+    return _CONTROL.sub(lambda m: repr(m.group())[1:-1], line)
 
 
 def _failed(path: Path, error: str, status: str = "failed") -> dict[str, Any]:
