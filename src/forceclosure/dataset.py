@@ -969,7 +969,13 @@ def _local_pool(workers: int, run: _Run, job: Job,
     after :data:`MAX_CRASHES` deaths it is recorded as failed.
     """
     from pebble import ProcessExpired, ProcessPool
+    from pebble.common import CONSTS
 
+    # pebble stops a worker over its time limit with SIGTERM, then waits this long before
+    # SIGKILL, holding the lock all workers need to hand in results: a worker stuck in
+    # compiled code (deaf to SIGTERM) stalled the whole pool 3 s, and pushed others over
+    # their limits. Our workers have nothing to clean up.
+    CONSTS.term_timeout = min(CONSTS.term_timeout, 0.2)
     hard = None if job.timeout is None else job.timeout + HARD_GRACE
     pool = ProcessPool(workers, context=_context(), initializer=_worker_init,
                        initargs=(job, _dims(run.todo.values())))
