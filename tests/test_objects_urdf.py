@@ -267,7 +267,12 @@ def test_file_uris_and_paths(tmp_path):
                      "./parts/../parts/tet.obj"):
         urdf = write(tmp_path, "robots/r.urdf",
                      robot(link("t", collision(f'<mesh filename="{filename}" scale="2"/>'))))
-        assert load_object(urdf).volume == pytest.approx(8 / 6), filename
+        assert load_object(urdf, allow_outside_meshes=True).volume == pytest.approx(8 / 6)
+        if "elsewhere" in filename:  # outside the URDF's folder: refused unless allowed
+            with pytest.raises(InputError, match="is outside the URDF's folder"):
+                load_object(urdf)
+        else:
+            assert load_object(urdf).volume == pytest.approx(8 / 6), filename
 
 
 TWO_LINKS = robot(link("boxes", collision('<box size="1 1 1"/>', xyz="2 0 0"),

@@ -506,7 +506,7 @@ def _cmd_dataset(args: argparse.Namespace) -> int:
               contact=args.contact, mu=args.mu, top=args.top, margin=args.margin,
               construction=args.construction, method=args.method, samples=args.samples,
               seed=args.seed, grasps=args.grasps, timeout=args.timeout,
-              allow_open=args.allow_open)
+              allow_open=args.allow_open, allow_outside_meshes=args.allow_outside_meshes)
     if args.scheduler:
         try:
             from distributed import Client
@@ -521,9 +521,10 @@ def _cmd_dataset(args: argparse.Namespace) -> int:
         with client:
             workers = len(client.nthreads())
             summary = run_dataset(args.inputs, args.out, job, executor=client.get_executor(),
-                                  workers=workers)
+                                  workers=workers, retry_failed=args.retry_failed)
     else:
-        summary = run_dataset(args.inputs, args.out, job, workers=args.workers)
+        summary = run_dataset(args.inputs, args.out, job, workers=args.workers,
+                              retry_failed=args.retry_failed)
     if args.json:
         json.dump(summary.to_dict(), sys.stdout, indent=2)
         sys.stdout.write("\n")
@@ -662,7 +663,9 @@ def build_parser() -> argparse.ArgumentParser:
                                    "object's grasp file) on every object of a set: files, "
                                    "folders (searched recursively) and glob patterns. Results "
                                    "go to DIR: a record per object as it finishes, and "
-                                   "results.parquet. Re-running the same command resumes.")
+                                   "results.parquet. Re-running the same command resumes; "
+                                   "records whose input or options changed are computed "
+                                   "again. One run at a time per DIR (a second is refused).")
     t.add_argument("inputs", nargs="+", metavar="INPUT",
                    help="object files, folders or glob patterns (polygons, meshes, URDFs)")
     t.add_argument("--out", required=True, metavar="DIR", help="the results folder")
@@ -674,14 +677,19 @@ def build_parser() -> argparse.ArgumentParser:
                    help="analyse the grasps given per object instead of synthesizing")
     t.add_argument("--grasps", default="", metavar="PATTERN",
                    help="with --analyze: each object's grasp file, with {dir}, {stem} and "
-                        "{name} filled in (default {dir}/{stem}.grasps.npz or .json)")
+                        "{name} filled in, plain names only (default {dir}/{stem}.grasps.npz "
+                        "or .json)")
+    t.add_argument("--allow-outside-meshes", action="store_true",
+                   help="let a URDF name meshes outside its folder (or its package's "
+                        "folder); refused by default")
     t.add_argument("--workers", type=int, default=None,
                    help="local worker processes (default: all cores; 1 runs in this process)")
     t.add_argument("--scheduler", metavar="ADDRESS",
                    help="run on a Dask cluster, e.g. tcp://host:8786 (its workers must see "
                         "the input files at the same paths)")
     t.add_argument("--timeout", type=float, default=None, metavar="SECONDS",
-                   help="time limit per object (default none)")
+                   help="time limit per object, held inside compiled code on the local pool "
+                        "(its worker is killed); 'inf' or none: no limit (default)")
     t.add_argument("--retry-failed", action="store_true",
                    help="compute failed and timed-out objects again")
     t.add_argument("--json", action="store_true", help="print the summary as JSON")

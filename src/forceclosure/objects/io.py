@@ -138,7 +138,8 @@ def polyhedron_from_mesh_file(path: Path, allow_open: bool = False,
 
 
 def load_object(source: str | Path | Any, allow_open: bool = False,
-                part: str | None = None) -> Polygon | Polyhedron:
+                part: str | None = None, *,
+                allow_outside_meshes: bool = False) -> Polygon | Polyhedron:
     """Load a polygon or polyhedron from a file, a bundled name, or a library object.
 
     Parameters
@@ -150,6 +151,9 @@ def load_object(source: str | Path | Any, allow_open: bool = False,
     part : str, optional
         The URDF link to read (a URDF with several links carrying geometry is
         refused without it), or the SVG element id.
+    allow_outside_meshes : bool
+        A URDF may name meshes outside its folder (or its package's);
+        refused by default.
 
     Examples
     --------
@@ -188,7 +192,8 @@ def load_object(source: str | Path | Any, allow_open: bool = False,
         raise InputError(f"{path.name}: part '{part}' given, but only SVG files (element ids) "
                          "and URDF files (links) have parts")
     if suffix in ROBOT_SUFFIXES:
-        return polyhedron_from_urdf(path, allow_open, part)
+        return polyhedron_from_urdf(path, allow_open, part,
+                                    allow_outside_meshes=allow_outside_meshes)
     if suffix in MESH_SUFFIXES:
         return polyhedron_from_mesh_file(path, allow_open)
     if suffix not in POLYGON_SUFFIXES:

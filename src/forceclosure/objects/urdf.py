@@ -34,7 +34,9 @@ folder, found by searching upward from the URDF's folder for a folder named
 ``pkg``, a folder with a subfolder ``pkg``, or a folder whose
 ``package.xml`` has ``<name>pkg</name>``; failing that, ``rest`` is taken
 relative to the URDF's folder. ``file://`` URIs and plain paths are
-relative to the URDF's folder unless absolute. Blank lines before the XML
+relative to the URDF's folder unless absolute. A mesh that resolves (symbolic links
+followed) outside the URDF's folder, or outside the package's folder for
+``package://``, is refused unless ``allow_outside_meshes=True``. Blank lines before the XML
 declaration (strictly not XML; pybullet's ``biped2d_pybullet.urdf`` has
 them) are skipped.
 
@@ -72,6 +74,7 @@ __all__ = [
     "TESSELLATION_TOLERANCE",
     "GeometryPiece",
     "box_mesh",
+    "check_mesh_inside",
     "cylinder_mesh",
     "link_geometry",
     "mesh_files",
@@ -255,20 +258,9 @@ def _package_roots(package: str, folder: Path) -> list[Path]:
     return list(dict.fromkeys(roots))
 
 
-def resolve_mesh_filename(filename: str, urdf: Path) -> Path:
-    """Where a URDF's mesh ``filename`` is: ``package://``, ``file://`` or a path.
-
-    A ``package://pkg/rest`` whose package folder is not found, or lacks
-    ``rest``, falls back to ``rest`` in the URDF's folder. The path returned
-    may not exist (the caller says so, naming it).
-
-    Examples
-    --------
-    >>> resolve_mesh_filename("meshes/a.stl", Path("/robots/r.urdf")).as_posix()
-    '/robots/meshes/a.stl'
-    >>> resolve_mesh_filename("file:///data/a.obj", Path("/robots/r.urdf")).as_posix()
-    '/data/a.obj'
-    """
+def _resolve(filename: str, urdf: Path) -> tuple[Path, Path]:
+    """Where a mesh ``filename`` is, and the folder it may not leave (the URDF's, or the
+    ``package://`` package's)."""
     folder = urdf.parent
     if filename.startswith("package://"):
         package, _, rest = filename[len("package://"):].partition("/")
@@ -278,22 +270,78 @@ def resolve_mesh_filename(filename: str, urdf: Path) -> Path:
                              "package name and a path in it")
         for root in _package_roots(package, folder.resolve()):
             if (root / rest).is_file():
-                return root / rest
-        return folder / rest
+                return root / rest, root
+        return folder / rest, folder
     if filename.startswith("file://"):
         parts = urlsplit(filename)
         path = unquote(parts.path)
         if parts.netloc and parts.netloc != "localhost":  # file://meshes/a.obj: a relative path
             path = unquote(parts.netloc) + path
-        return Path(path) if Path(path).is_absolute() else folder / path
+        return (Path(path) if Path(path).is_absolute() else folder / path), folder
     scheme = urlsplit(filename).scheme
     if len(scheme) > 1:  # not a Windows drive letter
         raise InputError(f"{urdf.name}: mesh {filename!r}: cannot read {scheme}:// addresses "
                          "(package://, file:// and paths are read)")
-    return folder / filename
+    return folder / filename, folder
 
 
-def _piece(element: ET.Element, urdf: Path, link: str, which: str) -> GeometryPiece:
+def resolve_mesh_filename(filename: str, urdf: Path) -> Path:
+    """Where a URDF's mesh ``filename`` is: ``package://``, ``file://`` or a path.
+
+    A ``package://pkg/rest`` whose package folder is not found, or lacks
+    ``rest``, falls back to ``rest`` in the URDF's folder. The path returned
+    may not exist (the caller says so, naming it), and may lie outside the
+    URDF's folder (:func:`check_mesh_inside` says whether it does).
+
+    Examples
+    --------
+    >>> resolve_mesh_filename("meshes/a.stl", Path("/robots/r.urdf")).as_posix()
+    '/robots/meshes/a.stl'
+    >>> resolve_mesh_filename("file:///data/a.obj", Path("/robots/r.urdf")).as_posix()
+    '/data/a.obj'
+    """
+    return _resolve(filename, urdf)[0]
+
+
+def check_mesh_inside(filename: str, urdf: Path, where: str | None = None) -> Path:
+    """The mesh file a URDF names, refused in one line when it lies outside the URDF's folder
+    (or, for ``package://``, the package's folder), symbolic links followed.
+
+    A URDF is data: one fetched from elsewhere must not make the reader open
+    any mesh on the disk (``../../secret/a.stl``, ``/home/me/model.obj``, a
+    link pointing out). Pass ``allow_outside_meshes=True`` to
+    :func:`polyhedron_from_urdf` (``--allow-outside-meshes`` on the command
+    line) for URDFs you trust that share meshes with others.
+
+    Examples
+    --------
+    >>> import pybullet_data
+    >>> urdf = Path(pybullet_data.getDataPath()) / "random_urdfs" / "000" / "000.urdf"
+    >>> check_mesh_inside("000.obj", urdf).name
+    '000.obj'
+    >>> try:
+    ...     check_mesh_inside("../001/001.obj", urdf)
+    ... except InputError as e:
+    ...     print(str(e).split(" folder ")[0])
+    000.urdf: its mesh '../001/001.obj' is outside the URDF's
+    """
+    where = where or urdf.name
+    path, root = _resolve(filename, urdf)
+    try:
+        real, top = path.resolve(), root.resolve()
+    except (RuntimeError, OSError) as e:  # a symbolic link loop (RuntimeError before 3.13)
+        raise InputError(f"{where}: its mesh {filename!r} cannot be followed: "
+                         f"{first_line(e)}") from None
+    if not real.is_relative_to(top):
+        kind = "package's" if filename.startswith("package://") else "URDF's"
+        raise InputError(f"{where}: its mesh {filename!r} is outside the {kind} folder "
+                         f"{top}; pass allow_outside_meshes=True (--allow-outside-meshes) "
+                         "to read it")
+    return path
+
+
+def _piece(element: ET.Element, urdf: Path, link: str, which: str,
+           allow_outside_meshes: bool = False) -> GeometryPiece:
     """The geometry of one ``<collision>`` or ``<visual>`` element, placed by its origin."""
     where = f"{urdf.name}: link {link}, {which}"
     origins = element.findall("origin")
@@ -330,7 +378,8 @@ def _piece(element: ET.Element, urdf: Path, link: str, which: str) -> GeometryPi
             raise InputError(f"{where}: <mesh> has no filename")
         scale = _numbers(shape.get("scale", "1 1 1"), (3, 1), "mesh scale", where,
                          positive=True)
-        mesh_file = resolve_mesh_filename(filename, urdf)
+        mesh_file = (resolve_mesh_filename(filename, urdf) if allow_outside_meshes
+                     else check_mesh_inside(filename, urdf, where))
         if not mesh_file.is_file():
             raise InputError(f"{where}: its mesh {mesh_file.name} is missing ({filename!r}, "
                              f"looked for {mesh_file})")
@@ -387,12 +436,14 @@ def mesh_files(path: Path) -> list[Path]:
     return found
 
 
-def link_geometry(path: Path, part: str | None = None) -> tuple[str, list[GeometryPiece],
-                                                                list[str]]:
+def link_geometry(path: Path, part: str | None = None, *, allow_outside_meshes: bool = False
+                  ) -> tuple[str, list[GeometryPiece], list[str]]:
     """The geometry pieces of the link ``part`` of a URDF (or of its only link with geometry).
 
     Returns the link's name, its pieces in the file's order (collision ones,
-    or visual ones when it has no collision geometry) and the warnings.
+    or visual ones when it has no collision geometry) and the warnings. A mesh
+    outside the URDF's folder is refused unless ``allow_outside_meshes``
+    (:func:`check_mesh_inside`).
 
     Examples
     --------
@@ -442,7 +493,8 @@ def link_geometry(path: Path, part: str | None = None) -> tuple[str, list[Geomet
         if not elements:
             raise InputError(f"{path.name}: link {label} has no collision or visual geometry")
         warnings.append("no collision geometry; read the visual one")
-    pieces = [_piece(e, path, label, f"{tag} {k + 1}") for k, e in enumerate(elements)]
+    pieces = [_piece(e, path, label, f"{tag} {k + 1}", allow_outside_meshes)
+              for k, e in enumerate(elements)]
     curved = [p.kind for p in pieces if p.kind in ("cylinder", "sphere")]
     if curved:
         counts = ", ".join(f"{curved.count(k)} {k}{'s' if curved.count(k) > 1 else ''}"
@@ -452,8 +504,8 @@ def link_geometry(path: Path, part: str | None = None) -> tuple[str, list[Geomet
     return link.get("name") or f"link {index + 1}", pieces, warnings
 
 
-def polyhedron_from_urdf(path: Path, allow_open: bool = False,
-                         part: str | None = None) -> Polyhedron:
+def polyhedron_from_urdf(path: Path, allow_open: bool = False, part: str | None = None, *,
+                         allow_outside_meshes: bool = False) -> Polyhedron:
     """The polyhedron of a URDF link: all its collision geometry, each piece placed.
 
     Parameters
@@ -464,6 +516,9 @@ def polyhedron_from_urdf(path: Path, allow_open: bool = False,
         Accept open and non-manifold meshes (with a warning).
     part : str, optional
         The link to read; needed when several links carry geometry.
+    allow_outside_meshes : bool
+        Read meshes outside the URDF's folder (or its package's); refused by
+        default (:func:`check_mesh_inside`).
 
     Examples
     --------
@@ -472,7 +527,7 @@ def polyhedron_from_urdf(path: Path, allow_open: bool = False,
     >>> cube.name, round(cube.volume, 12), cube.bounds.tolist()
     ('cube', 1.0, [[-0.5, -0.5, -0.5], [0.5, 0.5, 0.5]])
     """
-    _, pieces, warnings = link_geometry(path, part)
+    _, pieces, warnings = link_geometry(path, part, allow_outside_meshes=allow_outside_meshes)
     offsets = np.cumsum([0] + [len(p.vertices) for p in pieces[:-1]])
     vertices = np.concatenate([p.vertices for p in pieces])
     triangles = np.concatenate([p.triangles + offset
