@@ -290,6 +290,13 @@ def test_urdf_meshes_outside_the_folder(tmp_path, capsys):
     assert main([*argv[:3], "--out", str(tmp_path / "out2"), *argv[5:],
                  "--allow-outside-meshes"]) == 0
     assert json.loads(capsys.readouterr().out)["done"] == 2
+    # inspect and synthesize take the same flag, and refuse without it
+    for command in (["inspect", str(up), "--json"],
+                    ["synthesize", str(up), *SOFT_ARGS, "--json"]):
+        assert main(command) == 2
+        assert "--allow-outside-meshes" in capsys.readouterr().err
+        assert main([*command, "--allow-outside-meshes"]) == 0
+        capsys.readouterr()
 
 
 def test_a_symlink_loop_mesh_fails_only_its_urdf(tmp_path, capsys):

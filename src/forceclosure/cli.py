@@ -328,7 +328,8 @@ def _cmd_inspect(args: argparse.Namespace) -> int:
 
     from .objects.io import load_object
 
-    obj = load_object(args.object, allow_open=True, part=args.part)  # describe open meshes too
+    obj = load_object(args.object, allow_open=True, part=args.part,  # describe open meshes too
+                      allow_outside_meshes=args.allow_outside_meshes)
     info = obj.summary()
     if args.json:
         json.dump(info, sys.stdout, indent=2)
@@ -375,7 +376,8 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
 
     if args.html and not args.html.lower().endswith((".html", ".htm")):
         raise InputError(f"--html {args.html}: an interactive view is saved as .html")
-    obj = load_object(args.object, allow_open=args.allow_open, part=args.part)
+    obj = load_object(args.object, allow_open=args.allow_open, part=args.part,
+                      allow_outside_meshes=args.allow_outside_meshes)
     if obj.dim == 3 and args.vertices:
         raise InputError("--vertices is for polygons; on a polyhedron every finger is on a face")
     if args.vertices and args.contact == "frictionless":
@@ -566,6 +568,12 @@ def _cmd_warmup(args: argparse.Namespace) -> int:
     return 0
 
 
+def _outside_meshes_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--allow-outside-meshes", action="store_true",
+                   help="let a URDF name meshes outside its folder (or its package's "
+                        "folder); refused by default")
+
+
 def _synthesis_options(p: argparse.ArgumentParser) -> None:
     """The hand and the construction: options shared by ``synthesize`` and ``dataset``."""
     p.add_argument("--contact", choices=("hard", "soft", "frictionless"), default="hard",
@@ -637,6 +645,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="open or non-manifold meshes are described either way; with this "
                         "flag, without the reminder that synthesize needs it")
     i.add_argument("--part", metavar="NAME", help="the URDF link (or SVG element id) to read")
+    _outside_meshes_option(i)
     i.set_defaults(run=_cmd_inspect)
     y = sub.add_parser("synthesize", help="where to put the fingers: independent regions",
                        description="Find the best force-closure grasps on an object and the "
@@ -650,6 +659,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "with friction in the plane, 4 frictionless; in space 2 soft, 3 hard, "
                         "7 frictionless)")
     y.add_argument("--part", metavar="NAME", help="the URDF link (or SVG element id) to read")
+    _outside_meshes_option(y)
     _synthesis_options(y)
     y.add_argument("--vertices", action="store_true",
                    help="also grasp with a soft finger on a convex vertex (a wider cone)")
@@ -679,9 +689,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="with --analyze: each object's grasp file, with {dir}, {stem} and "
                         "{name} filled in, plain names only (default {dir}/{stem}.grasps.npz "
                         "or .json)")
-    t.add_argument("--allow-outside-meshes", action="store_true",
-                   help="let a URDF name meshes outside its folder (or its package's "
-                        "folder); refused by default")
+    _outside_meshes_option(t)
     t.add_argument("--workers", type=int, default=None,
                    help="local worker processes (default: all cores; 1 runs in this process)")
     t.add_argument("--scheduler", metavar="ADDRESS",
