@@ -109,7 +109,7 @@ def unit_rows(v: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.f
     Examples
     --------
     >>> unit, length = unit_rows(np.array([[3e300, 4e300], [0.0, 2.0]]))
-    >>> unit.tolist(), length[1]
+    >>> unit.tolist(), float(length[1])
     ([[0.6, 0.8], [0.0, 1.0]], 2.0)
     """
     big = np.max(np.abs(v), axis=-1, keepdims=True)
