@@ -9,6 +9,7 @@ mismatched shapes, zero normals, friction from 0 to 1e300, extreme tolerances.
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 import pytest
@@ -22,12 +23,16 @@ from forceclosure.errors import InputError
 from forceclosure.quality import epsilon, least_friction
 from forceclosure.two_finger import two_finger_closure
 
-FUZZ = settings(max_examples=60, deadline=None, derandomize=True,
+#: Examples per test: 150, the same ones every run (about 30 s for the file); set
+#: FORCECLOSURE_FUZZ_EXAMPLES for a longer, random search.
+_EXAMPLES = os.environ.get("FORCECLOSURE_FUZZ_EXAMPLES")
+FUZZ = settings(max_examples=int(_EXAMPLES or 150), deadline=None, derandomize=not _EXAMPLES,
                 suppress_health_check=list(HealthCheck))
 
 #: Floats a careless or hostile caller might pass.
 NASTY = st.sampled_from([0.0, -0.0, 1.0, -1.0, 0.3, 1e-300, 5e-324, -5e-324, 1e300, -1e300,
-                         1.7e308, -1.7e308, math.nan, math.inf, -math.inf, 1e16, 1e154, 2.0**64])
+                         1e289, -1e289, 1.7e308, -1.7e308, math.nan, math.inf, -math.inf,
+                         1e16, 1e154, 2.0**64])
 VALUE = st.one_of(NASTY, st.floats(-10, 10), st.floats(allow_nan=True, allow_infinity=True))
 FRICTION = st.one_of(NASTY, st.floats(0, 5), st.sampled_from([1e4, 1e5, 1e20, 1e300]))
 
@@ -85,8 +90,12 @@ def test_contact_functions_return_or_refuse(spec, length_scale, cone):
         lambda: [fc.point_contact(p, n, m, mu, t) for p, n, m, mu, t in spec])
     if contacts is None:
         return
+    analysis = _returns_or_refuses(
+        lambda: fc.analyze(contacts, cone=cone, length_scale=length_scale))
+    if analysis is not None:  # nothing returned is NaN or infinite
+        for value in (analysis.twist, analysis.margin, analysis.contact_forces):
+            assert value is None or np.all(np.isfinite(value)), analysis
     for call in (
-        lambda: fc.analyze(contacts, cone=cone, length_scale=length_scale),
         lambda: least_friction(contacts, cone=cone),
         lambda: epsilon(contacts, length_scale=length_scale),
     ):
@@ -136,7 +145,7 @@ def _independent(points, normals, mu):
 
 
 @FUZZ
-@given(st.integers(0, 2**32 - 1), st.integers(2, 5), st.integers(-11, 300),
+@given(st.integers(0, 2**32 - 1), st.integers(2, 5), st.integers(-11, 289),
        st.sampled_from([0.05, 0.3, 1.0, 30.0, 1e8, 1e16, 1e154, 1e300]))
 def test_verdicts_agree_with_an_independent_check(seed, k, exponent, mu):
     rng = np.random.default_rng(seed)
@@ -184,7 +193,7 @@ def test_length_scale_does_not_change_the_verdict(scale):
     assert fc.analyze(apart, length_scale=scale).verdict.value == "none"
 
 
-@pytest.mark.parametrize("size", [1e-15, 1e-12 * 4, 1e100, 1e300, 1.7e308 / 2])
+@pytest.mark.parametrize("size", [1e-300, 1e-15, 1e-12 * 4, 1e100, 1e289])
 def test_huge_and_tiny_grasps_keep_their_verdict(size):
     # a pinch across (Corollary 3: closed at any size), normals of length 1e300; points
     # closer than 1e-12 are one point (contacts.frame), which nothing closes

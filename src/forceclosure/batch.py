@@ -34,7 +34,7 @@ from .closure import (
     force_direction_closure,
     torque_closure,
 )
-from .contacts import MODELS, Cone, Contact, unit_rows
+from .contacts import MAX_COORDINATE, MODELS, Cone, Contact, unit_rows
 from .errors import InputError
 from .motion import motion_of, shift_twist
 from .two_finger import Engine
@@ -134,6 +134,11 @@ def _validate(points: ArrayLike, normals: ArrayLike, mu: ArrayLike,
         if len(bad):
             raise InputError(f"grasp {bad[0][0] + 1}, contact {bad[0][1] + 1}: '{name}' has a "
                              "non-finite coordinate")
+    bad = np.argwhere(np.max(np.abs(P), axis=2) > MAX_COORDINATE)
+    if len(bad):
+        g, c = bad[0]
+        raise InputError(f"grasp {g + 1}, contact {c + 1}: 'point' has a coordinate beyond "
+                         f"{MAX_COORDINATE:g}, too large to compute with")
     unit, length = unit_rows(N_)
     bad = np.argwhere(length <= 1e-12)
     if len(bad):
@@ -171,7 +176,7 @@ def _sizes(P: NDArray[np.float64]) -> NDArray[np.float64]:
 def _check_torsion(grasps: _Grasps) -> None:
     """Refuse a torsional coefficient more than :data:`TORSION_MAX` times its grasp's size."""
     size = _sizes(grasps.points)
-    with np.errstate(invalid="ignore"):
+    with np.errstate(invalid="ignore", over="ignore"):
         soft = np.array([m == "soft" for m in grasps.models])
         bad = np.argwhere((grasps.torsion > TORSION_MAX * size[:, None]) & soft)
     if len(bad):

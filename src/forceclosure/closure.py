@@ -45,6 +45,7 @@ from .contacts import (
     check_grasp,
     frame,
     generating_wrenches,
+    own_frame,
     unit_rows,
 )
 from .errors import InputError
@@ -608,6 +609,26 @@ def _decide(contacts: list[Contact], cone: str | Cone, tol: float,
     return marginal, inner_ws, f"exact cones (undecided at {k} edges)", Cone(k, "inscribed")
 
 
+def _motion(dual: NDArray[np.float64], contacts: list[Contact], both_ways: bool) -> Motion:
+    """The motion of a twist found in the grasp's own frame, decoded in units of
+    :func:`contacts.binary_unit` (so huge or tiny coordinates neither overflow nor vanish)
+    and brought back to the object's coordinates."""
+    ref, scale, unit = own_frame(np.concatenate([c.points for c in contacts]))
+    if unit < 1.0:  # tiny coordinates are one point: torques about it, in its own units
+        ref, scale, unit = ref * unit, 1.0, 1.0
+    motion = motion_of(shift_twist(dual, ref, scale), both_ways=both_ways, length_scale=scale)
+    if unit == 1.0:
+        return motion
+    k = 1 if len(motion.twist) == 3 else 3
+    twist = motion.twist.copy()
+    if motion.kind == "translation":  # |v| = 1: omega is per unit length
+        twist[:k] /= unit
+    else:  # |omega| = 1: v is a length
+        twist[k:] *= unit
+    return Motion(motion.kind, twist, None if motion.point is None else motion.point * unit,
+                  motion.direction, motion.pitch * unit, motion.both_ways)
+
+
 def analyze(contacts: Sequence[Contact], *, cone: str | Cone = "exact", tol: float = TOLERANCE,
             reference: ArrayLike | None = None, length_scale: float | None = None) -> Analysis:
     """Is the grasp force-closure? Theorem 1, explained by Theorems 2 and 3.
@@ -664,9 +685,7 @@ def analyze(contacts: Sequence[Contact], *, cone: str | Cone = "exact", tol: flo
         # closure <=> both; so with force-direction closure, torque closure failed
         tc = not fd and torque_closure(ws.wrenches)
         if vc.twist is not None:
-            twist = shift_twist(vc.twist, ws.reference, ws.length_scale)
-            motion = motion_of(twist, both_ways=vc.repelling <= tol,
-                               length_scale=ws.length_scale)
+            motion = _motion(vc.twist, contacts, vc.repelling <= tol)
             twist = motion.twist
     return Analysis(vc.verdict, vc.rank, margin, vc.sigma_ratio, fd, tc, forces, twist,
                     motion, vc.reason.replace("vectors", "wrenches"), label, ref, scale)

@@ -47,6 +47,10 @@ MODELS = ("frictionless", "hard", "soft")
 Model = Literal["frictionless", "hard", "soft"]
 Fit = Literal["inscribed", "circumscribed"]
 
+#: Largest contact coordinate accepted: beyond it the axis of an unresisted rotation (up
+#: to 1e9 times the grasp's size away) could overflow.
+MAX_COORDINATE = 1e290
+
 #: Most edges a friction pyramid may have (the exact-cone bracket stops at 256).
 MAX_EDGES = 4096
 
@@ -202,6 +206,11 @@ def make_contact(points: Iterable[ArrayLike], normals: Iterable[ArrayLike], mode
                  normal_field: str = "normal") -> Contact:
     """A validated contact; error messages name ``point_field`` and ``normal_field``."""
     pts = [_vector(p, point_field) for p in points]
+    for p in pts:
+        if np.max(np.abs(p)) > MAX_COORDINATE:
+            raise InputError(f"field '{point_field}' has a coordinate beyond "
+                             f"{MAX_COORDINATE:g}, too large to compute with: "
+                             f"{float(np.max(np.abs(p))):g}")
     nrm = [_unit(n, normal_field) for n in normals]
     if not pts:
         raise InputError(f"field '{point_field}' is empty")

@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .closure import TOLERANCE, Verdict, analyze, check_tolerance
-from .contacts import point_contact, unit_rows
+from .contacts import MAX_COORDINATE, point_contact, unit_rows
 from .errors import InputError
 
 _VERDICTS = np.array([Verdict.NONE.value, Verdict.MARGINAL.value, Verdict.CLOSURE.value])
@@ -162,6 +162,11 @@ def two_finger_closure(p: ArrayLike, n_p: ArrayLike, q: ArrayLike, n_q: ArrayLik
                                     n_q.shape[:-1], mu_p.shape, mu_q.shape)
     except ValueError:
         raise InputError("p, n_p, q, n_q, mu_p and mu_q do not broadcast to one shape") from None
+    for name, a in (("p", p), ("q", q)):
+        with np.errstate(invalid="ignore"):
+            if np.any(np.isfinite(a) & (np.abs(a) > MAX_COORDINATE)):  # non-finite: below
+                raise InputError(f"'{name}' has a coordinate beyond {MAX_COORDINATE:g}, too "
+                                 "large to compute with")
     p, n_p, q, n_q = _conditioned(p, n_p, q, n_q)
     pairs = (p, n_p, q, n_q)
     if engine == "reference":
