@@ -23,8 +23,18 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .closure import TOLERANCE, Verdict, decide, force_direction_closure, torque_closure
-from .contacts import MODELS, Cone, Contact
+from .closure import (
+    FRICTION_CAP,
+    TOLERANCE,
+    TORSION_MAX,
+    Verdict,
+    check_rtol,
+    check_tolerance,
+    decide,
+    force_direction_closure,
+    torque_closure,
+)
+from .contacts import MAX_COORDINATE, MODELS, Cone, Contact, unit_rows
 from .errors import InputError
 from .motion import motion_of, shift_twist
 from .two_finger import Engine
@@ -93,7 +103,9 @@ def _per_contact(value: ArrayLike | None, shape: tuple[int, int], name: str) -> 
     except (TypeError, ValueError):
         raise InputError(f"'{name}' must be a number or an array broadcastable to {shape} "
                          "(grasps, contacts)") from None
-    bad = np.argwhere(~np.isnan(a) & ((a < 0) | ~np.isfinite(a)))
+    # NaN is a soft finger's "no coupled torsion"; a friction coefficient must be a number
+    bad = np.argwhere(((a < 0) | ~np.isfinite(a)) if name == "mu"
+                      else ~np.isnan(a) & ((a < 0) | ~np.isfinite(a)))
     if len(bad):
         g, c = bad[0]
         raise InputError(f"grasp {g + 1}, contact {c + 1}: '{name}' must be finite and >= 0, "
@@ -104,6 +116,8 @@ def _per_contact(value: ArrayLike | None, shape: tuple[int, int], name: str) -> 
 def _validate(points: ArrayLike, normals: ArrayLike, mu: ArrayLike,
               model: str | Sequence[str], torsion: ArrayLike | None) -> _Grasps:
     try:
+        if np.iscomplexobj(points) or np.iscomplexobj(normals):
+            raise TypeError
         P = np.asarray(points, dtype=float)
         N_ = np.asarray(normals, dtype=float)
     except (TypeError, ValueError):
@@ -112,21 +126,84 @@ def _validate(points: ArrayLike, normals: ArrayLike, mu: ArrayLike,
         raise InputError(f"points and normals must both have shape (N, k, 2 or 3); got "
                          f"{P.shape} and {N_.shape}")
     n, k, _ = P.shape
+    if k == 0:
+        raise InputError(f"points and normals have shape {P.shape}: a grasp needs at least "
+                         "one contact")
     for name, arr in (("point", P), ("normal", N_)):
         bad = np.argwhere(~np.all(np.isfinite(arr), axis=2))
         if len(bad):
             raise InputError(f"grasp {bad[0][0] + 1}, contact {bad[0][1] + 1}: '{name}' has a "
                              "non-finite coordinate")
-    length = np.linalg.norm(N_, axis=2)
+    bad = np.argwhere(np.max(np.abs(P), axis=2) > MAX_COORDINATE)
+    if len(bad):
+        g, c = bad[0]
+        raise InputError(f"grasp {g + 1}, contact {c + 1}: 'point' has a coordinate beyond "
+                         f"{MAX_COORDINATE:g}, too large to compute with")
+    unit, length = unit_rows(N_)
     bad = np.argwhere(length <= 1e-12)
     if len(bad):
         raise InputError(f"grasp {bad[0][0] + 1}, contact {bad[0][1] + 1}: 'normal' is a zero "
                          "vector")
-    models = [model] * k if isinstance(model, str) else [str(m) for m in model]
+    if isinstance(model, str):
+        models = [model] * k
+    else:
+        try:
+            models = [str(m) for m in model]
+        except TypeError:
+            models = []
     if len(models) != k or any(m not in MODELS for m in models):
         raise InputError(f"model must be one of {', '.join(MODELS)}, or a list of {k} of them")
-    return _Grasps(P, N_ / length[..., None], _per_contact(mu, (n, k), "mu"),
-                   _per_contact(torsion, (n, k), "torsion"), models)
+    grasps = _Grasps(P, unit, _per_contact(mu, (n, k), "mu"),
+                     _per_contact(torsion, (n, k), "torsion"), models)
+    if not np.all(np.isnan(grasps.torsion)):
+        _check_torsion(grasps)
+    return grasps
+
+
+def _sizes(P: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Each grasp's own length scale (``contacts.own_frame``, physical units), without overflow."""
+    big = np.max(np.abs(P), axis=(1, 2))
+    unit = np.where((big == 0) | ((big >= 2.0**-64) & (big <= 2.0**64)), 1.0,
+                    np.ldexp(1.0, np.minimum(np.frexp(big)[1], 1023)))
+    scaled = P / unit[:, None, None]
+    spread = np.max(unit_rows(scaled - scaled.mean(axis=1, keepdims=True))[1], axis=1)
+    one_point = np.where(unit == 1.0, spread <= 1e-12 * np.maximum(1.0, big),
+                         (unit < 1.0) | (spread <= 1e-12 * np.max(np.abs(scaled), axis=(1, 2))))
+    with np.errstate(over="ignore"):
+        return np.where(one_point, np.where(unit > 1.0, big, 1.0), spread * unit)
+
+
+def _check_torsion(grasps: _Grasps) -> None:
+    """Refuse a torsional coefficient more than :data:`TORSION_MAX` times its grasp's size."""
+    size = _sizes(grasps.points)
+    with np.errstate(invalid="ignore", over="ignore"):
+        soft = np.array([m == "soft" for m in grasps.models])
+        bad = np.argwhere((grasps.torsion > TORSION_MAX * size[:, None]) & soft)
+    if len(bad):
+        g, c = bad[0]
+        raise InputError(f"grasp {g + 1}, contact {c + 1}: 'torsion' {grasps.torsion[g, c]:g} "
+                         f"is more than {TORSION_MAX:g} times the grasp's size {size[g]:.3g}")
+
+
+def _extreme(grasps: _Grasps) -> NDArray[np.bool_]:
+    """Grasps the kernels leave to the reference path: coordinates beyond ``2**±64``
+    (the reference computes them in units of a power of two)."""
+    big = np.max(np.abs(grasps.points), axis=(1, 2))
+    return (big != 0) & ((big < 2.0**-64) | (big > 2.0**64))
+
+
+def _kernel_inputs(grasps: _Grasps, part: slice,
+                   extreme: NDArray[np.bool_]) -> tuple[NDArray, NDArray]:
+    """Points and friction of ``part`` for the kernels: grasps with extreme coordinates
+    zeroed (they are left to the reference), friction capped at :data:`FRICTION_CAP`."""
+    from .kernels import kernel_array
+
+    P = grasps.points[part]
+    extreme = extreme[part]
+    if extreme.any():
+        P = P.copy()
+        P[extreme] = 0.0
+    return kernel_array(P), kernel_array(np.minimum(grasps.mu[part], FRICTION_CAP))
 
 
 def _cone_args(cone: str | Cone) -> tuple[bool, int, int]:
@@ -178,6 +255,7 @@ def analyze_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
     ['closure', 'none']
     """
     _check_engine(engine)
+    tol = check_tolerance(tol)
     grasps = _validate(points, normals, mu, model, torsion)
     exact, edges, fit = _cone_args(cone)
     n, k, d = grasps.points.shape
@@ -191,13 +269,18 @@ def analyze_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
 
         model_codes = np.array([MODELS.index(m) for m in grasps.models], dtype=np.int64)
         maxm = kernel.columns_per_grasp(k, d, 256 if exact else edges)
+        extreme = _extreme(grasps)
         for lo in range(0, n, CHUNK):
             part = slice(lo, min(n, lo + CHUNK))
+            P, M = _kernel_inputs(grasps, part, extreme)
             kernel.closure_kernel(
-                kernel_array(grasps.points[part]), kernel_array(grasps.normals[part]),
-                kernel_array(grasps.mu[part]), kernel_array(grasps.torsion[part]),
+                P, kernel_array(grasps.normals[part]), M, kernel_array(grasps.torsion[part]),
                 model_codes, edges, fit, exact, float(tol), maxm,
                 code[part], rank[part], margin[part], twist[part])
+            # friction above the cap: the kernel's closure with the cap is a proof; the rest
+            # is decided by the reference (closure.FRICTION_CAP), as are extreme coordinates
+            above = np.any(grasps.mu[part] > FRICTION_CAP, axis=1) & (code[part] != 2)
+            code[part][above | extreme[part]] = kernel.DEFER
             if progress is not None:
                 progress(part.stop - part.start)
         todo = np.flatnonzero(code == kernel.DEFER)
@@ -256,6 +339,8 @@ def least_friction_batch(points: ArrayLike, normals: ArrayLike, *,
     from .quality import MU_MAX, least_friction_reference
 
     _check_engine(engine)
+    tol = check_tolerance(tol)
+    rtol = check_rtol(rtol)
     grasps = _validate(points, normals, 0.0, model, torsion)
     exact, edges, fit = _cone_args(cone)
     n, k, d = grasps.points.shape
@@ -276,10 +361,12 @@ def least_friction_batch(points: ArrayLike, normals: ArrayLike, *,
         model_codes = np.array([MODELS.index(m) for m in grasps.models], dtype=np.int64)
         maxm = kernel.columns_per_grasp(k, d, 256 if exact else edges)
         deferred = np.zeros(n, dtype=np.bool_)
-        kernel.least_friction_kernel(kernel_array(grasps.points), kernel_array(grasps.normals),
+        extreme = _extreme(grasps)
+        P = _kernel_inputs(grasps, slice(0, n), extreme)[0]
+        kernel.least_friction_kernel(P, kernel_array(grasps.normals),
                                      kernel_array(grasps.torsion), model_codes, edges, fit,
                                      exact, float(tol), maxm, MU_MAX, float(rtol), out, deferred)
-        todo = np.flatnonzero(deferred)
+        todo = np.flatnonzero(deferred | extreme)
     for g in todo:
         out[g] = least_friction_reference(grasps.contacts(g), cone=cone, tol=tol, rtol=rtol)
     return out
@@ -331,6 +418,7 @@ def epsilon_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
     if norm not in ("L1", "Linf"):
         raise InputError(f"norm must be 'L1' or 'Linf', got {norm!r}")
     cone = Cone(edges, "inscribed")
+    tol = check_tolerance(tol)
     grasps = _validate(points, normals, mu, model, torsion)
     n, k, d = grasps.points.shape
     out = np.zeros(n)
@@ -344,14 +432,16 @@ def epsilon_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
         maxm = theorem1.columns_per_grasp(k, d, max(cone.edges, 256))
         model_codes = np.array([MODELS.index(m) for m in grasps.models], dtype=np.int64)
         deferred = np.zeros(n, dtype=np.bool_)
+        extreme = _extreme(grasps)
         for lo in range(0, n, CHUNK):
             part = slice(lo, min(n, lo + CHUNK))
-            epsilon_kernel(kernel_array(grasps.points[part]), kernel_array(grasps.normals[part]),
-                           kernel_array(grasps.mu[part]), kernel_array(grasps.torsion[part]),
+            P, M = _kernel_inputs(grasps, part, extreme)
+            epsilon_kernel(P, kernel_array(grasps.normals[part]), M,
+                           kernel_array(grasps.torsion[part]),
                            model_codes, cone.edges, float(tol), maxm, out[part], deferred[part])
             if progress is not None:
                 progress(part.stop - part.start)
-        todo = np.flatnonzero(deferred)
+        todo = np.flatnonzero(deferred | extreme)
     else:
         todo = ()
     for g in todo:

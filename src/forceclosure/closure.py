@@ -38,10 +38,32 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import linprog
 
-from .contacts import Cone, Contact, WrenchSet, check_grasp, generating_wrenches
+from .contacts import (
+    Cone,
+    Contact,
+    WrenchSet,
+    check_grasp,
+    frame,
+    generating_wrenches,
+    own_frame,
+    unit_rows,
+)
 from .errors import InputError
 from .motion import Motion, motion_of, shift_twist
 from .tolerance import TOLERANCE
+
+#: Friction above this proves closure only as this much does (friction is
+#: monotone: a grasp closed with less is closed with more), and refutes it
+#: only as the closed half-space does (the limit of any friction). Between
+#: the two a grasp is ``marginal``: its cones' half-angles are within
+#: ``atan(1 / FRICTION_CAP)`` (1e-4 rad) of the half-space. Above it the cone's
+#: edges ``-n ± mu t`` are numerically the tangent line (at 1e16 exactly).
+FRICTION_CAP = 1e4
+
+#: Largest torsional coefficient accepted, relative to the grasp's own size
+#: (a torsional friction radius a million times the grasp is not a contact
+#: patch; beyond it a wrench's force part would vanish in its torque).
+TORSION_MAX = 1e6
 
 #: Pyramid sizes tried, in turn, to bracket an exact circular friction cone.
 EXACT_CONE_EDGES = (8, 16, 32, 64, 128, 256)
@@ -95,6 +117,31 @@ class VectorClosure:
     twist: NDArray[np.float64] | None
     repelling: float
     reason: str
+
+
+def check_tolerance(tol: object, name: str = "tol") -> float:
+    """``tol`` as a float, refused unless it is a number with 0 <= tol < 1.
+
+    Examples
+    --------
+    >>> check_tolerance(1e-6)
+    1e-06
+    """
+    if isinstance(tol, bool) or not isinstance(tol, int | float | np.floating | np.integer):
+        raise InputError(f"'{name}' must be a number, got {tol!r}")
+    if not 0.0 <= float(tol) < 1.0:
+        raise InputError(f"'{name}' must be >= 0 and < 1, got {tol!r}")
+    return float(tol)
+
+
+def check_rtol(rtol: object) -> float:
+    """A bisection's relative precision, refused unless 1e-15 <= rtol < 1 (below 1e-15
+    the bracket could stop shrinking between two neighbouring floats)."""
+    if isinstance(rtol, bool) or not isinstance(rtol, int | float | np.floating | np.integer):
+        raise InputError(f"'rtol' must be a number, got {rtol!r}")
+    if not 1e-15 <= float(rtol) < 1.0:
+        raise InputError(f"'rtol' must be >= 1e-15 and < 1, got {rtol!r}")
+    return float(rtol)
 
 
 def _fmt(x: float | None) -> str:
@@ -162,7 +209,9 @@ def _null_twist(U: NDArray[np.float64]) -> NDArray[np.float64]:
     The SVD fixes a null vector only up to sign, and LAPACK builds differ in
     the sign they return; dividing by the largest component makes it one.
     """
-    u = np.linalg.svd(U, full_matrices=True)[0][:, -1]
+    # only the left singular vectors are needed: full ones only when there are fewer
+    # columns than rows (else the m x m right factor would cost m^2 memory)
+    u = np.linalg.svd(U, full_matrices=U.shape[1] < U.shape[0])[0][:, -1]
     return u / u[np.argmax(np.abs(u))]
 
 
@@ -199,15 +248,21 @@ def vector_closure(W: ArrayLike, tol: float = TOLERANCE,
     >>> vector_closure([[1, -1, 0], [1, 1, 2]]).verdict.value
     'none'
     """
-    W = np.asarray(W, dtype=float)
-    if W.ndim != 2:
-        raise InputError(f"wrench matrix must be 2-D (d x m), got shape {W.shape}")
+    try:
+        W = np.asarray(W, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError("wrench matrix must be an array of numbers") from None
+    if W.ndim != 2 or W.shape[0] == 0:
+        raise InputError(f"wrench matrix must be 2-D (d x m, d >= 1), got shape {W.shape}")
     if not np.all(np.isfinite(W)):
         raise InputError("wrench matrix has a non-finite entry")
+    check_tolerance(tol)
     d = W.shape[0]
-    norms = np.linalg.norm(W, axis=0)
+    units, norms = unit_rows(W.T)
+    if not np.all(np.isfinite(norms)):  # a column longer than the largest float
+        units, norms = unit_rows(W.T / np.max(np.abs(W)))  # only ratios of lengths matter
     keep = norms > 1e-12 * max(1.0, float(norms.max(initial=0.0)))
-    U = W[:, keep] / norms[keep]
+    U = units[keep].T
     pairs = (np.zeros(W.shape[1], bool) if two_sided is None
              else np.asarray(two_sided, bool))[keep]
     m = U.shape[1]
@@ -276,7 +331,7 @@ def _modulo_lineality(W: NDArray[np.float64], U: NDArray[np.float64],
     """
     d = U.shape[0]
     P, R = U[:, two_sided], U[:, ~two_sided]
-    basis, sv, _ = np.linalg.svd(P, full_matrices=True)
+    basis, sv, _ = np.linalg.svd(P, full_matrices=P.shape[1] < d)  # d x d left factor
     dim_l = int(np.sum(sv > max(P.shape) * np.finfo(float).eps * sv[0]))
     Q = basis[:, dim_l:]
     if Q.shape[1] > 0 and R.shape[1] > 0:
@@ -372,7 +427,8 @@ class Analysis:
     rank : int
         Rank of the generating wrenches (3 planar, 6 spatial when full).
     margin : float or None
-        The LP margin of Theorem 1 (see :func:`vector_closure`).
+        The LP margin of Theorem 1 (see :func:`vector_closure`), in the frame
+        ``reference``, ``length_scale``.
     sigma_ratio : float
         Smallest over largest singular value of the normalised wrenches.
     force_direction_closure, torque_closure : bool
@@ -464,32 +520,110 @@ def decide(contacts: Sequence[Contact], cone: str | Cone = "exact", tol: float =
     decides; if none does, the grasp is ``marginal`` (within the friction
     ratio ``cos(pi/256)`` of the boundary).
 
-    Returns the deciding :class:`VectorClosure`, its wrench set, and a
-    description of the cones used.
+    The verdict is decided in the grasp's own frame (torques about the
+    contacts' centroid, divided by their largest distance from it), so
+    ``reference`` and ``length_scale`` are only checked here: however small
+    or large, they cannot change it. Friction above :data:`FRICTION_CAP` is
+    decided as that documents.
+
+    Returns the deciding :class:`VectorClosure`, its wrench set (in the
+    grasp's own frame), and a description of the cones used.
     """
+    return _decision(contacts, cone, tol, reference, length_scale)[:3]
+
+
+def _decision(contacts: Sequence[Contact], cone: str | Cone, tol: float,
+              reference: ArrayLike | None, length_scale: float | None,
+              ) -> tuple[VectorClosure, WrenchSet, str, list[Contact], Cone, list[bool] | None]:
+    """:func:`decide`, also returning the contacts, pyramid and half-space marks that decided."""
     contacts = check_grasp(contacts)
+    check_tolerance(tol)
+    _parse_cone(cone)
+    if reference is not None or length_scale is not None:
+        frame(contacts, reference, length_scale)  # refuses a bad frame
+    _check_torsion(contacts)
+    above = [c.frictional and c.mu > FRICTION_CAP for c in contacts]
+    if not any(above):
+        vc, ws, label, use = _decide(contacts, cone, tol)
+        return vc, ws, label, contacts, use, None
+    capped = [Contact(c.points, c.normals, c.model, FRICTION_CAP, c.torsion) if big else c
+              for c, big in zip(contacts, above, strict=True)]
+    vc, ws, label, use = _decide(capped, cone, tol)  # less friction: its closure is a proof
+    if vc.verdict is Verdict.CLOSURE:
+        return (vc, ws, f"{label}; friction above {FRICTION_CAP:g} taken as {FRICTION_CAP:g}",
+                capped, use, None)
+    top, top_ws, top_label, top_use = _decide(contacts, cone, tol, above)  # more: none proves
+    if top.verdict is Verdict.NONE:
+        return (top, top_ws, f"{top_label}; friction above {FRICTION_CAP:g} taken as the "
+                             "half-space", contacts, top_use, above)
+    why = (f"friction above {FRICTION_CAP:g}: not closed with {FRICTION_CAP:g}, nor refuted "
+           "with half-space cones (within atan(1e-4) of the half-space)")
+    return (VectorClosure(Verdict.MARGINAL, vc.rank, vc.sigma_ratio, vc.margin, None, vc.twist,
+                          vc.repelling, why), ws,
+            f"{label}; friction above {FRICTION_CAP:g} undecided", capped, use, None)
+
+
+def _check_torsion(contacts: list[Contact]) -> None:
+    """Refuse a torsional coefficient above :data:`TORSION_MAX` times the grasp's size."""
+    if all(c.torsion is None or c.model != "soft" for c in contacts):
+        return
+    _, size = frame(contacts)
+    for i, c in enumerate(contacts):
+        if c.model == "soft" and c.torsion is not None and c.torsion > TORSION_MAX * size:
+            raise InputError(f"contact {i + 1}: 'torsion' {c.torsion:g} is more than "
+                             f"{TORSION_MAX:g} times the grasp's size {size:.3g}")
+
+
+def _decide(contacts: list[Contact], cone: str | Cone, tol: float,
+            half_space: Sequence[bool] | None = None,
+            ) -> tuple[VectorClosure, WrenchSet, str, Cone]:
+    """:func:`decide` in the grasp's own frame, ``half_space`` contacts with unbounded
+    friction; also returns the pyramid that decided."""
     fixed = _parse_cone(cone)
     if fixed is not None or not _spatial_friction(contacts):
         use = fixed or Cone()
-        ws = generating_wrenches(contacts, use, reference, length_scale)
+        ws = generating_wrenches(contacts, use, half_space=half_space)
         label = "exact planar cones" if contacts[0].dim == 2 else (
             f"{use}s" if _spatial_friction(contacts) else "no friction cones")
-        return vector_closure(ws.wrenches, tol, ws.two_sided), ws, label
+        return vector_closure(ws.wrenches, tol, ws.two_sided), ws, label, use
     for k in EXACT_CONE_EDGES:
-        inner_ws = generating_wrenches(contacts, Cone(k, "inscribed"), reference, length_scale)
+        inner_ws = generating_wrenches(contacts, Cone(k, "inscribed"), half_space=half_space)
         inner = vector_closure(inner_ws.wrenches, tol, inner_ws.two_sided)
         if inner.verdict is Verdict.CLOSURE:
-            return inner, inner_ws, f"exact cones (proved with {k}-edge inscribed pyramids)"
-        outer_ws = generating_wrenches(contacts, Cone(k, "circumscribed"), reference,
-                                       length_scale)
+            return (inner, inner_ws, f"exact cones (proved with {k}-edge inscribed pyramids)",
+                    Cone(k, "inscribed"))
+        outer_ws = generating_wrenches(contacts, Cone(k, "circumscribed"),
+                                       half_space=half_space)
         outer = vector_closure(outer_ws.wrenches, tol, outer_ws.two_sided)
         if outer.verdict is Verdict.NONE:
-            return outer, outer_ws, f"exact cones (refuted with {k}-edge circumscribed pyramids)"
+            return (outer, outer_ws,
+                    f"exact cones (refuted with {k}-edge circumscribed pyramids)",
+                    Cone(k, "circumscribed"))
     why = (f"within the friction ratio cos(pi/{k}) of the boundary: {k}-edge inscribed "
            f"pyramids do not close the grasp and circumscribed ones do not refute it")
     marginal = VectorClosure(Verdict.MARGINAL, inner.rank, inner.sigma_ratio, inner.margin,
                              None, inner.twist, inner.repelling, why)
-    return marginal, inner_ws, f"exact cones (undecided at {k} edges)"
+    return marginal, inner_ws, f"exact cones (undecided at {k} edges)", Cone(k, "inscribed")
+
+
+def _motion(dual: NDArray[np.float64], contacts: list[Contact], both_ways: bool) -> Motion:
+    """The motion of a twist found in the grasp's own frame, decoded in units of
+    :func:`contacts.binary_unit` (so huge or tiny coordinates neither overflow nor vanish)
+    and brought back to the object's coordinates."""
+    ref, scale, unit = own_frame(np.concatenate([c.points for c in contacts]))
+    if unit < 1.0:  # tiny coordinates are one point: torques about it, in its own units
+        ref, scale, unit = ref * unit, 1.0, 1.0
+    motion = motion_of(shift_twist(dual, ref, scale), both_ways=both_ways, length_scale=scale)
+    if unit == 1.0:
+        return motion
+    k = 1 if len(motion.twist) == 3 else 3
+    twist = motion.twist.copy()
+    if motion.kind == "translation":  # |v| = 1: omega is per unit length
+        twist[:k] /= unit
+    else:  # |omega| = 1: v is a length
+        twist[k:] *= unit
+    return Motion(motion.kind, twist, None if motion.point is None else motion.point * unit,
+                  motion.direction, motion.pitch * unit, motion.both_ways)
 
 
 def analyze(contacts: Sequence[Contact], *, cone: str | Cone = "exact", tol: float = TOLERANCE,
@@ -507,9 +641,10 @@ def analyze(contacts: Sequence[Contact], *, cone: str | Cone = "exact", tol: flo
     tol : float
         Width of the ``marginal`` band.
     reference, length_scale :
-        Torque reference point and length scale (default: the contacts'
-        centroid and their largest distance from it). They change the
-        margin, not the verdict.
+        Torque reference point and length scale of the margin (default: the
+        contacts' centroid and their largest distance from it). They change
+        the margin, not the verdict: that is decided in the grasp's own
+        frame, whatever they are (:func:`decide`).
 
     Returns
     -------
@@ -527,7 +662,14 @@ def analyze(contacts: Sequence[Contact], *, cone: str | Cone = "exact", tol: flo
     <Verdict.CLOSURE: 'closure'>
     """
     contacts = check_grasp(contacts)
-    vc, ws, label = decide(contacts, cone, tol, reference, length_scale)
+    vc, ws, label, used, use, half = _decision(contacts, cone, tol, reference, length_scale)
+    margin = vc.margin
+    ref, scale = ws.reference, ws.length_scale
+    if reference is not None or length_scale is not None:  # the margin in the user's frame
+        ref, scale = frame(contacts, reference, length_scale)
+        if margin is not None:
+            own = generating_wrenches(used, use, reference, length_scale, half_space=half)
+            margin = vector_closure(own.wrenches, tol, own.two_sided).margin
     forces = None
     twist = motion = None
     if vc.verdict is Verdict.CLOSURE:
@@ -540,12 +682,9 @@ def analyze(contacts: Sequence[Contact], *, cone: str | Cone = "exact", tol: flo
         # closure <=> both; so with force-direction closure, torque closure failed
         tc = not fd and torque_closure(ws.wrenches)
         if vc.twist is not None:
-            twist = shift_twist(vc.twist, ws.reference, ws.length_scale)
-            motion = motion_of(twist, both_ways=vc.repelling <= tol,
-                               length_scale=ws.length_scale)
+            motion = _motion(vc.twist, contacts, vc.repelling <= tol)
             twist = motion.twist
-    return Analysis(vc.verdict, vc.rank, vc.margin, vc.sigma_ratio, fd, tc, forces, twist,
-                    motion, vc.reason.replace("vectors", "wrenches"), label, ws.reference,
-                    ws.length_scale)
+    return Analysis(vc.verdict, vc.rank, margin, vc.sigma_ratio, fd, tc, forces, twist,
+                    motion, vc.reason.replace("vectors", "wrenches"), label, ref, scale)
 
 

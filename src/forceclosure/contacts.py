@@ -47,6 +47,13 @@ MODELS = ("frictionless", "hard", "soft")
 Model = Literal["frictionless", "hard", "soft"]
 Fit = Literal["inscribed", "circumscribed"]
 
+#: Largest contact coordinate accepted: beyond it the axis of an unresisted rotation (up
+#: to 1e9 times the grasp's size away) could overflow.
+MAX_COORDINATE = 1e290
+
+#: Most edges a friction pyramid may have (the exact-cone bracket stops at 256).
+MAX_EDGES = 4096
+
 
 @dataclass(frozen=True)
 class Cone:
@@ -67,8 +74,10 @@ class Cone:
     fit: Fit = "inscribed"
 
     def __post_init__(self) -> None:
-        if not isinstance(self.edges, int) or isinstance(self.edges, bool) or self.edges < 3:
-            raise InputError(f"cone: 'edges' must be an integer >= 3, got {self.edges!r}")
+        if (not isinstance(self.edges, int) or isinstance(self.edges, bool) or self.edges < 3
+                or self.edges > MAX_EDGES):
+            raise InputError(f"cone: 'edges' must be an integer >= 3 (and <= {MAX_EDGES}), "
+                             f"got {self.edges!r}")
         if self.fit not in ("inscribed", "circumscribed"):
             raise InputError(
                 f"cone: 'fit' must be 'inscribed' or 'circumscribed', got {self.fit!r}"
@@ -94,12 +103,35 @@ def _vector(value: ArrayLike, field: str) -> NDArray[np.float64]:
     return v
 
 
+def unit_rows(v: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Vectors along the last axis divided by their length, and the lengths, without overflow.
+
+    Each vector is first divided by its largest absolute coordinate, so a
+    length beyond the largest float (a normal of ``1e300``) is still a
+    direction. Zero vectors give NaN rows and length 0.
+
+    Examples
+    --------
+    >>> unit, length = unit_rows(np.array([[3e300, 4e300], [0.0, 2.0]]))
+    >>> unit.tolist(), float(length[1])
+    ([[0.6, 0.8], [0.0, 1.0]], 2.0)
+    """
+    big = np.max(np.abs(v), axis=-1, keepdims=True)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        scaled = v / big
+        small = np.sqrt(np.sum(scaled * scaled, axis=-1, keepdims=True))
+        unit = scaled / small
+    with np.errstate(over="ignore"):
+        length = (big * small)[..., 0]
+    return unit, np.nan_to_num(length, nan=0.0)
+
+
 def _unit(value: ArrayLike, field: str) -> NDArray[np.float64]:
     v = _vector(value, field)
-    norm = float(np.linalg.norm(v))
-    if norm <= 1e-12:
+    unit, length = unit_rows(v)
+    if length <= 1e-12:
         raise InputError(f"field '{field}' is a zero vector; a normal needs a direction")
-    return v / norm
+    return unit
 
 
 @dataclass(frozen=True, eq=False)
@@ -174,6 +206,11 @@ def make_contact(points: Iterable[ArrayLike], normals: Iterable[ArrayLike], mode
                  normal_field: str = "normal") -> Contact:
     """A validated contact; error messages name ``point_field`` and ``normal_field``."""
     pts = [_vector(p, point_field) for p in points]
+    for p in pts:
+        if np.max(np.abs(p)) > MAX_COORDINATE:
+            raise InputError(f"field '{point_field}' has a coordinate beyond "
+                             f"{MAX_COORDINATE:g}, too large to compute with: "
+                             f"{float(np.max(np.abs(p))):g}")
     nrm = [_unit(n, normal_field) for n in normals]
     if not pts:
         raise InputError(f"field '{point_field}' is empty")
@@ -244,24 +281,63 @@ def vertex_contact(point: ArrayLike, normals: Sequence[ArrayLike], model: Model 
     return make_contact([point], normals, model, mu, torsion, "point", "normals")
 
 
-def frame(contacts: Sequence[Contact], reference: ArrayLike | None = None,
-          length_scale: float | None = None) -> tuple[NDArray[np.float64], float]:
-    """The torque reference point and length scale used for a grasp.
+def binary_unit(points: NDArray[np.float64]) -> float:
+    """A power of two to divide coordinates by, so that the largest is near 1.
 
-    Defaults: the centroid of all contact points, and the largest distance
-    from it to a contact point (1 when every point coincides). Verdicts do
-    not depend on either; margins and quality metrics do.
+    1 for coordinates between ``2**-64`` and ``2**64`` (and for all zeros),
+    so ordinary grasps are computed exactly as given; for others, dividing by
+    a power of two is exact and keeps squares and products of coordinates
+    from overflowing or underflowing (verdicts do not depend on units).
 
     Examples
     --------
-    >>> c = [point_contact([-1, 0], [-1, 0]), point_contact([3, 0], [1, 0])]
-    >>> ref, scale = frame(c)
-    >>> ref.tolist(), scale
-    ([1.0, 0.0], 2.0)
+    >>> binary_unit(np.array([[1.0, 2.0]])), binary_unit(np.array([[3e300, 0.0]])) == 2.0**999
+    (1.0, True)
     """
+    big = float(np.max(np.abs(points), initial=0.0))
+    if big == 0.0 or 2.0**-64 <= big <= 2.0**64:
+        return 1.0
+    return math.ldexp(1.0, min(math.frexp(big)[1], 1023))
+
+
+def own_frame(points: NDArray[np.float64]) -> tuple[NDArray[np.float64], float, float]:
+    """A grasp's own frame, in units of :func:`binary_unit`: ``(reference, scale, unit)``.
+
+    The reference is the centroid of ``points`` (``(p, d)``) and the scale
+    their largest distance from it, both divided by ``unit``; when the points
+    coincide (to 1e-12, or 1e-12 of their size when larger) the scale is 1
+    (in physical units; for huge coordinates, their size).
+
+    Examples
+    --------
+    >>> own_frame(np.array([[-1.0, 0.0], [3.0, 0.0]]))
+    (array([1., 0.]), 2.0, 1.0)
+    """
+    unit = binary_unit(points)
+    scaled = points / unit
+    ref = scaled.mean(axis=0)
+    scale = float(np.max(unit_rows(scaled - ref)[1]))
+    big = float(np.max(np.abs(scaled)))
+    if unit == 1.0:
+        if scale <= 1e-12 * max(1.0, big):
+            scale = 1.0
+    elif unit < 1.0:  # coordinates below 2**-64: one point to 1e-12, as 1 is the scale
+        scale = min(1.0 / unit, 2.0**1000)
+    elif scale <= 1e-12 * big:  # huge coordinates: one point to 1e-12 of their size
+        scale = big
+    return ref, scale, unit
+
+
+def _frame_units(contacts: Sequence[Contact], reference: ArrayLike | None,
+                 length_scale: float | None) -> tuple[NDArray[np.float64], float, float]:
+    """``(reference, scale, unit)``: the frame in units of ``unit`` (1 for a user's frame)."""
     pts = np.concatenate([c.points for c in contacts])
+    if reference is None and length_scale is None:
+        return own_frame(pts)
     if reference is None:
         ref = pts.mean(axis=0)
+        if not np.all(np.isfinite(ref)):
+            ref = own_frame(pts)[0] * binary_unit(pts)
     else:
         ref = _vector(reference, "reference")
         if ref.shape[0] != pts.shape[1]:
@@ -270,15 +346,44 @@ def frame(contacts: Sequence[Contact], reference: ArrayLike | None = None,
                 f"{pts.shape[1]}"
             )
     if length_scale is None:
-        scale = float(np.max(np.linalg.norm(pts - ref, axis=1)))
+        with np.errstate(over="ignore"):
+            scale = float(np.max(unit_rows(pts - ref)[1]))
         if scale <= 1e-12 * max(1.0, float(np.max(np.abs(pts)))):
             scale = 1.0
     else:
-        if (not isinstance(length_scale, int | float) or not math.isfinite(length_scale)
-                or length_scale <= 0):
+        if (not isinstance(length_scale, int | float) or isinstance(length_scale, bool)
+                or not math.isfinite(length_scale) or length_scale <= 0):
             raise InputError(
                 f"field 'length_scale' must be a positive number, got {length_scale!r}")
         scale = float(length_scale)
+    if not math.isfinite(scale):
+        raise InputError("field 'reference': the contacts are farther from it than the "
+                         "largest float")
+    return ref, scale, 1.0
+
+
+def frame(contacts: Sequence[Contact], reference: ArrayLike | None = None,
+          length_scale: float | None = None) -> tuple[NDArray[np.float64], float]:
+    """The torque reference point and length scale used for a grasp.
+
+    Defaults: the centroid of all contact points, and the largest distance
+    from it to a contact point (when every point coincides, 1 in the units of
+    :func:`binary_unit`, which is 1 for ordinary coordinates). Verdicts do
+    not depend on either (they are decided in this default frame, the grasp's
+    own); margins and quality metrics do.
+
+    Examples
+    --------
+    >>> c = [point_contact([-1, 0], [-1, 0]), point_contact([3, 0], [1, 0])]
+    >>> ref, scale = frame(c)
+    >>> ref.tolist(), scale
+    ([1.0, 0.0], 2.0)
+    """
+    ref, scale, unit = _frame_units(check_grasp(contacts), reference, length_scale)
+    with np.errstate(over="ignore"):
+        ref, scale = ref * unit, scale * unit
+    if not math.isfinite(scale):
+        raise InputError("the contacts are spread over more than the largest float")
     return ref, scale
 
 
@@ -379,6 +484,53 @@ def primitive_wrenches(points: NDArray[np.float64], normals: NDArray[np.float64]
     return np.transpose(wrenches, (0, 2, 1))
 
 
+def half_space_wrenches(point: NDArray[np.float64], normal: NDArray[np.float64], model: Model,
+                        torsion: float | None, reference: NDArray[np.float64],
+                        scale: float) -> NDArray[np.float64]:
+    """Generators ``(D, g)`` of a contact whose friction cone is the closed half-space.
+
+    The limit of a hard or soft finger as ``mu`` grows without bound: every
+    force with a non-negative normal component, generated exactly by ``-n``
+    and ``±t`` (``±t1, ±t2`` in space), so no pyramid is involved. A soft
+    finger's torque is carried as in :func:`primitive_wrenches` (coupled: only
+    with the normal force, ``-n`` with ``±gamma n``). Every finite cone lies
+    inside it: a grasp these do not close is closed by no friction.
+
+    Examples
+    --------
+    >>> W = half_space_wrenches(np.array([1.0, 0.0]), np.array([1.0, 0.0]), "hard", None,
+    ...                         np.zeros(2), 1.0)
+    >>> (W + 0.0).tolist()   # columns -n, +t, -t: (fx, fy, tau)
+    [[-1.0, 0.0, 0.0], [0.0, 1.0, -1.0], [0.0, 1.0, -1.0]]
+    """
+    d = point.shape[0]
+    if d == 2:
+        tangents = [np.array([-normal[1], normal[0]])]
+    else:
+        t1, t2 = tangent_basis(normal[None])
+        tangents = [t1[0], t2[0]]
+    forces = np.array([-normal] + [s * t for t in tangents for s in (1.0, -1.0)])
+    arm = point - reference
+    coupled = model == "soft" and torsion is not None
+    if d == 2 and coupled:
+        tangent = tangents[0]
+        arms = [arm + torsion * tangent, arm - torsion * tangent]
+    else:
+        arms = [arm]
+    columns = []
+    for a in arms:
+        moments = _cross(np.broadcast_to(a, forces.shape), forces) / scale
+        columns.append(np.concatenate([forces, moments], axis=1))
+    W = np.concatenate(columns, axis=0)
+    if d == 3 and coupled:
+        spin = np.concatenate([np.zeros(3), torsion * normal / scale])
+        W = np.concatenate([W[:1] + spin, W[:1] - spin, W[1:]], axis=0)
+    elif d == 3 and model == "soft":
+        W = np.concatenate([W, [np.concatenate([np.zeros(3), normal]),
+                                np.concatenate([np.zeros(3), -normal])]], axis=0)
+    return W.T
+
+
 @dataclass(frozen=True, eq=False)
 class WrenchSet:
     """The generating wrenches of a grasp: the columns of ``W`` (§2.2).
@@ -429,8 +581,12 @@ def check_grasp(contacts: Sequence[Contact]) -> list[Contact]:
 
 def generating_wrenches(contacts: Sequence[Contact], cone: Cone = Cone(),
                         reference: ArrayLike | None = None,
-                        length_scale: float | None = None) -> WrenchSet:
+                        length_scale: float | None = None,
+                        half_space: Sequence[bool] | None = None) -> WrenchSet:
     """The generating wrenches of a grasp: the union over its contacts (§2.2).
+
+    ``half_space`` marks contacts whose friction cone is taken as the closed
+    half-space (the limit of unbounded friction, :func:`half_space_wrenches`).
 
     Examples
     --------
@@ -441,19 +597,29 @@ def generating_wrenches(contacts: Sequence[Contact], cone: Cone = Cone(),
     """
     contacts = check_grasp(contacts)
     ref, scale = frame(contacts, reference, length_scale)
+    ref_u, scale_u, unit = _frame_units(contacts, reference, length_scale)
     columns, owner, two_sided = [], [], []
     for i, c in enumerate(contacts):
         pure = c.model == "soft" and c.dim == 3 and c.torsion is None
         for p in c.points:
             for n in c.normals:
-                tors = None if c.torsion is None else np.array([c.torsion])
-                w = primitive_wrenches(p[None], n[None], c.model, np.array([c.mu]), tors,
-                                       ref[None], np.array([scale]), cone)[0]
+                tors = None if c.torsion is None else np.array([c.torsion / unit])
+                if half_space is not None and half_space[i] and c.frictional:
+                    w = half_space_wrenches(p / unit, n, c.model,
+                                            None if tors is None else float(tors[0]), ref_u,
+                                            scale_u)
+                else:
+                    w = primitive_wrenches(p[None] / unit, n[None], c.model,
+                                           np.array([c.mu]), tors, ref_u[None],
+                                           np.array([scale_u]), cone)[0]
                 columns.append(w)
                 owner.extend([i] * w.shape[1])
                 flags = [False] * w.shape[1]
                 if pure:  # primitive_wrenches puts the pure torques last
                     flags[-2:] = [True, True]
                 two_sided.extend(flags)
-    return WrenchSet(np.concatenate(columns, axis=1), np.array(owner), ref, scale,
-                     np.array(two_sided))
+    W = np.concatenate(columns, axis=1)
+    if not np.all(np.isfinite(W)):
+        raise InputError("the torques overflow in the frame given by 'reference' and "
+                         "'length_scale' (too far from, or too small for, the contacts)")
+    return WrenchSet(W, np.array(owner), ref, scale, np.array(two_sided))

@@ -11,7 +11,9 @@ reference point and length scale.
   generators) or each (``Linf``: the Minkowski sum of the fingers' hulls with
   the origin). Torques are divided by the length scale, so epsilon is
   dimensionless. Spatial cones are the inscribed pyramid, so the value is a
-  lower bound for circular cones.
+  lower bound for circular cones. Friction above
+  :data:`forceclosure.closure.FRICTION_CAP` is measured as that much (a lower
+  bound too).
 * **Least friction**: the smallest friction coefficient, the same at every
   finger, for which the grasp is force-closure (frictionless contacts taken
   as hard fingers). Planar two-finger grasps use Corollary 3 in closed form;
@@ -30,7 +32,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.spatial import ConvexHull, QhullError
 
-from .closure import TOLERANCE, Verdict, decide, vector_closure
+from .closure import (
+    FRICTION_CAP,
+    TOLERANCE,
+    Verdict,
+    check_rtol,
+    check_tolerance,
+    decide,
+)
 from .contacts import Cone, Contact, check_grasp, generating_wrenches
 from .errors import InputError
 from .two_finger import two_finger_closure
@@ -97,11 +106,15 @@ def epsilon(contacts: Sequence[Contact], norm: Literal["L1", "Linf"] = "L1", *, 
     if norm not in ("L1", "Linf"):
         raise InputError(f"norm must be 'L1' or 'Linf', got {norm!r}")
     cone = Cone(edges, "inscribed")
+    # friction above the cap is measured as the cap: a lower bound, as epsilon grows with it
+    contacts = [Contact(c.points, c.normals, c.model, FRICTION_CAP, c.torsion)
+                if c.mu > FRICTION_CAP else c for c in contacts]
     ws = generating_wrenches(contacts, cone, reference, length_scale)
     label = "exact planar cones" if contacts[0].dim == 2 else f"{cone}s"
     result = Epsilon(0.0, norm, tuple(ws.reference.tolist()), ws.length_scale, label)
+    # closed with exact cones and with the pyramid measured (verdicts in the grasp's own frame)
     if decide(contacts, "exact", tol, reference, length_scale)[0].verdict is not Verdict.CLOSURE \
-            or vector_closure(ws.wrenches, tol, ws.two_sided).verdict is not Verdict.CLOSURE:
+            or decide(contacts, cone, tol)[0].verdict is not Verdict.CLOSURE:
         return result
     W = ws.wrenches
     if norm == "L1":
@@ -156,6 +169,8 @@ def least_friction(contacts: Sequence[Contact], *, cone: str | Cone = "exact",
     0.1
     """
     contacts = check_grasp(contacts)
+    tol = check_tolerance(tol)
+    rtol = check_rtol(rtol)
     if all(len(c.points) == 1 and len(c.normals) == 1 for c in contacts):
         # point contacts: one compiled bisection (Corollary 3 in closed form for planar
         # pairs), the reference below only where the kernel defers
@@ -183,6 +198,8 @@ def least_friction_reference(contacts: Sequence[Contact], *, cone: str | Cone = 
     0.1
     """
     contacts = check_grasp(contacts)
+    tol = check_tolerance(tol)
+    rtol = check_rtol(rtol)
     pair = (len(contacts) == 2 and all(len(c.points) == 1 and len(c.normals) == 1
                                        for c in contacts)
             and all(c.model != "soft" or c.torsion is None for c in contacts))

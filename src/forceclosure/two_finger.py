@@ -31,8 +31,8 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .closure import TOLERANCE, Verdict, analyze
-from .contacts import point_contact
+from .closure import TOLERANCE, Verdict, analyze, check_tolerance
+from .contacts import MAX_COORDINATE, point_contact, unit_rows
 from .errors import InputError
 
 _VERDICTS = np.array([Verdict.NONE.value, Verdict.MARGINAL.value, Verdict.CLOSURE.value])
@@ -154,6 +154,7 @@ def two_finger_closure(p: ArrayLike, n_p: ArrayLike, q: ArrayLike, n_q: ArrayLik
             raise InputError(f"'{name}' must be finite and >= 0")
     if model not in ("soft", "hard"):
         raise InputError(f"model must be 'soft' or 'hard' for Corollary 3, got {model!r}")
+    tol = check_tolerance(tol)
     if engine not in ("compiled", "reference"):
         raise InputError(f"engine must be 'compiled' or 'reference', got {engine!r}")
     try:
@@ -161,6 +162,12 @@ def two_finger_closure(p: ArrayLike, n_p: ArrayLike, q: ArrayLike, n_q: ArrayLik
                                     n_q.shape[:-1], mu_p.shape, mu_q.shape)
     except ValueError:
         raise InputError("p, n_p, q, n_q, mu_p and mu_q do not broadcast to one shape") from None
+    for name, a in (("p", p), ("q", q)):
+        with np.errstate(invalid="ignore"):
+            if np.any(np.isfinite(a) & (np.abs(a) > MAX_COORDINATE)):  # non-finite: below
+                raise InputError(f"'{name}' has a coordinate beyond {MAX_COORDINATE:g}, too "
+                                 "large to compute with")
+    p, n_p, q, n_q = _conditioned(p, n_p, q, n_q)
     pairs = (p, n_p, q, n_q)
     if engine == "reference":
         code, least = _reference(p, n_p, q, n_q, mu_p, mu_q, model, tol)
@@ -168,6 +175,23 @@ def two_finger_closure(p: ArrayLike, n_p: ArrayLike, q: ArrayLike, n_q: ArrayLik
         code, least = _compiled(p, n_p, q, n_q, mu_p, mu_q, model, tol, shape)
     return PairClosure(np.asarray(code, dtype=np.int8).reshape(shape),
                        np.asarray(least, dtype=float).reshape(shape), pairs)
+
+
+def _conditioned(p, n_p, q, n_q):
+    """Unit normals (without overflow), and pairs with coordinates beyond ``2**64`` divided by
+    a power of two (exact; the verdict does not depend on units). Zero, tiny and non-finite
+    values are left for the checks that name them."""
+    if not all(np.all(np.isfinite(a)) for a in (p, q, n_p, n_q)):
+        return p, n_p, q, n_q
+    normals = []
+    for n in (n_p, n_q):
+        unit, length = unit_rows(n)
+        normals.append(np.where(length[..., None] > 1e-12, unit, n))
+    big = np.maximum(np.max(np.abs(p), axis=-1), np.max(np.abs(q), axis=-1))
+    if np.any(big > 2.0**64):
+        scale = np.where(big > 2.0**64, np.ldexp(1.0, np.minimum(np.frexp(big)[1], 1023)), 1.0)
+        p, q = p / scale[..., None], q / scale[..., None]
+    return p, normals[0], q, normals[1]
 
 
 def _compiled(p, n_p, q, n_q, mu_p, mu_q, model, tol, shape):

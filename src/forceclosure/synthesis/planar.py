@@ -49,6 +49,9 @@ ANGLE_MARGIN = MARGIN  # the one margin (regions.check_margin)
 #: Edge pairs solved at once by :func:`max_min_segments` (bounds the memory used).
 CHUNK = 2_048
 
+#: Most edge pairs :func:`best_regions` searches (a polygon of about 6,300 edges).
+MAX_EDGE_PAIRS = 20_000_000
+
 
 def _functionals(m_p, mu_p, m_q, mu_q) -> NDArray[np.float64]:
     """The four linear functionals ``l_k`` with Corollary 3 <=> ``l_k . w > 0`` for all k.
@@ -389,6 +392,33 @@ def _certified(polygon: Polygon, i: int, j: int, z: float, u1: float, u2: float,
     return None
 
 
+def _candidate_pairs(normal: NDArray[np.float64],
+                     mu: float) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """Edge pairs ``i < j`` whose cones can counter-overlap: ``-n_i`` and ``n_j`` less than
+    ``2 atan(mu)`` apart. Streamed over blocks of ``i``, so memory follows the pairs kept,
+    not all ``n (n - 1) / 2``; more than :data:`MAX_EDGE_PAIRS` pairs are refused."""
+    n = len(normal)
+    total = n * (n - 1) // 2
+    if total > MAX_EDGE_PAIRS:
+        raise InputError(f"the polygon has {n} edges, {total} edge pairs to search: more than "
+                         f"{MAX_EDGE_PAIRS}; simplify it (fewer vertices)")
+    limit = 2 * math.atan(mu)
+    kept_i, kept_j = [], []
+    rows = max(1, CHUNK * CHUNK // max(n, 1))
+    for lo in range(0, n, rows):
+        i, j = np.nonzero(np.triu(np.ones((min(rows, n - lo), n), dtype=bool), lo + 1))
+        i = i + lo
+        m_i = -normal[i]
+        delta = np.arctan2(m_i[:, 0] * normal[j, 1] - m_i[:, 1] * normal[j, 0],
+                           np.einsum("pj,pj->p", m_i, normal[j]))
+        keep = np.abs(delta) < limit
+        kept_i.append(i[keep])
+        kept_j.append(j[keep])
+    if not kept_i:
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    return np.concatenate(kept_i).astype(np.int64), np.concatenate(kept_j).astype(np.int64)
+
+
 def best_regions(polygon: Polygon, mu: float, top: int = 5, margin: float = ANGLE_MARGIN,
                  construction: str = "maximal") -> list[IndependentRegions]:
     """Independent regions for two hard fingers on every pair of edges, best first.
@@ -416,13 +446,7 @@ def best_regions(polygon: Polygon, mu: float, top: int = 5, margin: float = ANGL
         return []
     start, direction, normal, length = (np.array([getattr(e, k) for e in edges])
                                         for k in ("start", "direction", "normal", "length"))
-    i, j = np.triu_indices(len(edges), 1)
-    # prune: the cones counter-overlap iff -n_i and n_j are less than 2 atan(mu) apart
-    m_i = -normal[i]
-    delta = np.arctan2(m_i[:, 0] * normal[j, 1] - m_i[:, 1] * normal[j, 0],
-                       np.einsum("pj,pj->p", m_i, normal[j]))
-    keep = np.abs(delta) < 2 * math.atan(shrunk)
-    i, j = i[keep], j[keep]
+    i, j = _candidate_pairs(normal, shrunk)
     z = np.full(len(i), -np.inf)
     u1, u2 = np.zeros(len(i)), np.zeros(len(i))
     for lo in range(0, len(i), CHUNK):
