@@ -107,9 +107,13 @@ def test_bad_input_is_one_line_and_exit_2(name):
 def test_missing_file_and_usage_errors(capsys):
     assert main(["analyze", "/no/such/file.json"]) == 2
     assert "no such file" in capsys.readouterr().err
-    with pytest.raises(SystemExit) as e:
-        main(["analyze"])
-    assert e.value.code == 2
+    for argv in (["analyze"], ["synthesize", "square", "--mu", "abc"], ["bogus"]):
+        with pytest.raises(SystemExit) as e:
+            main(argv)
+        assert e.value.code == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and err.startswith("forceclosure: error: "), err
+        assert "--help')" in err
 
 
 @pytest.mark.parametrize("script", sorted((Path(__file__).parents[1] / "examples").glob("*.py")))

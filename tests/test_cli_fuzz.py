@@ -142,7 +142,10 @@ def _run(argv):
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err), \
             warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        status = main(argv)
+        try:
+            status = main(argv)
+        except SystemExit as e:  # a command line argparse refuses: one line, status 2
+            status = e.code
     texts = []
     for stream in (out, err):
         stream.flush()
@@ -150,15 +153,16 @@ def _run(argv):
     return status, texts[0], texts[1], [str(w.message) for w in caught]
 
 
-def _check(argv, json_output=False):
+def _check(argv, json_output=False, problems=("forceclosure: error: ",)):
+    """Run and check; ``problems``: the line prefixes that report a problem (``dataset``
+    reports each object that failed or ran out of time, and goes on)."""
     status, out, err, caught = _run(argv)
     lines = err.splitlines()
     event(f"exit {status}" + (", something analysed" if any(
         v in out for v in ("closure", "none", "marginal", "vertices")) else ""))
     assert status in (0, 2), (status, err)
-    assert all(line.startswith(("forceclosure: error: ", "forceclosure: warning: "))
-               for line in lines), err
-    assert status == 0 or any(line.startswith("forceclosure: error: ") for line in lines), err
+    assert all(line.startswith((*problems, "forceclosure: warning: ")) for line in lines), err
+    assert status == 0 or any(line.startswith(problems) for line in lines), err
     assert all(len(line) < 2000 for line in lines)
     assert not caught, caught  # a warning on standard error is a line nobody asked for
     if json_output and out:
@@ -292,3 +296,61 @@ def test_inspect_polygon_files(shape, flags):
         with open(path, "w", encoding="utf-8") as f:
             f.write(_json_text(shape))
         _check(["inspect", path, *flags], json_output="--json" in flags)
+
+
+# values for options, good and bad: numbers at and beyond their ranges, non-numbers
+option_values = st.sampled_from(["0", "-1", "1", "2", "3", "4", "7", "12", "0.3", "0.8", "1e-9",
+                                 "nan", "inf", "-inf", "1e400", "1e16", "abc", "", "0x10",
+                                 " 2", "\u0661", "1_0"])
+SYNTHESIS_OPTIONS = {
+    "--fingers": option_values, "--mu": option_values, "--top": option_values,
+    "--margin": option_values, "--seed": option_values,
+    "--samples": st.sampled_from(["0", "-5", "60", "300", "abc", "1e3"]),
+    "--contact": st.sampled_from(["hard", "soft", "frictionless", "HARD", ""]),
+    "--construction": st.sampled_from(["maximal", "nguyen", "x"]),
+    "--method": st.sampled_from(["auto", "faces", "mesh", "x"]),
+    "--part": names,
+}
+
+
+@st.composite
+def synthesis_flags(draw):
+    chosen = draw(st.lists(st.sampled_from(sorted(SYNTHESIS_OPTIONS)), max_size=5,
+                           unique=True))
+    flags = ["--samples", "300"]  # bounded work whatever else is drawn
+    for option in chosen:
+        flags += [option, draw(SYNTHESIS_OPTIONS[option])]
+    return flags + draw(st.sampled_from([[], ["--json"], ["--vertices"], ["--allow-open"]]))
+
+
+@settings(SETTINGS, max_examples=150)
+@given(shape=st.one_of(polygons, st.sampled_from(["square", "triangle", "cube", "nothing"])),
+       flags=synthesis_flags())
+def test_synthesize_objects_and_options(shape, flags):
+    """synthesize on damaged polygon files and bundled objects with options good and bad."""
+    with tempfile.TemporaryDirectory() as folder:
+        if isinstance(shape, str):
+            target = shape
+        else:
+            target = os.path.join(folder, "shape.json")
+            with open(target, "w", encoding="utf-8") as f:
+                f.write(_json_text(shape))
+        _check(["synthesize", target, *flags], json_output="--json" in flags)
+
+
+@settings(SETTINGS, max_examples=25)
+@given(shape=polygons, flags=synthesis_flags(),
+       extra=st.sampled_from([[], ["--timeout", "nan"], ["--timeout", "0"], ["--retry-failed"],
+                              ["--analyze"], ["--grasps", "{dir.x}"], ["--workers", "0"]]))
+def test_dataset_on_damaged_objects(shape, flags, extra):
+    """dataset in this process (one worker) over a damaged polygon and a good one: exit 0 or
+    2, one line per problem, whatever the object and the options."""
+    flags = [f for f in flags if f not in ("--vertices", "--part", "--allow-open")]
+    with tempfile.TemporaryDirectory() as folder:
+        target = os.path.join(folder, "shape.json")
+        with open(target, "w", encoding="utf-8") as f:
+            f.write(_json_text(shape))
+        _check(["dataset", target, "square", "--out", os.path.join(folder, "out"),
+                "--workers", "1", *flags, *extra], json_output="--json" in flags,
+               problems=("forceclosure: error: ", "forceclosure: failed: ",
+                         "forceclosure: timeout: "))

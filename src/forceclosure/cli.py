@@ -21,7 +21,7 @@ import os
 import signal
 import sys
 from importlib import resources
-from typing import Any
+from typing import Any, NoReturn
 
 from . import __version__
 from .errors import InputError, clip, printable
@@ -599,9 +599,18 @@ def _synthesis_options(p: argparse.ArgumentParser) -> None:
                         "with a warning, instead of refusing them")
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse, with a bad command line answered in one line (and where to look) instead
+    of the usage block, exit status 2 as before."""
+
+    def error(self, message: str) -> NoReturn:
+        _error(f"{message} (see '{self.prog} --help')")
+        raise SystemExit(2)
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``forceclosure`` command."""
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="forceclosure",
         description="Analyse force-closure grasps (V.-D. Nguyen, IJRR 1988).")
     parser.add_argument("--version", action="version", version=f"forceclosure {__version__}")
