@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 from fractions import Fraction
 
 import numpy as np
@@ -416,3 +417,45 @@ def test_regions_on_a_tessellated_urdf_cylinder_hold_on_the_true_cylinder(tmp_pa
         result = analyze_batch(true_p.reshape(points.shape), true_n.reshape(points.shape),
                                mu=mu, model="soft", cone="exact")
         assert np.all(result.code == 2)
+
+
+@pytest.mark.parametrize("name,fingers,contact,mu", [
+    ("cube", 3, "hard", 0.5), ("cube", 2, "soft", 0.5), ("cube", 7, "frictionless", 0.0),
+    ("square", 2, "hard", 0.3), ("triangle", 3, "hard", 0.5),
+    ("hexagon", 4, "frictionless", 0.0)])
+def test_synthesis_serves_sizes_from_a_micrometre_to_a_megametre(name, fingers, contact, mu):
+    """At the ends of synthesize's size range (1e-6 and 1e6 across) the regions, relative to
+    the object, are those of the unit object; beyond it the object is refused in one line
+    that says why, not answered with "no grasp" (which absolute tolerances gave at 1e-12
+    and 1e12)."""
+    obj = bundled(name)
+
+    def scaled(s):
+        if obj.dim == 3:
+            return Polyhedron.from_arrays(obj.vertices * s, obj.triangles)
+        return Polygon.from_points(np.asarray(obj.outer) * s)
+
+    def sizes(o):
+        found = synthesize(o, fingers, contact, mu, top=2).found
+        return [r.min_area / o.size**2 if o.dim == 3 else r.min_length / o.size for r in found]
+
+    want = sizes(obj)
+    assert want
+    for s in (1.001e-6 / obj.size, 0.999e6 / obj.size):
+        np.testing.assert_allclose(sizes(scaled(s)), want, rtol=1e-5)
+    for s in (1e-8, 1e8):
+        with pytest.raises(InputError, match="across; synthesis is made and tested for "
+                                             "objects 1e-06 to 1e"):
+            synthesize(scaled(s), fingers, contact, mu, top=1)
+
+
+@pytest.mark.parametrize("scale,message", [(1e60, "beyond 1e+50 in magnitude"),
+                                           (1e-60, "across, below 1e-50")])
+def test_polyhedra_too_large_or_small_for_floating_point_are_refused(scale, message):
+    """Beyond 1e50 areas and volumes overflow (1e150 was an OverflowError, 1e200 "0 triangles
+    cannot enclose a volume", 1e-200 "all vertices coincide"): one line that says so."""
+    obj = bundled("cube")
+    with pytest.raises(InputError, match=re.escape(message)):
+        Polyhedron.from_arrays(obj.vertices * scale, obj.triangles)
+    assert Polyhedron.from_arrays(obj.vertices * 1e49, obj.triangles).volume == pytest.approx(
+        8e147)

@@ -51,6 +51,9 @@ from .polygon import Polygon, _signed_area
 
 #: Relative tolerance (of the object's size) for merging vertices.
 MERGE_RTOL = 1e-9
+#: Coordinates beyond this magnitude, or objects smaller across than its inverse, are
+#: refused: their areas and volumes (and the squares of both) would overflow or underflow.
+COORDINATE_LIMIT = 1e50
 #: Relative tolerance (of the object's size) for calling triangles coplanar.
 FLAT_RTOL = 1e-6
 #: Largest angle (radians) between a merged face's normal and any of its triangles' normals.
@@ -241,9 +244,17 @@ class Polyhedron:
             i, j = out[0]
             raise InputError(f"{name}: triangle {i + 1} refers to vertex {T[i, j] + 1}, but "
                              f"there are {len(V)} vertices")
-        size = float(np.linalg.norm(np.ptp(V[np.unique(T)], axis=0)))
-        if size == 0.0:
+        huge = np.flatnonzero(np.any(np.abs(V) > COORDINATE_LIMIT, axis=1))
+        if len(huge):  # beyond it, areas and volumes overflow
+            raise InputError(f"{name}: vertex {huge[0] + 1} is beyond {COORDINATE_LIMIT:g} in "
+                             "magnitude: rescale the object")
+        extent = np.ptp(V[np.unique(T)], axis=0)
+        if not extent.any():
             raise InputError(f"{name}: all vertices coincide")
+        size = float(np.linalg.norm(extent))
+        if size < 1 / COORDINATE_LIMIT:  # below it, areas and volumes underflow
+            raise InputError(f"{name}: the object is {size:.3g} across, below "
+                             f"{1 / COORDINATE_LIMIT:g}: rescale it")
         V, T, source = _merge_vertices(V, T.astype(np.int64), size, warnings)
         if len(T) < 4:
             raise InputError(f"{name}: {len(T)} triangles cannot enclose a volume")

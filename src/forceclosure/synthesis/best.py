@@ -118,6 +118,12 @@ least 3 hard fingers (two cannot resist rotation about the line between them)
     return fingers
 
 
+#: The sizes (bounding-box diagonals) of the objects synthesis serves: regions are the
+#: same, relative to the object, from 1e-6 to 1e6 (tests/test_objects_as_given.py); far
+#: outside, absolute tolerances in the constructions lose grasps.
+SIZES = (1e-6, 1e6)
+
+
 def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
                contact: str = "hard", mu: float = 0.3, *, top: int = 5, margin: float = MARGIN,
                construction: str = "maximal", method: str = "auto", samples: int = 20_000,
@@ -177,6 +183,11 @@ def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
     from ..objects.io import load_object
 
     obj = load_object(obj, allow_open=allow_open)
+    low, high = SIZES
+    if not low <= obj.size <= high:
+        raise InputError(f"{obj.name}: the object is {obj.size:.3g} across; synthesis is made "
+                         f"and tested for objects {low:g} to {high:g} across (some of its "
+                         "tolerances are absolute): rescale it, and the regions with it")
     fingers = check_hand(obj.dim, fingers, contact, mu, top=top, construction=construction,
                          method=method)
     check_margin(margin)
