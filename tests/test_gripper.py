@@ -20,7 +20,6 @@ from trimesh.ray.ray_triangle import RayMeshIntersector
 from forceclosure.antipodal import sample_antipodal
 from forceclosure.cli import ANY_POSITIVE, main
 from forceclosure.errors import InputError
-from forceclosure.grasp_labels import grasp_labels, label_grasps
 from forceclosure.gripper import (
     INSIDE,
     MISSES,
@@ -30,6 +29,7 @@ from forceclosure.gripper import (
     contacts_of,
     pose_from_contacts,
 )
+from forceclosure.labels import grasp_labels, label_grasps
 from forceclosure.objects.io import load_object
 
 BUNNY = os.path.join(pybullet_data.getDataPath(), "bunny.obj")
@@ -303,3 +303,9 @@ def test_cli_grasps(tmp_path, capsys):
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and "error" in err
     assert main(["grasps", "wrench-head", "--width", "3"]) == 2
+    capsys.readouterr()
+    assert main(["grasps", "cube", "--width", "3", "--count", "30", "--no-least-friction",
+                 "--out", str(out)]) == 0
+    assert "least friction: not computed" in capsys.readouterr().out
+    with np.load(out) as saved:
+        assert np.isnan(saved["least_friction"]).all() and len(saved["code"]) == 30

@@ -8,7 +8,7 @@ away. Both jaws' rays go in one batched query (:func:`forceclosure.gripper.
 jaw_contacts`); each candidate's contact pair is what the jaws meet first.
 By construction the line of every pair lies inside the first contact's
 friction cone; whether the pair is force-closure is for the labels
-(:mod:`forceclosure.grasp_labels`). Deterministic under a seed.
+(:mod:`forceclosure.labels`). Deterministic under a seed.
 """
 
 from __future__ import annotations
