@@ -250,7 +250,7 @@ def test_sampler_refuses_lines_wider_than_the_opening():
     opposed = np.einsum("ij,ij->i", s.normals[:, 0], s.normals[:, 1]) < -0.5
     assert opposed.any()
     np.testing.assert_allclose(np.abs(s.normals[opposed][:, :, 0]), 1, atol=1e-12)
-    assert s.rejected[TOO_WIDE] > 0
+    assert s.rejected[INSIDE] > 0  # jaw 2, width_max from the first contact, is inside
     # narrower than the box everywhere: only chords across a corner, between adjacent faces
     corner = sample_antipodal(BOX, 0.3, 50, seed=0, width_max=1.5)
     assert np.all(corner.width <= 1.5)
@@ -309,3 +309,17 @@ def test_cli_grasps(tmp_path, capsys):
     assert "least friction: not computed" in capsys.readouterr().out
     with np.load(out) as saved:
         assert np.isnan(saved["least_friction"]).all() and len(saved["code"]) == 30
+
+
+def test_cli_grasps_open_mesh_refused_unless_allowed(tmp_path, capsys):
+    box = trimesh.creation.box()
+    box.update_faces(np.arange(1, len(box.faces)))  # one triangle missing: open
+    path = tmp_path / "open.stl"
+    box.export(path)
+    assert main(["grasps", str(path), "--width", "3", "--count", "20"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "open mesh" in err and "--allow-open" in err
+    assert main(["grasps", str(path), "--width", "3", "--count", "20", "--allow-open",
+                 "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["candidates"] == 20
+

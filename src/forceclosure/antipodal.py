@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .errors import InputError
-from .gripper import INSIDE, TOO_WIDE, JawPose, jaw_contacts, surface_mesh
+from .gripper import TOO_WIDE, JawPose, jaw_contacts, surface_mesh
 from .synthesis.patches import uniform_in_triangles
 
 __all__ = ["AntipodalSamples", "sample_antipodal"]
@@ -108,7 +108,9 @@ def sample_antipodal(obj: Any, mu: float, count: int, seed: int = 0,
         The same seed gives the same candidates.
     width_max : float
         The gripper's widest opening: a line along which the object is wider
-        is no candidate.
+        is no candidate (its jaw 2 starts inside the object; counted under
+        that reason in ``rejected``, as are rays entering an open mesh
+        through a hole).
 
     Examples
     --------
@@ -145,7 +147,6 @@ def sample_antipodal(obj: Any, mu: float, count: int, seed: int = 0,
         pts, nrm, tris, reasons = jaw_contacts(mesh, size, centers, d, np.full(m, reach))
         width = np.linalg.norm(pts[:, 1] - pts[:, 0], axis=1)
         reasons[(reasons == None) & (width > width_max)] = TOO_WIDE  # noqa: E711
-        reasons[reasons == INSIDE] = TOO_WIDE
         ok = np.flatnonzero(reasons == None)[: count - found]  # noqa: E711
         for r in reasons[reasons != None]:  # noqa: E711
             rejected[r] = rejected.get(r, 0) + 1

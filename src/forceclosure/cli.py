@@ -547,6 +547,7 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
 
     from .gripper import ParallelJaw
     from .labels import grasp_labels
+    from .objects.io import load_object
 
     if not (math.isfinite(args.width) and args.width > 0):
         raise InputError(f"--width must be a finite positive opening, got {args.width}")
@@ -562,11 +563,15 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
         if not args.out.lower().endswith(".npz"):
             raise InputError(f"--out {args.out}: labels are saved as .npz")
         check_output(args.out, inputs=[args.object])
+    obj = load_object(args.object, allow_open=args.allow_open, part=args.part,
+                      allow_outside_meshes=args.allow_outside_meshes)
+    for warning in obj.warnings:
+        print(f"forceclosure: warning: {obj.name}: {warning}", file=sys.stderr)
     gripper = ParallelJaw(args.width, args.pad_radius)
     start = time.perf_counter()
     with tqdm(total=args.count, unit=" grasps", unit_scale=True, file=sys.stderr, disable=None,
               desc="labelling") as bar:
-        labels = grasp_labels(args.object, gripper, args.mu, args.count, args.seed,
+        labels = grasp_labels(obj, gripper, args.mu, args.count, args.seed,
                               args.contact, progress=bar.update,
                               least_friction=not args.no_least_friction)
     seconds = time.perf_counter() - start
@@ -775,7 +780,13 @@ def build_parser() -> argparse.ArgumentParser:
                                    "points, closing directions inside the friction cone, the "
                                    "opposite contact by ray casting) and label each: verdict "
                                    "with exact cones, least friction, Ferrari-Canny epsilon.")
-    g.add_argument("object", metavar="OBJECT", help="a mesh file or a bundled polyhedron")
+    g.add_argument("object", metavar="OBJECT",
+                   help="a mesh or URDF file, or a bundled polyhedron")
+    g.add_argument("--part", metavar="NAME", help="the URDF link to read")
+    g.add_argument("--allow-open", action="store_true",
+                   help="accept open or non-manifold meshes (oriented outward, with a "
+                        "warning) instead of refusing them")
+    _outside_meshes_option(g)
     g.add_argument("--width", type=float, required=True,
                    help="the gripper's widest opening (object units)")
     g.add_argument("--count", type=int, default=1000, help="grasps to sample (default 1000)")
