@@ -96,6 +96,11 @@ def test_reasons_for_no_pair():
         JawPose([0, 0, 0], [1, 0, 0], [2, 0, 0], 1.0)
     with pytest.raises(InputError, match="width"):
         JawPose([0, 0, 0], [1, 0, 0], [0, 1, 0], 0.0)
+    with pytest.raises(InputError, match="width_max"):
+        ParallelJaw(float("nan"))
+    with pytest.raises(InputError, match="pad_radius"):
+        ParallelJaw(1.0, pad_radius=-0.1)
+    assert ParallelJaw(np.int64(2)).width_max == 2
     with pytest.raises(InputError, match="polygon"):
         contacts_of("wrench-head", JawPose([0, 0, 0], [1, 0, 0], [0, 1, 0], 1.0))
 

@@ -18,7 +18,9 @@ lies on its face to rounding.
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
+from numbers import Real
 from typing import Any
 
 import numpy as np
@@ -89,7 +91,8 @@ class ParallelJaw:
     def __post_init__(self) -> None:
         for name in ("width_max", "pad_radius"):
             value = getattr(self, name)
-            if not isinstance(value, int | float) or not np.isfinite(value) or value < 0:
+            if (isinstance(value, bool) or not isinstance(value, Real)
+                    or not np.isfinite(value) or value < 0):
                 raise InputError(f"ParallelJaw: '{name}' must be a finite number >= 0, "
                                  f"got {value!r}")
         if self.width_max <= 0:
@@ -162,7 +165,9 @@ class JawContacts:
 
     ``points`` and ``normals`` are ``(2, 3)`` (the contact met by jaw 1, then
     jaw 2; outward unit normals of the faces hit), ``triangles`` the
-    triangles hit; all None when ``reason`` says why there is no pair.
+    triangles hit (indices into the loaded object's ``triangles``, which may
+    differ from a given trimesh's: vertices are merged and faces oriented);
+    all None when ``reason`` says why there is no pair.
     """
 
     points: NDArray[np.float64] | None
@@ -187,7 +192,18 @@ def surface_mesh(obj: Any):
     if not isinstance(poly, Polyhedron):
         raise InputError(f"{poly.name}: a parallel-jaw gripper grasps a mesh (a polyhedron), "
                          "not a polygon")
-    return poly, poly.to_trimesh()
+    cached = _MESHES.get(id(poly))
+    if cached is not None and cached[0]() is poly:
+        return poly, cached[1]
+    mesh = poly.to_trimesh()
+    if len(_MESHES) >= 8:
+        _MESHES.pop(next(iter(_MESHES)))
+    _MESHES[id(poly)] = (weakref.ref(poly), mesh)
+    return poly, mesh
+
+
+#: The trimesh (and its ray accelerator) of the last few polyhedra used, by identity.
+_MESHES: dict[int, tuple[weakref.ref, Any]] = {}
 
 
 def cast_first(mesh, origins: NDArray[np.float64], directions: NDArray[np.float64]
@@ -256,6 +272,10 @@ def contacts_of(obj: Any, pose: JawPose, gripper: ParallelJaw | None = None) -> 
     pose : JawPose
     gripper : ParallelJaw, optional
         Checks the pose's width against ``width_max``.
+
+    A file is read again at each call; for many poses load it once
+    (:func:`~forceclosure.objects.io.load_object`): a loaded object's ray
+    accelerator is kept between calls.
 
     Examples
     --------
