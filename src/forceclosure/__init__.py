@@ -29,6 +29,9 @@ _HOME = {
                      "generating_wrenches", "point_contact", "vertex_contact"], "contacts"),
     **dict.fromkeys(["ForceClosureError", "InputError"], "errors"),
     **dict.fromkeys(["Motion", "motion_of"], "motion"),
+    **dict.fromkeys(["JawPose", "ParallelJaw", "contacts_of", "pose_from_contacts"], "gripper"),
+    **dict.fromkeys(["sample_antipodal"], "antipodal"),
+    **dict.fromkeys(["GraspLabels", "grasp_labels", "label_grasps"], "labels"),
 }
 
 
@@ -45,6 +48,7 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # for type checkers and editors: the same names, eagerly
+    from .antipodal import sample_antipodal
     from .closure import (
         TOLERANCE,
         Analysis,
@@ -66,6 +70,8 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, eagerly
         vertex_contact,
     )
     from .errors import ForceClosureError, InputError
+    from .gripper import JawPose, ParallelJaw, contacts_of, pose_from_contacts
+    from .labels import GraspLabels, grasp_labels, label_grasps
     from .motion import Motion, motion_of
 
 __all__ = [
@@ -74,19 +80,27 @@ __all__ = [
     "Cone",
     "Contact",
     "ForceClosureError",
+    "GraspLabels",
     "InputError",
+    "JawPose",
     "Motion",
+    "ParallelJaw",
     "VectorClosure",
     "Verdict",
     "WrenchSet",
     "__version__",
     "analyze",
+    "contacts_of",
     "edge_contact",
     "face_contact",
     "force_direction_closure",
     "generating_wrenches",
+    "grasp_labels",
+    "label_grasps",
     "motion_of",
     "point_contact",
+    "pose_from_contacts",
+    "sample_antipodal",
     "torque_closure",
     "vector_closure",
     "vertex_contact",
