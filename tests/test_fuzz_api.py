@@ -207,3 +207,15 @@ def test_huge_and_tiny_grasps_keep_their_verdict(size):
         assert verdicts == ["closure"] * 3
     else:
         assert "closure" not in verdicts
+
+
+def test_sampling_nothing_is_refused_in_one_line():
+    """Triangles of zero (or overflowing) area have nothing to sample: one line, not numpy's
+    'probabilities contain NaN'."""
+    from forceclosure.synthesis.patches import uniform_in_triangles
+
+    zero = np.zeros((2, 3))
+    huge = np.array([[0, 0, 0], [1e300, 0, 0], [0, 1e300, 0]], dtype=float)[:, None, :]
+    for a, b, c in ((zero, zero, zero), (huge[0], huge[1], huge[2])):
+        with pytest.raises(InputError, match="nothing to sample from"):
+            uniform_in_triangles(a, b, c, 5, np.random.default_rng(0))

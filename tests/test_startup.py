@@ -27,7 +27,8 @@ def loaded_after(code: str) -> list[str]:
 
 
 @pytest.mark.parametrize("argv", [["--help"], ["--version"], ["analyze", "--help"],
-                                  ["synthesize", "--help"], ["dataset", "--help"]])
+                                  ["synthesize", "--help"], ["dataset", "--help"],
+                                  ["grasps", "--help"]])
 def test_help_and_version_load_nothing_heavy(argv):
     code = ("from forceclosure.cli import main\n"
             f"try:\n    main({argv!r})\nexcept SystemExit as e:\n    assert e.code == 0")

@@ -19,6 +19,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
+from ..errors import InputError
 from ..objects.polygon import _signed_area
 from ..objects.polyhedron import PlanarFace, Polyhedron
 from .regions import Certificate
@@ -68,12 +69,22 @@ class FacePatch:
         return {"face": self.face, "polygon": self.points.tolist(), "area": self.area}
 
 
+def _weights(areas: NDArray, what: str) -> NDArray[np.float64]:
+    """Probabilities proportional to ``areas``, or a one-line refusal where there are none
+    (every area zero, or not finite) instead of numpy's 'probabilities contain NaN'."""
+    total = float(np.sum(areas))
+    if not (np.all(np.isfinite(areas)) and total > 0):
+        raise InputError(f"{what}: nothing to sample from (areas {total:g} in all)")
+    return areas / total
+
+
 def uniform_in_triangles(a: NDArray, b: NDArray, c: NDArray, count: int,
                          rng: np.random.Generator) -> tuple[NDArray, NDArray]:
     """``count`` points uniformly distributed over triangles ``(a, b, c)`` (each ``(t, 3)``),
     and the triangle each came from."""
-    area = np.linalg.norm(np.cross(b - a, c - a), axis=1)
-    pick = rng.choice(len(a), size=count, p=area / area.sum())
+    with np.errstate(over="ignore", invalid="ignore"):  # refused below if not finite
+        area = np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    pick = rng.choice(len(a), size=count, p=_weights(area, "triangles"))
     r1, r2 = rng.random(count), rng.random(count)
     flip = r1 + r2 > 1
     r1[flip], r2[flip] = 1 - r1[flip], 1 - r2[flip]
@@ -216,7 +227,7 @@ class SpatialRegions:
         normals = np.empty_like(points)
         for k, region in enumerate(self.regions):
             areas = np.array([p.area for p in region])
-            which = rng.choice(len(region), size=count, p=areas / areas.sum())
+            which = rng.choice(len(region), size=count, p=_weights(areas, f"region {k + 1}"))
             for i, patch in enumerate(region):
                 rows = np.flatnonzero(which == i)
                 points[rows, k] = patch.sample(len(rows), rng)
