@@ -24,6 +24,7 @@ import numpy as np
 import pytest
 
 from forceclosure.cli import main
+from test_cli import _pinches
 
 PINCH = {"contacts": [{"point": [-1, 0], "normal": [-1, 0], "mu": 0.3},
                       {"point": [1, 0], "normal": [1, 0], "mu": 0.3}]}
@@ -35,16 +36,6 @@ def _strict_json(text):
     def refuse(constant):
         raise AssertionError(f"{constant} in JSON output")
     return json.loads(text, parse_constant=refuse)
-
-
-def _pinches(n, rng):
-    """Planar two-finger pinches with a closed form: closure iff |offset| / 2 < mu."""
-    y = rng.uniform(-1, 1, n)
-    mu = rng.uniform(0.05, 0.6, n)
-    mu = np.where(np.abs(np.abs(y) / 2 - mu) < 1e-3, mu + 0.01, mu)  # clear of the boundary
-    P = np.stack([np.c_[-np.ones(n), np.zeros(n)], np.c_[np.ones(n), y]], 1)
-    N = np.array([[-1.0, 0.0], [1.0, 0.0]])[None].repeat(n, 0)
-    return P, N, np.repeat(mu[:, None], 2, 1), np.abs(y) / 2 < mu
 
 
 def _write_pinches(path, n, seed=4):
