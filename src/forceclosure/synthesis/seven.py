@@ -46,9 +46,10 @@ SMALLEST, BISECTIONS = 1.0 / 64, 5
 FILTER = 1e-9
 
 
-def _wrench(p: NDArray, n: NDArray) -> NDArray:
-    f = np.broadcast_to(-n, p.shape)
-    return np.concatenate([f, np.cross(p, f)], axis=-1)
+def _minors_matrices(P: NDArray, N: NDArray) -> NDArray:
+    """``(t, 6, 6)``: for each tuple, the frictionless wrenches ``(-n, p x -n)`` as columns."""
+    f = np.broadcast_to(-N, P.shape)
+    return np.concatenate([f, np.cross(P, f)], axis=2).transpose(0, 2, 1)
 
 
 def _fewer_corners(patch: FacePatch, face, keep: int) -> FacePatch:
@@ -116,8 +117,7 @@ def _minor_signs(regions: tuple[NDArray, ...], normals: NDArray, turn: NDArray,
     P = np.stack([regions[k][combos[:, c]] for c, k in enumerate(others)], axis=1)  # (t,6,3)
     N = normals[others]
     if not turn[others].any():
-        M = np.concatenate([np.broadcast_to(-N, P.shape), np.cross(P, -N)], axis=2)
-        M = M.transpose(0, 2, 1)
+        M = _minors_matrices(P, N)
         d = np.linalg.det(M)
         unsure = np.abs(d) <= FILTER * np.prod(np.linalg.norm(M, axis=1), axis=1)
         for t in np.flatnonzero(unsure):
@@ -129,8 +129,7 @@ def _minor_signs(regions: tuple[NDArray, ...], normals: NDArray, turn: NDArray,
     centre = np.mean(np.concatenate(regions), axis=0)
     size = max(float(np.max(np.abs(np.concatenate(regions) - centre))), 1e-300)
     P = (P - centre) / size
-    M = np.concatenate([np.broadcast_to(-N, P.shape), np.cross(P, -N)], axis=2)
-    M = M.transpose(0, 2, 1)
+    M = _minors_matrices(P, N)
     d = np.linalg.det(M)
     bound = np.prod(np.linalg.norm(M, axis=1), axis=1)
     sure = np.abs(d) > FILTER * bound
