@@ -405,6 +405,30 @@ class Polyhedron:
         return face.index, face.to_plane(p), float(dist[t])
 
     @cached_property
+    def face_neighbors(self) -> dict[int, set[int]]:
+        """The faces sharing an edge with each face (faces with no neighbour left out).
+        Computed once; do not modify.
+
+        Examples
+        --------
+        >>> from forceclosure.objects import bundled
+        >>> sorted(len(n) for n in bundled("cube").face_neighbors.values())
+        [4, 4, 4, 4, 4, 4]
+        """
+        T, label = self.triangles, self.face_of_triangle
+        edges = np.sort(T[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+        owner = np.repeat(label, 3)
+        order = np.lexsort((edges[:, 1], edges[:, 0]))
+        e, o = edges[order], owner[order]
+        same = np.flatnonzero(np.all(e[1:] == e[:-1], axis=1))
+        graph: dict[int, set[int]] = {}
+        for a, b in zip(o[same].tolist(), o[same + 1].tolist(), strict=True):
+            if a != b:
+                graph.setdefault(a, set()).add(b)
+                graph.setdefault(b, set()).add(a)
+        return graph
+
+    @cached_property
     def holes(self) -> int:
         """Number of holes: loops of boundary edges (edges of one triangle); 0 if watertight."""
         return len(boundary_loops(self.triangles))

@@ -407,44 +407,42 @@ def _patch_for(face: PlanarFace, piece: NDArray, zones: SearchZones, finger: int
     w0, wu, wv = affine
     centre = piece.mean(axis=0) if hint is None else hint
     owned, A, starts = zones.owned_facets(finger)
-    # every zone's facets at once: (g, facets) values at the centre
-    at_centre = (w0 + centre[0] * wu + centre[1] * wv) @ A.T
-    rows, rhs, chosen = [], [], []
-    for zone, lo, hi in zip(owned, starts[:-1].tolist(), starts[1:].tolist(), strict=True):
-        here = at_centre[:, lo:hi]  # (g, f)
-        # the generator deepest in the zone; ties (symmetric pyramids make exact ones) go to
-        # the lowest index, whatever the rounding, so that a moved or scaled object gets the
-        # same choice
-        depth = here.min(axis=1)
-        gen = int(np.flatnonzero(depth >= depth.max() - 1e-9 * abs(depth.max()))[0])
+    if not owned:
+        return _kept(face, piece, [], [], ())
+    # every zone's facets at once: (g, facets) values at the centre, and each generator's
+    # least value in each zone (g, zones)
+    depth = np.minimum.reduceat((w0 + centre[0] * wu + centre[1] * wv) @ A.T, starts[:-1],
+                                axis=1)
+    # in each zone the generator deepest in it; ties (symmetric pyramids make exact ones) go
+    # to the lowest index, whatever the rounding, so that a moved or scaled object gets the
+    # same choice
+    deepest = depth.max(axis=0)
+    gens = np.argmax(depth >= deepest - 1e-9 * np.abs(deepest), axis=0)
+    reached = depth if every else depth[gens, np.arange(len(owned))]
+    if reached.min() <= ZONE_MARGIN:
+        return None, ()
+    along_u, along_v, rhs = [], [], []
+    for lo, hi, gen in zip(starts[:-1].tolist(), starts[1:].tolist(), gens.tolist(),
+                           strict=True):
+        # the half-planes, one product per generator as the zone's own (so that the
+        # patches come out the same to the last bit whatever the other zones)
+        facets = A[lo:hi].T
         for g in range(len(w0)) if every else [gen]:
-            if here[g].min() <= ZONE_MARGIN:
-                return None, ()
-            # the half-planes, one product per generator as the zone's own (so that the
-            # patches come out the same to the last bit whatever the other zones)
-            facets = A[lo:hi]
-            rows.append(np.column_stack([wu[g] @ facets.T, wv[g] @ facets.T]))
-            rhs.append(ZONE_MARGIN - w0[g] @ facets.T)
-        chosen.append((int(zone), gen))
+            along_u.append(wu[g] @ facets)
+            along_v.append(wv[g] @ facets)
+            rhs.append(ZONE_MARGIN - w0[g] @ facets)
+    rows = np.column_stack([np.concatenate(along_u), np.concatenate(along_v)])
+    return _kept(face, piece, [rows], rhs, tuple(zip(map(int, owned), gens.tolist(),
+                                                     strict=True)))
+
+
+def _kept(face: PlanarFace, piece: NDArray, rows: list, rhs: list, chosen: tuple):
+    """The piece cut by the half-planes ``rows . y >= rhs`` (lists of blocks), or nothing
+    if too little is left."""
     ring = clip(piece, np.vstack(rows), np.concatenate(rhs)) if rows else piece
     if len(ring) < 3 or _signed_area(ring) <= 1e-12 * face.plane_size ** 2:
         return None, ()
     return ring, tuple(chosen)
-
-
-def _face_graph(poly: Polyhedron) -> dict[int, set[int]]:
-    T, label = poly.triangles, poly.face_of_triangle
-    edges = np.sort(T[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
-    owner = np.repeat(label, 3)
-    order = np.lexsort((edges[:, 1], edges[:, 0]))
-    e, o = edges[order], owner[order]
-    same = np.flatnonzero(np.all(e[1:] == e[:-1], axis=1))
-    graph: dict[int, set[int]] = {}
-    for a, b in zip(o[same].tolist(), o[same + 1].tolist(), strict=True):
-        if a != b:
-            graph.setdefault(a, set()).add(b)
-            graph.setdefault(b, set()).add(a)
-    return graph
 
 
 def _touch(a: FacePatch, b: FacePatch, tol: float) -> bool:
@@ -458,7 +456,7 @@ def _touch(a: FacePatch, b: FacePatch, tol: float) -> bool:
 
 def _segment_distances(points: NDArray, ring: NDArray) -> NDArray[np.float64]:
     """Distance from each of ``points`` ``(n, 3)`` to the closed polyline ``ring``."""
-    d = np.roll(ring, -1, axis=0) - ring  # (k, 3)
+    d = np.concatenate((ring[1:], ring[:1])) - ring  # (k, 3) edges
     offset = points[:, None, :] - ring  # (n, k, 3)
     t = np.clip(np.einsum("nij,ij->ni", offset, d) / np.maximum(np.einsum("ij,ij->i", d, d),
                                                                  1e-300), 0, 1)
@@ -544,7 +542,7 @@ def zone_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike, model
     margin = check_margin(margin)
     built, cone_mu, every = finger_generators(model, mu, margin, edges)
     zones = search_zones(P, N, model, 0.0 if every else cone_mu, edges)
-    graph = _face_graph(polyhedron) if grow else {}
+    graph = polyhedron.face_neighbors if grow else {}
     affines: dict[int, tuple[NDArray, NDArray, NDArray]] = {}  # by face, for every finger
 
     def affine_of(f_index: int, frontier) -> tuple[NDArray, NDArray, NDArray]:
