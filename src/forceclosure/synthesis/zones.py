@@ -638,6 +638,26 @@ def prototype_grasps(polyhedron: Polyhedron, fingers: int, model: str = "hard",
     """
     from ..batch import epsilon_batch
 
+    P, F = prototype_samples(polyhedron, fingers, samples, seed, faces)
+    N = np.array([f.normal for f in polyhedron.faces])[F]
+    eps = epsilon_batch(P, N, mu=0.0 if model == "frictionless" else mu, model=model)
+    return best_prototypes(P, F, eps, count)
+
+
+def prototype_samples(polyhedron: Polyhedron, fingers: int, samples: int = 20_000,
+                      seed: int = 0, faces: ArrayLike | None = None
+                      ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """The random grasps :func:`prototype_grasps` analyses: ``(samples, fingers, 3)``
+    points and the face of each, drawn from ``seed`` alone (so that the grasps of many
+    face tuples can be analysed in one batch and come out as each call would draw them).
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> P, F = prototype_samples(bundled("cube"), 3, 10, faces=[0, 1, 1])
+    >>> P.shape, F[0].tolist()
+    ((10, 3, 3), [0, 1, 1])
+    """
     if fingers < 1:
         raise InputError(f"fingers must be at least 1, got {fingers}")
     if samples < 1:
@@ -645,16 +665,16 @@ def prototype_grasps(polyhedron: Polyhedron, fingers: int, model: str = "hard",
     rng = np.random.default_rng(seed)
     if faces is None:
         P, F = surface_samples(polyhedron, samples * fingers, rng)
-        P, F = P.reshape(samples, fingers, 3), F.reshape(samples, fingers)
-    else:
-        faces = [int(f) for f in faces]
-        if len(faces) != fingers:
-            raise InputError(f"{fingers} fingers need {fingers} faces, got {len(faces)}")
-        parts = [surface_samples(polyhedron, samples, rng, [f]) for f in faces]
-        P = np.stack([p for p, _ in parts], axis=1)
-        F = np.stack([f for _, f in parts], axis=1)
-    N = np.array([f.normal for f in polyhedron.faces])[F]
-    eps = epsilon_batch(P, N, mu=0.0 if model == "frictionless" else mu, model=model)
+        return P.reshape(samples, fingers, 3), F.reshape(samples, fingers)
+    faces = [int(f) for f in faces]
+    if len(faces) != fingers:
+        raise InputError(f"{fingers} fingers need {fingers} faces, got {len(faces)}")
+    parts = [surface_samples(polyhedron, samples, rng, [f]) for f in faces]
+    return np.stack([p for p, _ in parts], axis=1), np.stack([f for _, f in parts], axis=1)
+
+
+def best_prototypes(P: NDArray, F: NDArray, eps: NDArray, count: int = 1) -> list[Prototype]:
+    """The ``count`` grasps of largest epsilon (ties to the first drawn), those closed."""
     order = np.argsort(-eps, kind="stable")
     return [Prototype(P[g], tuple(int(f) for f in F[g]), float(eps[g]))
             for g in order[:count] if eps[g] > 0]
