@@ -170,7 +170,8 @@ def _consistent(directed: NDArray, ids: NDArray, counts: NDArray, n: int) -> boo
     """Every edge shared by two triangles is run through in opposite directions."""
     two = counts[ids] == 2
     d = directed[two]
-    return len(np.unique(d[:, 0] * n + d[:, 1])) == len(d)
+    key = np.sort(d[:, 0] * n + d[:, 1])  # no directed edge twice (a sort: np.unique hashes,
+    return not np.any(key[1:] == key[:-1])  # slower on 300k distinct keys)
 
 
 def fix_winding(T: NDArray, name: str, warnings: list[str]) -> NDArray:

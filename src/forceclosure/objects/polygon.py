@@ -114,7 +114,8 @@ def _check_ring(ring: NDArray[np.float64], what: str, tol: float) -> None:
 def _signed_area(ring: NDArray[np.float64]) -> float:
     # about the ring's first vertex: products of far-away coordinates would cancel
     x, y = (ring - ring[0]).T
-    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+    x1, y1 = np.concatenate((x[1:], x[:1])), np.concatenate((y[1:], y[:1]))  # np.roll(., -1)
+    return 0.5 * float(np.sum(x * y1 - x1 * y))
 
 
 def _straight(ring: NDArray[np.float64]) -> NDArray[np.bool_]:

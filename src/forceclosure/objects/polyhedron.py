@@ -118,6 +118,44 @@ class PlanarFace:
             union = shapely.union_all([shapely.Polygon(self.to_plane(t)) for t in tris])
             return Polygon.from_shapely(union, name=f"face {self.index}")
 
+    @cached_property
+    def triangle_outline(self) -> NDArray[np.float64] | None:
+        """A one-triangle face's outline in ``(u, v)``, counter-clockwise: the outer ring
+        :attr:`polygon` holds, without building and validating the polygon (a curved mesh
+        has as many faces as triangles). ``None`` for a face of several triangles, and for
+        a triangle with an angle whose sine is below 1e-6 (there the polygon's own checks
+        decide).
+
+        Examples
+        --------
+        >>> from forceclosure.objects import bundled
+        >>> face = bundled("cube").faces[0]          # two triangles: no outline
+        >>> face.triangle_outline is None
+        True
+        """
+        if len(self.triangles) != 1:
+            return None
+        ring = self.to_plane(self._vertices[self.loops[0]])
+        d = ring[[1, 2, 0]] - ring  # the edges, and each vertex's incoming one
+        prev = d[[2, 0, 1]]
+        turn = prev[:, 0] * d[:, 1] - prev[:, 1] * d[:, 0]
+        lengths = np.linalg.norm(prev, axis=1) * np.linalg.norm(d, axis=1)
+        # every turn left by an angle whose sine is over 1e-6: counter-clockwise, no edge
+        # short or vertex straight for the polygon's checks, so it keeps the ring as it is
+        if not np.all(turn > 1e-6 * lengths):
+            return None
+        ring.setflags(write=False)
+        return ring
+
+    @cached_property
+    def plane_size(self) -> float:
+        """The face's length scale: its polygon's bounding-box diagonal (``polygon.size``),
+        from :attr:`triangle_outline` where there is one."""
+        ring = self.triangle_outline
+        if ring is None:
+            return self.polygon.size
+        return float(np.linalg.norm(np.ptp(ring, axis=0)))
+
     @property
     def boundary(self) -> NDArray[np.float64]:
         """The outer boundary in object coordinates (for plotting)."""
@@ -248,7 +286,9 @@ class Polyhedron:
         if len(huge):  # beyond it, areas and volumes overflow
             raise InputError(f"{name}: vertex {huge[0] + 1} is beyond {COORDINATE_LIMIT:g} in "
                              "magnitude: rescale the object")
-        extent = np.ptp(V[np.unique(T)], axis=0)
+        used = np.zeros(len(V), dtype=bool)
+        used[T] = True  # the vertices of some triangle
+        extent = np.ptp(V[used], axis=0)
         if not extent.any():
             raise InputError(f"{name}: all vertices coincide")
         size = float(np.linalg.norm(extent))
@@ -327,7 +367,7 @@ class Polyhedron:
         """Number of separate closed surfaces (e.g. the parts of a convex decomposition)."""
         return len(np.unique(self.shell_of_triangle))
 
-    @property
+    @cached_property
     def area(self) -> float:
         """Surface area."""
         return float(sum(f.area for f in self.faces))
@@ -342,7 +382,7 @@ class Polyhedron:
         """``[[xmin, ymin, zmin], [xmax, ymax, zmax]]``."""
         return np.array([self.vertices.min(axis=0), self.vertices.max(axis=0)])
 
-    @property
+    @cached_property
     def size(self) -> float:
         """Length of the bounding box's diagonal: the object's length scale."""
         return float(np.linalg.norm(np.ptp(self.vertices, axis=0)))
@@ -374,6 +414,30 @@ class Polyhedron:
         t = int(np.argmin(dist))
         face = self.faces[int(self.face_of_triangle[t])]
         return face.index, face.to_plane(p), float(dist[t])
+
+    @cached_property
+    def face_neighbors(self) -> dict[int, set[int]]:
+        """The faces sharing an edge with each face (faces with no neighbour left out).
+        Computed once; do not modify.
+
+        Examples
+        --------
+        >>> from forceclosure.objects import bundled
+        >>> sorted(len(n) for n in bundled("cube").face_neighbors.values())
+        [4, 4, 4, 4, 4, 4]
+        """
+        T, label = self.triangles, self.face_of_triangle
+        edges = np.sort(T[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+        owner = np.repeat(label, 3)
+        order = np.lexsort((edges[:, 1], edges[:, 0]))
+        e, o = edges[order], owner[order]
+        same = np.flatnonzero(np.all(e[1:] == e[:-1], axis=1))
+        graph: dict[int, set[int]] = {}
+        for a, b in zip(o[same].tolist(), o[same + 1].tolist(), strict=True):
+            if a != b:
+                graph.setdefault(a, set()).add(b)
+                graph.setdefault(b, set()).add(a)
+        return graph
 
     @cached_property
     def holes(self) -> int:
@@ -523,18 +587,26 @@ def _planar_faces(V, T, normals, areas, directed, ids, counts, size, glued=None)
     face_of_edge = label[tri_of_edge]
     forward = (directed[:, 0] < directed[:, 1]).astype(np.int64)
     key = (face_of_edge * (int(ids.max()) + 1) + ids) * 2
-    rim = np.flatnonzero(~np.isin(key + 1 - forward, key + forward))
+    rim = np.flatnonzero(~_member(key + 1 - forward, key + forward))
     rim = rim[np.argsort(face_of_edge[rim], kind="stable")]
     cut = np.searchsorted(face_of_edge[rim], np.arange(n_faces + 1)).tolist()
     rims = [rim[a:b] for a, b in pairwise(cut)]
     faces = []
     all_axes = np.stack([u, v], axis=1)
-    for k, tris in enumerate(groups):
-        axes = all_axes[k]
+    rows = zip(groups, face_normal, all_axes, face_area.tolist(), spread.tolist(), strict=True)
+    for k, (tris, normal, axes, area, turned) in enumerate(rows):
         loops = (T[tris[0]],) if len(tris) == 1 else _loops(V, directed[rims[k]], axes)
-        faces.append(PlanarFace(k, face_normal[k], V[loops[0][0]], axes, loops, tris,
-                                float(face_area[k]), V, T, float(spread[k])))
+        faces.append(PlanarFace(k, normal, V[loops[0][0]], axes, loops, tris, area, V, T,
+                                turned))
     return tuple(faces), label
+
+
+def _member(x: NDArray[np.int64], of: NDArray[np.int64]) -> NDArray[np.bool_]:
+    """``np.isin(x, of)`` by one sort and a binary search (``np.isin`` hashes, slower on
+    hundreds of thousands of distinct keys)."""
+    table = np.sort(of)
+    at = np.minimum(np.searchsorted(table, x), len(table) - 1)
+    return table[at] == x
 
 
 def _split_curved(V, T, normals, areas, label, a, b, tol):

@@ -49,7 +49,7 @@ class FacePatch:
     @classmethod
     def on(cls, face: PlanarFace, uv) -> FacePatch:
         """The patch with plane coordinates ``uv`` on ``face``."""
-        uv = _corners(np.asarray(uv, dtype=float), 1e-12 * face.polygon.size)
+        uv = _corners(np.asarray(uv, dtype=float), 1e-12 * face.plane_size)
         return cls(face.index, uv, face.to_world(uv))
 
     @property
@@ -147,6 +147,8 @@ def convex_pieces(face: PlanarFace) -> list[NDArray[np.float64]]:
     >>> len(convex_pieces(top)) > 1, len(convex_pieces(side))
     (True, 1)
     """
+    if face.triangle_outline is not None:  # one triangle: itself (as the polygon has it)
+        return [face.triangle_outline]
     shape = face.polygon.to_shapely()
     length = CONVEX_RTOL * max(face.polygon.size, 1e-300)
     tol = length * face.polygon.size  # an area

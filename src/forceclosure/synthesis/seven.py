@@ -34,7 +34,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..errors import InputError
 from ..objects.polyhedron import Polyhedron
 from .patches import FacePatch
-from .regions import MARGIN, Certificate, check_margin, tie_rounded
+from .regions import MARGIN, Certificate, check_margin, proved_once, tie_rounded
 from .zones import Prototype, ZoneRegions, prototype_grasps, zone_regions
 
 #: Corners kept per region, so that a minor is checked at ``MAX_CORNERS ** 6`` tuples.
@@ -211,6 +211,7 @@ def minors_hold(regions: tuple[NDArray, ...], normals: NDArray, turn: ArrayLike)
 class SevenRegions(ZoneRegions):
     """Independent regions for seven frictionless fingers on faces (§5.5)."""
 
+    @proved_once
     def certify(self) -> Certificate:
         """Exact: the seven signed minors keep one strict sign at every tuple of region
         vertices; they are multi-affine in the contact points, so they keep it

@@ -45,7 +45,7 @@ from ..errors import InputError
 from ..objects.polygon import _signed_area
 from ..objects.polyhedron import PlanarFace, Polyhedron
 from .patches import FacePatch, SpatialRegions, clip, convex_pieces
-from .regions import MARGIN, Certificate, first_proved, narrowed, tie_rounded
+from .regions import MARGIN, Certificate, first_proved, narrowed, proved_once, tie_rounded
 
 #: Default margin (radians) taken off each friction cone's half-angle.
 ANGLE_MARGIN = MARGIN  # the one margin (regions.check_margin)
@@ -144,6 +144,7 @@ class SoftPairRegions(SpatialRegions):
 
     apex: NDArray[np.float64] | None = None
 
+    @proved_once
     def certify(self) -> Certificate:
         """Exact: every vertex pair ``(a, b)`` has ``b - a`` strictly inside both friction
         cones (Corollary 3), decided in rational arithmetic; every vertex lies on its face.

@@ -37,7 +37,15 @@ from ..errors import InputError
 from ..objects.polyhedron import Polyhedron
 from .regions import MARGIN, check_margin, narrowed, tie_rounded
 from .soft_pair import _check_faces, _check_mu
-from .zones import EDGES, ZoneRegions, prototype_grasps, zone_regions
+from .zones import (
+    EDGES,
+    Prototype,
+    ZoneRegions,
+    best_prototypes,
+    prototype_grasps,
+    prototype_samples,
+    zone_regions,
+)
 
 #: The paper's names for the four classes (Fig. 9), by number of counter-overlapping pairs.
 CLASSES = {
@@ -167,7 +175,12 @@ def three_hard_regions(polyhedron: Polyhedron, faces: tuple[int, int, int], mu: 
                              samples=samples, seed=seed, faces=faces)
     if not found:
         return None
-    r = zone_regions(polyhedron, found[0], "hard", mu, grow=False,
+    return _around(polyhedron, found[0], mu, margin)
+
+
+def _around(polyhedron: Polyhedron, prototype: Prototype, mu: float,
+            margin: float) -> ThreeHardRegions:
+    r = zone_regions(polyhedron, prototype, "hard", mu, grow=False,
                      construction="search zones on faces (§5.3)", margin=margin)
     return ThreeHardRegions(**{f: getattr(r, f) for f in r.__dataclass_fields__})
 
@@ -190,6 +203,8 @@ def best_three_hard_regions(polyhedron: Polyhedron, mu: float, top: int = 5,
     >>> all(r.certify().holds for r in found), len(found)
     (True, 2)
     """
+    from ..batch import epsilon_batch
+
     _check_mu(mu, 0.0)
     if top < 1:
         raise InputError(f"top must be at least 1, got {top}")
@@ -198,12 +213,22 @@ def best_three_hard_regions(polyhedron: Polyhedron, mu: float, top: int = 5,
     order = sorted(range(len(polyhedron.faces)),
                    key=lambda f: (-tie_rounded(polyhedron.faces[f].area / size**2), f))
     chosen = order[:max_faces]
+    # the triples three_hard_regions would not screen out, and the grasps it would sample on
+    # each, analysed in one batch (each grasp's epsilon is its own, whatever the batch)
+    live = [triple for triple in itertools.combinations_with_replacement(chosen, 3)
+            if triple[0] != triple[2]  # not all three on one face
+            and force_direction_closure_of_faces([polyhedron.faces[f].normal for f in triple],
+                                                 mu)]
+    if not live:
+        return []
+    drawn = [prototype_samples(polyhedron, 3, samples, seed, triple) for triple in live]
+    P = np.concatenate([p for p, _ in drawn])
+    F = np.concatenate([f for _, f in drawn])
+    normals = np.array([f.normal for f in polyhedron.faces])
+    eps = epsilon_batch(P, normals[F], mu=narrowed(mu, check_margin(margin)), model="hard")
     found = []
-    for triple in itertools.combinations_with_replacement(chosen, 3):
-        if triple[0] == triple[2]:
-            continue  # all three on one face
-        r = three_hard_regions(polyhedron, triple, mu, samples=samples, seed=seed,
-                               margin=margin)
-        if r is not None:
-            found.append(r)
+    for (P, F), e in zip(drawn, np.split(eps, len(live)), strict=True):
+        best = best_prototypes(P, F, e, 1)
+        if best:
+            found.append(_around(polyhedron, best[0], mu, margin))
     return sorted(found, key=lambda r: -tie_rounded(r.min_area / size**2))[:top]

@@ -41,7 +41,7 @@ from ..errors import InputError
 from ..objects.polygon import _signed_area
 from ..objects.polyhedron import PlanarFace, Polyhedron
 from .patches import FacePatch, SpatialRegions, clip, convex_pieces, uniform_in_triangles
-from .regions import MARGIN, Certificate, check_margin, narrowed
+from .regions import MARGIN, Certificate, check_margin, narrowed, proved_once
 
 #: Edges of the inscribed friction pyramid (an inner approximation: regions stay valid
 #: for the true circular cones).
@@ -49,6 +49,8 @@ EDGES = 8
 #: Every zone condition holds with at least this margin, ``a_k . w >= ZONE_MARGIN``.
 ZONE_MARGIN = 1e-6
 MODELS = ("frictionless", "hard", "soft")
+#: Largest number of faces whose generators are computed in one call while growing.
+AFFINE_BATCH = 4096
 
 
 def finger_generators(model: str, mu: float, margin: float, edges: int = EDGES
@@ -119,6 +121,19 @@ class SearchZones:
     def owned(self, finger: int) -> list[int]:
         """The hull vertices (wrench indices) whose zones ``finger`` must reach."""
         return [k for k in np.flatnonzero(self.finger == finger) if len(self.at_vertex[k])]
+
+    def owned_facets(self, finger: int) -> tuple[list[int], NDArray[np.float64],
+                                                 NDArray[np.int64]]:
+        """:meth:`owned`, with the facets at those vertices stacked: ``(zones, A, starts)``,
+        zone ``zones[i]``'s facets the rows ``starts[i]:starts[i + 1]`` of ``A``. Kept."""
+        kept = self.__dict__.setdefault("_owned_facets", {})
+        if finger not in kept:
+            zones = self.owned(finger)
+            sizes = [len(self.at_vertex[k]) for k in zones]
+            at = np.concatenate([self.at_vertex[k] for k in zones]) if zones else np.zeros(
+                0, dtype=np.int64)
+            kept[finger] = (zones, self.facets[at], np.concatenate([[0], np.cumsum(sizes)]))
+        return kept[finger]
 
 
 def _generators(points: NDArray, normals: NDArray, model: str, mu: float, edges: int,
@@ -195,10 +210,21 @@ def _affine_wrenches(face: PlanarFace, zones: SearchZones, model: str, mu: float
                      edges: int) -> tuple[NDArray, NDArray, NDArray]:
     """A finger's generators on ``face`` as affine maps of plane coordinates:
     ``w(uv) = w0 + u wu + v wv``, each ``(g, 6)``."""
-    corners = face.to_world(np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]))
-    G = _generators(corners, np.repeat(face.normal[None], 3, axis=0), model, mu, edges,
-                    zones.reference, zones.length_scale)
-    return G[0], G[1] - G[0], G[2] - G[0]
+    return _affine_batch([face], zones, model, mu, edges)[0]
+
+
+def _affine_batch(faces: list[PlanarFace], zones: SearchZones, model: str, mu: float,
+                  edges: int) -> list[tuple[NDArray, NDArray, NDArray]]:
+    """:func:`_affine_wrenches` of many faces in one call (the same numbers: the generators
+    are computed row by row)."""
+    origin = np.array([f.origin for f in faces])
+    axes = np.array([f.axes for f in faces])  # (F, 2, 3)
+    # the plane points (0, 0), (1, 0), (0, 1) of each face, as face.to_world makes them
+    corners = np.stack([origin + 0.0, origin + axes[:, 0], origin + axes[:, 1]], axis=1)
+    normals = np.repeat(np.array([f.normal for f in faces]), 3, axis=0)
+    G = _generators(corners.reshape(-1, 3), normals, model, mu, edges, zones.reference,
+                    zones.length_scale).reshape(len(faces), 3, -1, 6)
+    return [(g[0], g[1] - g[0], g[2] - g[0]) for g in G]
 
 
 @dataclass(frozen=True, eq=False)
@@ -231,6 +257,7 @@ class ZoneRegions(SpatialRegions):
         normal (:func:`finger_generators`)."""
         return finger_generators(self.model, self.mu, self.margin, self.edges)[1]
 
+    @proved_once
     def certify(self) -> Certificate:
         """Exact on the pyramids: the prototype's hull is closed with the origin inside;
         at every vertex of every patch the chosen generator lies in its zone.
@@ -291,8 +318,51 @@ def _zone_certificate(r: ZoneRegions) -> Certificate:
             return Certificate(False, "search zones",
                                f"face {turned.index}'s triangles turn by {turned.spread:.3g} "
                                f"rad, more than the margin of {r.margin:g}")
-    checked = 0
     model, mu, every = finger_generators(r.model, r.mu, r.margin, r.edges)
+    checked = _zone_conditions(r, model, mu, every)
+    if checked is None:  # some value is close to zero or below: decide each one in turn
+        failed, checked = _zone_conditions_one_by_one(r, model, mu, every)
+        if failed is not None:
+            return failed
+    return Certificate(True, "search zones",
+                       f"prototype hull closed around the origin ({len(z.facets)} facets); "
+                       f"{checked} linear zone conditions hold at the patch vertices")
+
+
+def _zone_conditions(r: ZoneRegions, model: str, mu: float, every: bool) -> int | None:
+    """How many zone conditions hold at the patch vertices, all at once: each finger's
+    generators at every vertex of its patches in one call, then each (zone, generator)
+    against the vertices of all the patches that chose it. ``None`` when some value is
+    not clearly positive (then :func:`_zone_conditions_one_by_one` decides, exactly)."""
+    z = r.zones
+    faces = r.polyhedron.faces
+    checked = 0
+    for region, choices in zip(r.regions, r.choices, strict=True):
+        counts = np.array([len(p.points) for p in region])
+        points = np.vstack([p.points for p in region])
+        normals = np.repeat(np.array([faces[p.face].normal for p in region]), counts, axis=0)
+        G = _generators(points, normals, model, mu, r.edges, z.reference, z.length_scale)
+        users: dict[tuple[int, int], list[int]] = {}
+        for k, chosen in enumerate(choices):
+            for zone, gen in chosen:
+                for g in range(G.shape[1]) if every else [gen]:
+                    users.setdefault((zone, g), []).append(k)
+        for (zone, g), patches in users.items():
+            mask = np.zeros(len(region), dtype=bool)
+            mask[patches] = True
+            values = G[np.repeat(mask, counts), g, :] @ z.facets[z.at_vertex[zone]].T
+            checked += values.size
+            if not np.all(values > 1e-9):
+                return None
+    return checked
+
+
+def _zone_conditions_one_by_one(r: ZoneRegions, model: str, mu: float, every: bool
+                                ) -> tuple[Certificate | None, int]:
+    """The zone conditions patch by patch, values near zero decided in rationals: the
+    first that fails (as a certificate that does not hold), or None, and how many hold."""
+    z = r.zones
+    checked = 0
     for finger, (region, choices) in enumerate(zip(r.regions, r.choices, strict=True)):
         for patch, chosen in zip(region, choices, strict=True):
             face = r.polyhedron.faces[patch.face]
@@ -308,10 +378,9 @@ def _zone_certificate(r: ZoneRegions) -> Certificate:
                             continue
                         return Certificate(False, "search zones",
                                            f"finger {finger + 1}: at {patch.points[vi].tolist()}"
-                                           f" on face {patch.face} a wrench leaves its zone")
-    return Certificate(True, "search zones",
-                       f"prototype hull closed around the origin ({len(z.facets)} facets); "
-                       f"{checked} linear zone conditions hold at the patch vertices")
+                                           f" on face {patch.face} a wrench leaves its zone"
+                                           ), checked
+    return None, checked
 
 
 def _exact_positive(point, normal, gen, model, mu, edges, z, facet) -> bool:
@@ -337,61 +406,61 @@ def _patch_for(face: PlanarFace, piece: NDArray, zones: SearchZones, finger: int
     one per zone must lie in it, or ``every`` one (:func:`finger_generators`)."""
     w0, wu, wv = affine
     centre = piece.mean(axis=0) if hint is None else hint
-    rows, rhs, chosen = [], [], []
-    for zone in zones.owned(finger):
-        A = zones.facets[zones.at_vertex[zone]]  # (f, 6)
-        at_centre = (w0 + centre[0] * wu + centre[1] * wv) @ A.T  # (g, f)
-        # the generator deepest in the zone; ties (symmetric pyramids make exact ones) go to
-        # the lowest index, whatever the rounding, so that a moved or scaled object gets the
-        # same choice
-        depth = at_centre.min(axis=1)
-        gen = int(np.flatnonzero(depth >= depth.max() - 1e-9 * abs(depth.max()))[0])
+    owned, A, starts = zones.owned_facets(finger)
+    if not owned:
+        return _kept(face, piece, [], [], ())
+    # every zone's facets at once: (g, facets) values at the centre, and each generator's
+    # least value in each zone (g, zones)
+    depth = np.minimum.reduceat((w0 + centre[0] * wu + centre[1] * wv) @ A.T, starts[:-1],
+                                axis=1)
+    # in each zone the generator deepest in it; ties (symmetric pyramids make exact ones) go
+    # to the lowest index, whatever the rounding, so that a moved or scaled object gets the
+    # same choice
+    deepest = depth.max(axis=0)
+    gens = np.argmax(depth >= deepest - 1e-9 * np.abs(deepest), axis=0)
+    reached = depth if every else depth[gens, np.arange(len(owned))]
+    if reached.min() <= ZONE_MARGIN:
+        return None, ()
+    along_u, along_v, rhs = [], [], []
+    for lo, hi, gen in zip(starts[:-1].tolist(), starts[1:].tolist(), gens.tolist(),
+                           strict=True):
+        # the half-planes, one product per generator as the zone's own (so that the
+        # patches come out the same to the last bit whatever the other zones)
+        facets = A[lo:hi].T
         for g in range(len(w0)) if every else [gen]:
-            if at_centre[g].min() <= ZONE_MARGIN:
-                return None, ()
-            rows.append(np.column_stack([wu[g] @ A.T, wv[g] @ A.T]))
-            rhs.append(ZONE_MARGIN - w0[g] @ A.T)
-        chosen.append((int(zone), gen))
+            along_u.append(wu[g] @ facets)
+            along_v.append(wv[g] @ facets)
+            rhs.append(ZONE_MARGIN - w0[g] @ facets)
+    rows = np.column_stack([np.concatenate(along_u), np.concatenate(along_v)])
+    return _kept(face, piece, [rows], rhs, tuple(zip(map(int, owned), gens.tolist(),
+                                                     strict=True)))
+
+
+def _kept(face: PlanarFace, piece: NDArray, rows: list, rhs: list, chosen: tuple):
+    """The piece cut by the half-planes ``rows . y >= rhs`` (lists of blocks), or nothing
+    if too little is left."""
     ring = clip(piece, np.vstack(rows), np.concatenate(rhs)) if rows else piece
-    if len(ring) < 3 or _signed_area(ring) <= 1e-12 * face.polygon.size ** 2:
+    if len(ring) < 3 or _signed_area(ring) <= 1e-12 * face.plane_size ** 2:
         return None, ()
     return ring, tuple(chosen)
-
-
-def _face_graph(poly: Polyhedron) -> dict[int, set[int]]:
-    T, label = poly.triangles, poly.face_of_triangle
-    edges = np.sort(T[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
-    owner = np.repeat(label, 3)
-    order = np.lexsort((edges[:, 1], edges[:, 0]))
-    e, o = edges[order], owner[order]
-    same = np.flatnonzero(np.all(e[1:] == e[:-1], axis=1))
-    graph: dict[int, set[int]] = {}
-    for a, b in zip(o[same].tolist(), o[same + 1].tolist(), strict=True):
-        if a != b:
-            graph.setdefault(a, set()).add(b)
-            graph.setdefault(b, set()).add(a)
-    return graph
 
 
 def _touch(a: FacePatch, b: FacePatch, tol: float) -> bool:
     """Whether two patches share a stretch of boundary (or, on one face, overlap)."""
     if a.face == b.face:
         return shapely.Polygon(a.uv).buffer(tol).intersection(shapely.Polygon(b.uv)).area > 0
-    close = 0
-    for p in a.points:
-        d = _segment_distance(p, b.points)
-        close += d <= tol
-    for p in b.points:
-        close += _segment_distance(p, a.points) <= tol
+    close = np.count_nonzero(_segment_distances(a.points, b.points) <= tol)
+    close += np.count_nonzero(_segment_distances(b.points, a.points) <= tol)
     return close >= 2
 
 
-def _segment_distance(p: NDArray, ring: NDArray) -> float:
-    q = np.roll(ring, -1, axis=0)
-    d = q - ring
-    t = np.clip(np.einsum("ij,ij->i", p - ring, d) / np.maximum(np.einsum("ij,ij->i", d, d),
-                                                                1e-300), 0, 1)
-    return float(np.linalg.norm(ring + t[:, None] * d - p, axis=1).min())
+def _segment_distances(points: NDArray, ring: NDArray) -> NDArray[np.float64]:
+    """Distance from each of ``points`` ``(n, 3)`` to the closed polyline ``ring``."""
+    d = np.concatenate((ring[1:], ring[:1])) - ring  # (k, 3) edges
+    offset = points[:, None, :] - ring  # (n, k, 3)
+    t = np.clip(np.einsum("nij,ij->ni", offset, d) / np.maximum(np.einsum("ij,ij->i", d, d),
+                                                                 1e-300), 0, 1)
+    return np.linalg.norm(t[:, :, None] * d - offset, axis=2).min(axis=1)
 
 
 @dataclass(frozen=True, eq=False)
@@ -473,12 +542,25 @@ def zone_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike, model
     margin = check_margin(margin)
     built, cone_mu, every = finger_generators(model, mu, margin, edges)
     zones = search_zones(P, N, model, 0.0 if every else cone_mu, edges)
-    graph = _face_graph(polyhedron) if grow else {}
+    graph = polyhedron.face_neighbors if grow else {}
+    affines: dict[int, tuple[NDArray, NDArray, NDArray]] = {}  # by face, for every finger
+
+    def affine_of(f_index: int, frontier) -> tuple[NDArray, NDArray, NDArray]:
+        """The face's affine generators, computed with those of the faces waiting in the
+        frontier (one call for many faces instead of one per face)."""
+        if f_index not in affines:
+            todo = dict.fromkeys([f_index, *(g for g, _ in frontier if g not in affines)])
+            batch = [polyhedron.faces[g] for g in list(todo)[:AFFINE_BATCH]]
+            for f, a in zip(batch, _affine_batch(batch, zones, built, cone_mu, edges),
+                            strict=True):
+                affines[f.index] = a
+        return affines[f_index]
+
     regions, choices = [], []
     for finger, (face, (_, uv, _)) in enumerate(zip(faces, located, strict=True)):
         pieces = convex_pieces(face)
         start = _containing(pieces, uv)
-        affine = _affine_wrenches(face, zones, built, cone_mu, edges)
+        affine = affine_of(face.index, ())
         ring, chosen = _patch_for(face, pieces[start], zones, finger, affine, uv, every)
         if ring is None:  # the prototype point itself sits on a zone's boundary
             raise InputError(f"finger {finger + 1}: the prototype is too close to the "
@@ -499,8 +581,7 @@ def zone_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike, model
             if which is None:
                 seen.add(f_index)
             f_pieces = convex_pieces(f)
-            f_affine = affine if f_index == face.index else _affine_wrenches(
-                f, zones, built, cone_mu, edges)
+            f_affine = affine_of(f_index, frontier)
             added = False
             for k in (range(len(f_pieces)) if which is None else [which]):
                 ring, chosen = _patch_for(f, f_pieces[k], zones, finger, f_affine, None, every)
@@ -557,6 +638,26 @@ def prototype_grasps(polyhedron: Polyhedron, fingers: int, model: str = "hard",
     """
     from ..batch import epsilon_batch
 
+    P, F = prototype_samples(polyhedron, fingers, samples, seed, faces)
+    N = np.array([f.normal for f in polyhedron.faces])[F]
+    eps = epsilon_batch(P, N, mu=0.0 if model == "frictionless" else mu, model=model)
+    return best_prototypes(P, F, eps, count)
+
+
+def prototype_samples(polyhedron: Polyhedron, fingers: int, samples: int = 20_000,
+                      seed: int = 0, faces: ArrayLike | None = None
+                      ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """The random grasps :func:`prototype_grasps` analyses: ``(samples, fingers, 3)``
+    points and the face of each, drawn from ``seed`` alone (so that the grasps of many
+    face tuples can be analysed in one batch and come out as each call would draw them).
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> P, F = prototype_samples(bundled("cube"), 3, 10, faces=[0, 1, 1])
+    >>> P.shape, F[0].tolist()
+    ((10, 3, 3), [0, 1, 1])
+    """
     if fingers < 1:
         raise InputError(f"fingers must be at least 1, got {fingers}")
     if samples < 1:
@@ -564,16 +665,16 @@ def prototype_grasps(polyhedron: Polyhedron, fingers: int, model: str = "hard",
     rng = np.random.default_rng(seed)
     if faces is None:
         P, F = surface_samples(polyhedron, samples * fingers, rng)
-        P, F = P.reshape(samples, fingers, 3), F.reshape(samples, fingers)
-    else:
-        faces = [int(f) for f in faces]
-        if len(faces) != fingers:
-            raise InputError(f"{fingers} fingers need {fingers} faces, got {len(faces)}")
-        parts = [surface_samples(polyhedron, samples, rng, [f]) for f in faces]
-        P = np.stack([p for p, _ in parts], axis=1)
-        F = np.stack([f for _, f in parts], axis=1)
-    N = np.array([f.normal for f in polyhedron.faces])[F]
-    eps = epsilon_batch(P, N, mu=0.0 if model == "frictionless" else mu, model=model)
+        return P.reshape(samples, fingers, 3), F.reshape(samples, fingers)
+    faces = [int(f) for f in faces]
+    if len(faces) != fingers:
+        raise InputError(f"{fingers} fingers need {fingers} faces, got {len(faces)}")
+    parts = [surface_samples(polyhedron, samples, rng, [f]) for f in faces]
+    return np.stack([p for p, _ in parts], axis=1), np.stack([f for _, f in parts], axis=1)
+
+
+def best_prototypes(P: NDArray, F: NDArray, eps: NDArray, count: int = 1) -> list[Prototype]:
+    """The ``count`` grasps of largest epsilon (ties to the first drawn), those closed."""
     order = np.argsort(-eps, kind="stable")
     return [Prototype(P[g], tuple(int(f) for f in F[g]), float(eps[g]))
             for g in order[:count] if eps[g] > 0]
