@@ -264,7 +264,7 @@ def analyze_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
     margin = np.full(n, np.nan)
     twist = np.full((n, 3 if d == 2 else 6), np.nan)
     if engine == "compiled" and n:
-        from .kernels import kernel_array
+        from .kernels import announce_compiling, kernel_array
         from .kernels import theorem1 as kernel
 
         model_codes = np.array([MODELS.index(m) for m in grasps.models], dtype=np.int64)
@@ -273,6 +273,7 @@ def analyze_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
         for lo in range(0, n, CHUNK):
             part = slice(lo, min(n, lo + CHUNK))
             P, M = _kernel_inputs(grasps, part, extreme)
+            announce_compiling(kernel.closure_kernel)
             kernel.closure_kernel(
                 P, kernel_array(grasps.normals[part]), M, kernel_array(grasps.torsion[part]),
                 model_codes, edges, fit, exact, float(tol), maxm,
@@ -355,7 +356,7 @@ def least_friction_batch(points: ArrayLike, normals: ArrayLike, *,
         P, N_ = grasps.points, grasps.normals
         return two_finger_closure(P[:, 0], N_[:, 0], P[:, 1], N_[:, 1], 1.0).least_friction
     else:
-        from .kernels import kernel_array
+        from .kernels import announce_compiling, kernel_array
         from .kernels import theorem1 as kernel
 
         model_codes = np.array([MODELS.index(m) for m in grasps.models], dtype=np.int64)
@@ -363,6 +364,7 @@ def least_friction_batch(points: ArrayLike, normals: ArrayLike, *,
         deferred = np.zeros(n, dtype=np.bool_)
         extreme = _extreme(grasps)
         P = _kernel_inputs(grasps, slice(0, n), extreme)[0]
+        announce_compiling(kernel.least_friction_kernel)
         kernel.least_friction_kernel(P, kernel_array(grasps.normals),
                                      kernel_array(grasps.torsion), model_codes, edges, fit,
                                      exact, float(tol), maxm, MU_MAX, float(rtol), out, deferred)
@@ -426,7 +428,7 @@ def epsilon_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
     if reference:
         todo = np.arange(n)
     elif n:
-        from .kernels import kernel_array, theorem1
+        from .kernels import announce_compiling, kernel_array, theorem1
         from .kernels.quality import epsilon_kernel
 
         maxm = theorem1.columns_per_grasp(k, d, max(cone.edges, 256))
@@ -436,6 +438,7 @@ def epsilon_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
         for lo in range(0, n, CHUNK):
             part = slice(lo, min(n, lo + CHUNK))
             P, M = _kernel_inputs(grasps, part, extreme)
+            announce_compiling(epsilon_kernel)
             epsilon_kernel(P, kernel_array(grasps.normals[part]), M,
                            kernel_array(grasps.torsion[part]),
                            model_codes, cone.edges, float(tol), maxm, out[part], deferred[part])

@@ -628,9 +628,10 @@ def _cmd_warmup(args: argparse.Namespace) -> int:
         ("two-finger pairs, Corollary 3", lambda: two_finger_closure(
             [0.0, 0, 1], [0.0, 0, 1], [0.0, 0, -1], [0.0, 0, -1], 0.5)),
     ]
-    total = time.perf_counter()
-    from .kernels import pairs, quality, theorem1  # noqa: F401 - says first if it compiles
+    from .kernels import compiling_announced
 
+    compiling_announced()  # each step says what it compiles, and how long it took
+    total = time.perf_counter()
     for k, (label, run) in enumerate(steps, start=1):
         print(f"[{k}/{len(steps)}] {label} ...", end=" ", flush=True, file=sys.stderr)
         start = time.perf_counter()

@@ -195,7 +195,7 @@ def _conditioned(p, n_p, q, n_q):
 
 
 def _compiled(p, n_p, q, n_q, mu_p, mu_q, model, tol, shape):
-    from .kernels import kernel_array
+    from .kernels import announce_compiling, kernel_array
     from .kernels import pairs as kernel
 
     def rows(a: NDArray[np.float64], tail: tuple[int, ...]) -> NDArray[np.float64]:
@@ -209,6 +209,7 @@ def _compiled(p, n_p, q, n_q, mu_p, mu_q, model, tol, shape):
     n = flat[0].shape[0]
     code = np.empty(n, dtype=np.int8)
     least = np.empty(n)
+    announce_compiling(kernel.pair_kernel)
     flagged = kernel.pair_kernel(*flat, *mus, float(tol), code, least)
     bad = np.flatnonzero(code >= kernel.ZERO_NORMAL) if flagged else ()
     if len(bad):

@@ -17,11 +17,17 @@ _log = logging.getLogger("forceclosure")
 _announced = False
 
 
+def compiling_announced() -> None:
+    """Take compilation as announced: for callers that report it themselves."""
+    global _announced
+    _announced = True
+
+
 def announce_compiling(*kernels) -> None:
     """Say once per process, as a warning on the ``forceclosure`` logger (standard error
-    unless configured), that compilation is about to take a while: when one of these
-    kernels has no compiled code cached on disk (numba's cache index), as on the first run
-    after installing.
+    unless configured), that compilation is about to take a while: called just before
+    these kernels run, when one has no compiled code cached on disk (numba's cache index),
+    as on the first run after installing.
     """
     global _announced
     if _announced:

@@ -19,8 +19,6 @@ import math
 import numba as nb
 import numpy as np
 
-from . import announce_compiling
-
 #: Pair codes, as in :mod:`forceclosure.two_finger`.
 NONE, MARGINAL, CLOSURE = 0, 1, 2
 #: A pair whose code is not final: spatial soft fingers, non-antiparallel
@@ -149,5 +147,3 @@ def pair_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, code, least):  # pragma: no cov
         least[i] = _least(cp, sp, cq, sq)
     return flagged
 
-
-announce_compiling(pair_kernel)

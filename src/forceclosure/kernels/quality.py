@@ -13,7 +13,6 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from . import announce_compiling
 from .hull import hull_radius
 from .theorem1 import BLOCK, CLOSURE, DEFER, EXACT_EDGES, _decide, _work, grasp, wrenches
 
@@ -50,5 +49,3 @@ def epsilon_kernel(points, normals, mu, tors, model, edges, tol, maxm,
             else:
                 out[g] = max(0.0, radius)
 
-
-announce_compiling(epsilon_kernel)

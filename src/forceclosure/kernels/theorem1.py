@@ -37,7 +37,6 @@ from collections import namedtuple
 import numba as nb
 import numpy as np
 
-from . import announce_compiling
 from .simplex import INFEASIBLE, OPTIMAL, solve_tableau, tableau
 
 NONE, MARGINAL, CLOSURE, DEFER = 0, 1, 2, 3
@@ -771,5 +770,3 @@ def least_friction_kernel(points, normals, tors, model, edges, fit, exact, tol, 
                     lo = mid
             out[g] = math.tan(hi)
 
-
-announce_compiling(closure_kernel, least_friction_kernel)
