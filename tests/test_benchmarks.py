@@ -4,9 +4,12 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 BENCH = Path(__file__).parents[1] / "benchmarks" / "bench_batch.py"
 
 
+@pytest.mark.long
 def test_batch_benchmark_runs(tmp_path):
     png = tmp_path / "bench.png"
     run = subprocess.run([sys.executable, str(BENCH), "--quick", "--plot", str(png)],

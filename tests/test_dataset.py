@@ -153,6 +153,7 @@ def test_rerun_skips_everything(reference, corrupt):
         run_dataset([str(corrupt)], out, Job(fingers=3, mu=0.4), workers=1)
 
 
+@pytest.mark.long
 def test_dask_cluster_with_a_worker_killed(reference, corrupt, tmp_path):
     """Two workers on a real LocalCluster; one is killed mid-run. The run completes, a
     re-run computes nothing, and every record equals the single-process one."""
@@ -194,6 +195,7 @@ def test_dask_cluster_with_a_worker_killed(reference, corrupt, tmp_path):
     assert len(_records(cli_out)) == 3
 
 
+@pytest.mark.long
 def test_local_pool_with_a_worker_killed(reference, tmp_path):
     out = tmp_path / "pool"
     inputs = [*map(str, _objects(12))]
@@ -219,6 +221,7 @@ def test_local_pool_with_a_worker_killed(reference, tmp_path):
     assert _records(out) == {k: truth[k] for k in _records(out)}
 
 
+@pytest.mark.long
 def test_killed_run_resumes(reference, tmp_path):
     """The command killed mid-way (SIGKILL, with its pool) and run again: exactly one
     record per object, the same as the single-process run."""

@@ -368,6 +368,7 @@ def _hooked(tmp_path: Path) -> dict[str, str]:
         [str(hook), *filter(None, [os.environ.get("PYTHONPATH")])])}
 
 
+@pytest.mark.long
 def test_concurrent_run_refused_and_killed_driver(tmp_path, urdf_truth, capsys):
     """A run in progress, one of its workers stuck (taking no signal, as in compiled code):
     a second run on the same --out is refused in one line. The first is killed alone
@@ -423,6 +424,7 @@ d._synthesize = _stuck
 '''
 
 
+@pytest.mark.long
 def test_worker_stuck_in_compiled_code(tmp_path):
     """A worker in a long C call that runs no signal handler (as in compiled code) is killed
     at the time limit and its object recorded as 'timeout' with the reason; the others
@@ -445,6 +447,7 @@ def test_worker_stuck_in_compiled_code(tmp_path):
     assert "forceclosure: timeout: stuck.obj: over the time limit" in done.stderr
 
 
+@pytest.mark.long
 def test_stopped_worker(tmp_path, monkeypatch, urdf_truth):
     """A worker stopped (SIGSTOP) mid-run is killed by the watchdog, its object run again;
     every object ends with its correct record."""

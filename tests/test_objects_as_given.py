@@ -314,8 +314,7 @@ def test_real_meshes_moved_and_scaled_hold_on_the_original_geometry(name, finger
     ("cube", 3, "hard", 1e8, 1.0), ("triangular-prism", 3, "hard", -3e5, 2.0**-12),
     ("l-prism", 3, "hard", 1e8, 1e4), ("hexagonal-prism", 3, "hard", 0.0, 1e-4),
     ("hexagonal-prism", 3, "hard", 2e7, 3.0), ("cube", 7, "frictionless", 1e3, 1e-4),
-    ("cube", 7, "frictionless", 1e8, 1.0),
-    ("l-prism", 7, "frictionless", 0.0, 1e4)])
+    pytest.param("l-prism", 7, "frictionless", 0.0, 1e4, marks=pytest.mark.long)])
 def test_sampled_constructions_far_away_or_scaled(name, fingers, contact, offset, scale):
     """§5.3 and §5.5 through sampled prototypes and search zones: moved by up to 1e8 and
     scaled by 1e-4, 3 or 1e4, the best regions' sizes relative to the object are the same
@@ -324,8 +323,8 @@ def test_sampled_constructions_far_away_or_scaled(name, fingers, contact, offset
     regions) are broken by index on values rounded to 12 digits, not by that rounding."""
     obj = bundled(name)
     moved = Polyhedron.from_arrays(obj.vertices * scale + offset, obj.triangles)
-    want = synthesize(obj, fingers, contact, 0.5, top=2).found
-    got = synthesize(moved, fingers, contact, 0.5, top=2).found
+    want = synthesize(obj, fingers, contact, 0.5, top=2, samples=8000).found
+    got = synthesize(moved, fingers, contact, 0.5, top=2, samples=8000).found
     assert len(got) == len(want) == 2
     np.testing.assert_allclose([r.min_area / moved.size**2 for r in got],
                                [r.min_area / obj.size**2 for r in want], rtol=1e-6)
@@ -436,7 +435,7 @@ def test_synthesis_serves_sizes_from_a_micrometre_to_a_megametre(name, fingers, 
         return Polygon.from_points(np.asarray(obj.outer) * s)
 
     def sizes(o):
-        found = synthesize(o, fingers, contact, mu, top=2).found
+        found = synthesize(o, fingers, contact, mu, top=2, samples=8000).found
         return [r.min_area / o.size**2 if o.dim == 3 else r.min_length / o.size for r in found]
 
     want = sizes(obj)
