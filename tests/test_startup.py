@@ -76,4 +76,4 @@ def test_compiling_is_announced_once_when_nothing_is_cached(tmp_path, caplog, mo
     kernels.announce_compiling(kernel(tmp_path / "cached.nbi"), kernel(tmp_path / "no.nbi"))
     kernels.announce_compiling(kernel(tmp_path / "no.nbi"))
     assert [r.getMessage().split(",")[0] for r in caplog.records] == [
-        "forceclosure: compiling the batch kernels for this machine"]
+        "forceclosure: warning: compiling the batch kernels for this machine"]

@@ -39,8 +39,8 @@ def announce_compiling(*kernels) -> None:
             return
         if not os.path.exists(index):
             _announced = True
-            _log.warning("forceclosure: compiling the batch kernels for this machine, once "
-                         "(about a minute; cached for later runs; `forceclosure warmup` "
+            _log.warning("forceclosure: warning: compiling the batch kernels for this machine, "
+                         "once (about a minute; cached for later runs; `forceclosure warmup` "
                          "does it ahead)")
             return
 
