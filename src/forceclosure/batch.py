@@ -270,10 +270,10 @@ def analyze_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
         model_codes = np.array([MODELS.index(m) for m in grasps.models], dtype=np.int64)
         maxm = kernel.columns_per_grasp(k, d, 256 if exact else edges)
         extreme = _extreme(grasps)
+        announce_compiling(kernel.closure_kernel)
         for lo in range(0, n, CHUNK):
             part = slice(lo, min(n, lo + CHUNK))
             P, M = _kernel_inputs(grasps, part, extreme)
-            announce_compiling(kernel.closure_kernel)
             kernel.closure_kernel(
                 P, kernel_array(grasps.normals[part]), M, kernel_array(grasps.torsion[part]),
                 model_codes, edges, fit, exact, float(tol), maxm,
@@ -435,10 +435,10 @@ def epsilon_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
         model_codes = np.array([MODELS.index(m) for m in grasps.models], dtype=np.int64)
         deferred = np.zeros(n, dtype=np.bool_)
         extreme = _extreme(grasps)
+        announce_compiling(epsilon_kernel)
         for lo in range(0, n, CHUNK):
             part = slice(lo, min(n, lo + CHUNK))
             P, M = _kernel_inputs(grasps, part, extreme)
-            announce_compiling(epsilon_kernel)
             epsilon_kernel(P, kernel_array(grasps.normals[part]), M,
                            kernel_array(grasps.torsion[part]),
                            model_codes, cone.edges, float(tol), maxm, out[part], deferred[part])

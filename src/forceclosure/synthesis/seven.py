@@ -29,6 +29,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
+import shapely
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
@@ -242,13 +243,6 @@ def _shrunk(patch: FacePatch, face, towards: NDArray, scale: float) -> FacePatch
     return FacePatch.on(face, towards + scale * (patch.uv - towards))
 
 
-def _inside(uv: NDArray, point: NDArray) -> bool:
-    """Whether ``point`` lies in the convex counter-clockwise polygon ``uv``."""
-    a, b = uv, np.roll(uv, -1, axis=0)
-    cross = (b[:, 0] - a[:, 0]) * (point[1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (point[0] - a[:, 0])
-    return bool(np.all(cross >= 0))
-
-
 def seven_frictionless_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike,
                                margin: float = MARGIN) -> SevenRegions:
     """Independent regions for seven frictionless fingers around a prototype grasp (§5.5).
@@ -291,7 +285,8 @@ def seven_frictionless_regions(polyhedron: Polyhedron, prototype: Prototype | Ar
     centres = []
     for patch, face, p in zip(patches, faces, P, strict=True):
         uv = face.to_plane(p)
-        centres.append(uv if _inside(patch.uv, uv) else patch.uv.mean(axis=0))
+        inside = shapely.Polygon(patch.uv).covers(shapely.Point(uv))
+        centres.append(uv if inside else patch.uv.mean(axis=0))
     normals = np.array([f.normal for f in faces])
     turn = np.array([margin + f.spread for f in faces])
 
