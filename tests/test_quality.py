@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from forceclosure import Cone, Verdict, analyze, generating_wrenches, point_contact
-from forceclosure.batch import analyze_batch
+from forceclosure.batch import analyze_batch, least_friction_batch
 from forceclosure.quality import epsilon, least_friction, least_friction_reference
 from forceclosure.two_finger import two_finger_closure
 
@@ -55,6 +55,61 @@ def test_least_friction_is_the_closure_threshold(dim):
     below = [c.with_friction(mu * 0.99) for c in grasp]
     assert analyze(above).verdict is Verdict.CLOSURE
     assert analyze(below).verdict is not Verdict.CLOSURE
+
+
+def _soft_pairs(count, seed):
+    """Spatial soft pairs, squeezing and (every third) spreading, normals tilted at random."""
+    rng = np.random.default_rng(seed)
+    for i in range(count):
+        p, q = rng.normal(size=3), rng.normal(size=3)
+        d = (q - p) / np.linalg.norm(q - p)
+        n_p, n_q = -d + rng.normal(scale=0.5, size=3), d + rng.normal(scale=0.5, size=3)
+        yield (p, q, -n_p, -n_q) if i % 3 == 2 else (p, q, n_p, n_q)
+
+
+def test_least_friction_of_soft_pairs_in_space_is_the_closure_threshold():
+    """The closed form for two spatial soft fingers (docs/analysis.md) against Theorem 1:
+    the general test with exact cones says closure at mu* (1 + 3e-4) and not at mu*
+    (1 - 3e-4), squeezing and spreading; exact cones are decided to 7.5e-5 relative."""
+    batch = []
+    for p, q, n_p, n_q in _soft_pairs(24, 3):
+        batch.append((p, q, n_p, n_q))
+        grasp = [point_contact(p, n_p, "soft"), point_contact(q, n_q, "soft")]
+        mu = least_friction(grasp)
+        if not math.isfinite(mu):
+            assert analyze([c.with_friction(1e3) for c in grasp]).verdict is not Verdict.CLOSURE
+            continue
+        above = [c.with_friction(mu * (1 + 3e-4)) for c in grasp]
+        below = [c.with_friction(mu * (1 - 3e-4)) for c in grasp]
+        assert analyze(above).verdict is Verdict.CLOSURE
+        assert analyze(below).verdict is not Verdict.CLOSURE
+    P = np.array([[p, q] for p, q, _, _ in batch])
+    N = np.array([[a, b] for _, _, a, b in batch])
+    fast = least_friction_batch(P, N, model="soft")
+    ref = np.array([least_friction_reference([point_contact(p, a, "soft"),
+                                              point_contact(q, b, "soft")])
+                    for p, q, a, b in batch])
+    assert np.array_equal(np.isinf(fast), np.isinf(ref))
+    assert np.allclose(fast[np.isfinite(fast)], ref[np.isfinite(ref)], rtol=1e-9)
+
+
+def test_spreading_pairs_close_as_corollary_3_says():
+    """Corollary 3 holds for "PQ, or QP": two fingers pushing apart inside a slot close it.
+    Checked against Theorem 1 (analyze) in the plane, at random tilts."""
+    rng = np.random.default_rng(8)
+    for _ in range(30):
+        p, q = np.array([-1.0, 0]), np.array([1.0, rng.uniform(-1, 1)])
+        n_p = np.array([1.0, rng.uniform(-0.6, 0.6)])  # facing Q: the finger pushes away
+        n_q = np.array([-1.0, rng.uniform(-0.6, 0.6)])
+        mu = rng.uniform(0.05, 1.0)
+        pair = two_finger_closure(p, n_p, q, n_q, mu)
+        want = analyze([point_contact(p, n_p, "hard", mu), point_contact(q, n_q, "hard", mu)])
+        assert str(pair.verdict) == want.verdict.value or "marginal" in (str(pair.verdict),
+                                                                          want.verdict.value)
+        star = least_friction([point_contact(p, n_p), point_contact(q, n_q)])
+        angle = max(np.arccos(np.dot(p - q, -n_p) / np.linalg.norm(p - q) / np.linalg.norm(n_p)),
+                    np.arccos(np.dot(q - p, -n_q) / np.linalg.norm(p - q) / np.linalg.norm(n_q)))
+        assert star == pytest.approx(np.tan(angle), rel=1e-9)
 
 
 def test_least_friction_of_point_contacts_is_the_reference_bisection_compiled():

@@ -319,8 +319,9 @@ def least_friction_batch(points: ArrayLike, normals: ArrayLike, *,
     contacts count as hard fingers, 0 means closed without friction, ``inf``
     that no friction up to :data:`forceclosure.quality.MU_MAX` closes the
     grasp. Compiled, it is one parallel pass over the grasps: each grasp's
-    bisection on the cone half-angle runs inside the kernel (planar pairs use
-    Corollary 3 in closed form, as the reference does).
+    bisection on the cone half-angle runs inside the kernel. Planar pairs
+    and spatial soft pairs with the paper's uncoupled torque are exact in
+    closed form (:mod:`forceclosure.two_finger`), as in the reference.
 
     Examples
     --------
@@ -347,14 +348,15 @@ def least_friction_batch(points: ArrayLike, normals: ArrayLike, *,
     n, k, d = grasps.points.shape
     out = np.empty(n)
     soft = [i for i, m in enumerate(grasps.models) if m == "soft"]
-    planar_pair = d == 2 and k == 2 and bool(np.all(np.isnan(grasps.torsion[:, soft])))
+    closed_form = k == 2 and (d == 2 or len(soft) == 2) and bool(
+        np.all(np.isnan(grasps.torsion[:, soft])))
     if engine == "reference":
         todo = np.arange(n)
-    elif planar_pair:
-        from .two_finger import two_finger_closure
+    elif closed_form:  # Corollary 3, and its exact spatial form for soft pairs
+        from .two_finger import pair_least_friction
 
         P, N_ = grasps.points, grasps.normals
-        return two_finger_closure(P[:, 0], N_[:, 0], P[:, 1], N_[:, 1], 1.0).least_friction
+        return pair_least_friction(P[:, 0], N_[:, 0], P[:, 1], N_[:, 1])
     else:
         from .kernels import announce_compiling, kernel_array
         from .kernels import theorem1 as kernel

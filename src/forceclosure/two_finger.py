@@ -1,15 +1,18 @@
 """Two fingers with friction in closed form (Nguyen 1988, Corollary 3).
 
 Two contacts with friction at ``P`` and ``Q`` are force-closure — planar
-hard fingers, or spatial soft fingers — iff the segment ``PQ`` points
-strictly out of the friction cone at ``P`` and into the one at ``Q``:
+hard fingers, or spatial soft fingers — iff the segment ``PQ``, or ``QP``,
+points strictly out of the friction cone at ``P`` and into the one at ``Q``:
+the fingers squeeze the object,
 
-    angle(Q - P, -n_P) < atan(mu_P)   and   angle(P - Q, -n_Q) < atan(mu_Q).
+    angle(Q - P, -n_P) < atan(mu_P)   and   angle(P - Q, -n_Q) < atan(mu_Q),
 
-In the plane that is exact (iff) for any friction, costs O(1), and gives
-the least friction that closes the pair, ``mu* = tan(max(angle_P,
-angle_Q))``. Two *hard* fingers in space are never force-closure: nothing
-resists rotation about the line ``PQ`` (the wrenches have rank 5).
+or spread apart inside it (both angles measured from ``P - Q`` and ``Q -
+P`` instead). In the plane that is exact (iff) for any friction, costs
+O(1), and gives the least friction that closes the pair, ``mu* =
+tan(max(angle_P, angle_Q))`` (the smaller of the two ways). Two *hard*
+fingers in space are never force-closure: nothing resists rotation about
+the line ``PQ`` (the wrenches have rank 5).
 
 **In space the condition is sufficient, and necessary only when the two
 normals are antiparallel.** The paper states it as iff, but a soft finger's
@@ -17,8 +20,11 @@ torques about two non-parallel normals span a plane of torques on their
 own, so a squeeze whose direction lies in both cones but off ``PQ`` can
 complete torque closure (docs/analysis.md works an example). Here such pairs
 that fail the condition are decided by the general test (Theorem 1), so
-every verdict returned is right; ``least_friction`` is then the friction at
-which the condition holds, an upper bound on the least friction.
+every verdict returned is right. Their least friction is exact all the
+same, in closed form: with ``beta`` the angle between ``n_Q`` and ``-n_P``
+and ``psi`` the angle between the line of ``n_Q - n_P`` and that of ``PQ``
+projected on the plane of the two normals, the pair closes iff the cones'
+half-angle exceeds ``beta / 2 + psi`` (docs/analysis.md derives it).
 
 Everything here is vectorised over any number of pairs.
 """
@@ -50,16 +56,17 @@ class PairClosure:
     code : (N,) int8 array
         0 ``none``, 1 ``marginal``, 2 ``closure``: the verdict, compactly.
     least_friction : (N,) array
-        ``tan(max(angle_p, angle_q))``: the pair closes for any larger
-        friction coefficient at both fingers (in space an upper bound unless
-        the normals are antiparallel); ``inf`` when no friction can
-        close it (an angle of 90 degrees or more, coincident points, or hard
-        fingers in space).
+        The least friction coefficient, the same at both fingers, above which
+        the pair closes: ``tan(max(angle_p, angle_q))`` for antiparallel
+        normals (and in the plane), the closed form above for other
+        spatial soft pairs; ``inf`` when no friction can close it (an angle
+        of 90 degrees or more either way, coincident points, parallel
+        normals, or hard fingers in space).
     verdict : (N,) array of str
         ``"closure"``, ``"marginal"`` or ``"none"`` (made from ``code`` on use).
     angle_p, angle_q : (N,) arrays
         Angles (radians) between ``PQ`` and ``-n_P``, and ``QP`` and ``-n_Q``
-        (computed on use).
+        (computed on use; a spreading pair has both above 90 degrees).
     """
 
     code: NDArray[np.int8]
@@ -194,6 +201,23 @@ def _conditioned(p, n_p, q, n_q):
     return p, normals[0], q, normals[1]
 
 
+def pair_least_friction(p: NDArray[np.float64], n_p: NDArray[np.float64],
+                        q: NDArray[np.float64], n_q: NDArray[np.float64]
+                        ) -> NDArray[np.float64]:
+    """The least friction of ``(N, d)`` pairs of soft fingers (planar: any fingers), compiled
+    and alone: no verdict is decided. Inputs as :func:`two_finger_closure` checks them."""
+    from .kernels import announce_compiling, kernel_array
+    from .kernels import pairs as kernel
+
+    p, n_p, q, n_q = _conditioned(p, n_p, q, n_q)
+    code = np.empty(len(p), dtype=np.int8)
+    least = np.empty(len(p))
+    one = np.ones(1)
+    announce_compiling(kernel.pair_kernel)
+    kernel.pair_kernel(*(kernel_array(a) for a in (p, n_p, q, n_q)), one, one, 0.0, code, least)
+    return least
+
+
 def _compiled(p, n_p, q, n_q, mu_p, mu_q, model, tol, shape):
     from .kernels import announce_compiling, kernel_array
     from .kernels import pairs as kernel
@@ -236,6 +260,30 @@ def _compiled(p, n_p, q, n_q, mu_p, mu_q, model, tol, shape):
     return code, least
 
 
+def _soft_least(pq, a, b, antiparallel_least):
+    """The least friction of spatial soft pairs (unit normals ``a``, ``b``), in NumPy:
+    ``tan(beta / 2 + psi)`` (see the module's text), Corollary 3's value for antiparallel
+    normals, ``inf`` for parallel ones or ``PQ`` along ``a x b``."""
+    m = np.cross(a, b)
+    sin_b = np.linalg.norm(m, axis=-1)
+    antiparallel = np.sum((a + b) ** 2, axis=-1) <= 1e-18
+    parallel = np.sum((a - b) ** 2, axis=-1) <= 1e-18
+    general = ~(antiparallel | parallel)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        m = m / sin_b[..., None]
+        beta = np.arctan2(sin_b, -np.sum(a * b, axis=-1))
+        w = pq - np.sum(pq * m, axis=-1)[..., None] * m
+        off_plane = np.sum(w * w, axis=-1) <= 1e-24 * np.sum(pq * pq, axis=-1)
+        c = b - a
+        psi = np.arctan2(np.linalg.norm(np.cross(w, c), axis=-1),
+                         np.abs(np.sum(w * c, axis=-1)))
+        angle = 0.5 * beta + psi
+        exact = np.where(off_plane | (angle >= np.pi / 2), np.inf,
+                         np.tan(np.minimum(angle, np.pi / 2)))
+    return np.where(antiparallel, antiparallel_least,
+                    np.where(general, exact, np.inf))
+
+
 def _reference(p, n_p, q, n_q, mu_p, mu_q, model, tol):
     """The angles of Corollary 3, in NumPy; spatial pairs it cannot settle by ``analyze``."""
     if not all(np.all(np.isfinite(a)) for a in (p, q, n_p, n_q)):
@@ -248,15 +296,19 @@ def _reference(p, n_p, q, n_q, mu_p, mu_q, model, tol):
     pq = q - p
     angle_p = _angle(pq, -n_p / norm_p)
     angle_q = _angle(-pq, -n_q / norm_q)
-    worst_p = angle_p - np.arctan(mu_p)
-    worst_q = angle_q - np.arctan(mu_q)
-    gap = np.maximum(worst_p, worst_q)
+    code = np.zeros(np.shape(angle_p), dtype=np.int8)
+    worst = np.full(np.shape(angle_p), np.pi)
+    for a_p, a_q in ((angle_p, angle_q), (np.pi - angle_p, np.pi - angle_q)):  # PQ, or QP
+        gap = np.maximum(a_p - np.arctan(mu_p), a_q - np.arctan(mu_q))
+        code = np.maximum(code, np.where(gap < -tol, 2, np.where(gap > tol, 0, 1)))
+        worst = np.minimum(worst, np.maximum(a_p, a_q))
     scale = np.maximum(np.max(np.abs(p), axis=-1), np.max(np.abs(q), axis=-1))
     apart = np.linalg.norm(pq, axis=-1) > 1e-12 * np.maximum(scale, 1.0)
-    code = np.where(gap < -tol, 2, np.where(gap > tol, 0, 1))
     code = np.where(apart, code, 0)
-    worst = np.maximum(angle_p, angle_q)
     least = np.where(apart & (worst < np.pi / 2), np.tan(np.minimum(worst, np.pi / 2)), np.inf)
+    if d == 3 and model != "hard":
+        unit_p, unit_q = n_p / norm_p, n_q / norm_q
+        least = np.where(apart, _soft_least(pq, unit_p, unit_q, least), np.inf)
     if d == 3 and model == "hard":
         code = np.zeros_like(code)
         least = np.full_like(least, np.inf)

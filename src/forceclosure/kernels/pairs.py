@@ -8,8 +8,13 @@ The condition ``angle(Q - P, -n_P) < atan(mu_P) - tol`` is decided from
     angle > atan(mu) + tol   <=>   c <= 0 or s (1 - mu T) > c (mu + T)   (mu T < 1),
 
 and the least friction is ``tan(angle) = s / c`` (``inf`` once ``c <= 0``).
-That is the same three-way verdict as :func:`forceclosure.two_finger.
+The corollary holds for the segment ``PQ`` *or* ``QP``: fingers squeezing
+the object, or spreading apart inside it (``c`` negated at both ends). That
+is the same three-way verdict as :func:`forceclosure.two_finger.
 two_finger_closure` computes from angles, at a few multiplications a pair.
+
+Spatial soft pairs have their least friction in closed form too
+(:func:`_least_soft`; docs/analysis.md derives it).
 """
 
 from __future__ import annotations
@@ -44,7 +49,7 @@ def _outside(c: float, s: float, mu: float, T: float) -> bool:
 
 
 @nb.njit(inline="always")
-def _verdict(cp: float, sp: float, cq: float, sq: float, mp: float, mq: float, T: float) -> int:
+def _directed(cp: float, sp: float, cq: float, sq: float, mp: float, mq: float, T: float) -> int:
     if _inside(cp, sp, mp, T) and _inside(cq, sq, mq, T):
         return CLOSURE
     if _outside(cp, sp, mp, T) or _outside(cq, sq, mq, T):
@@ -53,11 +58,48 @@ def _verdict(cp: float, sp: float, cq: float, sq: float, mp: float, mq: float, T
 
 
 @nb.njit(inline="always")
-def _least(cp: float, sp: float, cq: float, sq: float) -> float:
+def _verdict(cp: float, sp: float, cq: float, sq: float, mp: float, mq: float, T: float) -> int:
+    """The better of ``PQ`` squeezing and ``QP`` spreading (Corollary 3's "PQ, or QP")."""
+    return max(_directed(cp, sp, cq, sq, mp, mq, T), _directed(-cp, sp, -cq, sq, mp, mq, T))
+
+
+@nb.njit(inline="always")
+def _directed_least(cp: float, sp: float, cq: float, sq: float) -> float:
     """max(tan angle_P, tan angle_Q) = max(sp / cp, sq / cq), with one division."""
     if cp > 0.0 and cq > 0.0:
         return sp / cp if sp * cq >= sq * cp else sq / cq
     return np.inf
+
+
+@nb.njit(inline="always")
+def _least(cp: float, sp: float, cq: float, sq: float) -> float:
+    """The least friction of Corollary 3, squeezing or spreading."""
+    return min(_directed_least(cp, sp, cq, sq), _directed_least(-cp, sp, -cq, sq))
+
+
+@nb.njit(inline="always")
+def _least_soft(vx, vy, vz, ax, ay, az, bx, by, bz) -> float:
+    """The least friction of two spatial soft fingers (uncoupled torques), exactly.
+
+    ``v = Q - P``; ``a``, ``b`` unit outward normals, not parallel. With
+    ``beta`` the angle between ``b`` and ``-a``, ``c = b - a`` their bisector
+    and ``psi`` the angle between the lines of ``c`` and of ``v`` projected on
+    the plane of ``a`` and ``b``, the pair is force-closure iff the cones'
+    half-angle exceeds ``beta / 2 + psi`` (docs/analysis.md).
+    """
+    mx, my, mz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+    sin_b = math.sqrt(mx * mx + my * my + mz * mz)
+    beta = math.atan2(sin_b, -(ax * bx + ay * by + az * bz))
+    mx, my, mz = mx / sin_b, my / sin_b, mz / sin_b
+    along = vx * mx + vy * my + vz * mz
+    wx, wy, wz = vx - along * mx, vy - along * my, vz - along * mz
+    if wx * wx + wy * wy + wz * wz <= 1e-24 * (vx * vx + vy * vy + vz * vz):
+        return np.inf  # PQ along a x b: the rotation about PQ is free
+    cx, cy, cz = bx - ax, by - ay, bz - az
+    cross = math.sqrt((wy * cz - wz * cy) ** 2 + (wz * cx - wx * cz) ** 2
+                      + (wx * cy - wy * cx) ** 2)
+    angle = 0.5 * beta + math.atan2(cross, abs(wx * cx + wy * cy + wz * cz))
+    return math.tan(angle) if angle < 0.5 * math.pi else np.inf
 
 
 @nb.njit(inline="always")
@@ -134,16 +176,21 @@ def pair_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, code, least):  # pragma: no cov
         sq = math.sqrt((vy * bz - vz * by) ** 2 + (vz * bx - vx * bz) ** 2
                        + (vx * by - vy * bx) ** 2)
         c = _verdict(cp, sp, cq, sq, mu_p[i * step_p], mu_q[i * step_q], T)
-        if c != CLOSURE:
-            # Corollary 3 is only sufficient in space unless the normals are antiparallel.
-            inv_p = 1.0 / math.sqrt(np2)
-            inv_q = 1.0 / math.sqrt(nq2)
-            gap = ((ax * inv_p + bx * inv_q) ** 2 + (ay * inv_p + by * inv_q) ** 2
-                   + (az * inv_p + bz * inv_q) ** 2)
-            if gap > 1e-18:
-                c = UNDECIDED
-                flagged += 1
+        # Corollary 3 is only sufficient in space unless the normals are antiparallel
+        inv_p = 1.0 / math.sqrt(np2)
+        inv_q = 1.0 / math.sqrt(nq2)
+        ax, ay, az, bx, by, bz = ax * inv_p, ay * inv_p, az * inv_p, bx * inv_q, by * inv_q, \
+            bz * inv_q
+        antiparallel = (ax + bx) ** 2 + (ay + by) ** 2 + (az + bz) ** 2 <= 1e-18
+        if c != CLOSURE and not antiparallel:
+            c = UNDECIDED
+            flagged += 1
         code[i] = c
-        least[i] = _least(cp, sp, cq, sq)
+        if antiparallel:
+            least[i] = _least(cp, sp, cq, sq)
+        elif (ax - bx) ** 2 + (ay - by) ** 2 + (az - bz) ** 2 <= 1e-18:
+            least[i] = np.inf  # parallel normals: both fingers push the same way
+        else:
+            least[i] = _least_soft(vx, vy, vz, ax, ay, az, bx, by, bz)
     return flagged
 

@@ -188,7 +188,10 @@ class PairGrasps:
 
 def pair_grasps(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | None = None,
                 ) -> PairGrasps:
-    """All force-closure grasps with hard fingers on edges ``i`` and ``j`` (Lemma 1).
+    """All squeezing force-closure grasps with hard fingers on edges ``i`` and ``j`` (Lemma 1).
+
+    Fingers pushing apart from inside a slot (Corollary 3's ``QP`` case, only
+    on non-convex polygons) are force-closure too but not in this set.
 
     Examples
     --------
