@@ -24,8 +24,12 @@ import pytest
 from forceclosure import InputError, analyze
 
 pb = pytest.importorskip("pybullet")
-mujoco = pytest.importorskip("mujoco")
 pybullet_data = pytest.importorskip("pybullet_data")
+try:
+    import mujoco
+except ImportError:  # the `mujoco` extra; the pybullet tests still run
+    mujoco = None
+needs_mujoco = pytest.mark.skipif(mujoco is None, reason="mujoco is not installed")
 
 from forceclosure.simulators import contacts_from_mujoco, contacts_from_pybullet  # noqa: E402
 
@@ -58,11 +62,13 @@ def box_on_plane(cid, box_friction=0.5, plane_friction=0.8):
     return plane, box
 
 
-def pinch(cid, fingertip="pad", spinning=0.0, friction=0.5, offset=0.0, settle=60):
+def pinch(cid, fingertip="pad", spinning=0.0, friction=0.5, offset=0.0, settle=60,
+          box_friction=1.0):
     """A free 0.2 kg box between two fingers on prismatic joints along x, no gravity.
 
-    Finger lateralFriction ``friction``, box 1.0: Bullet's combined friction is
-    ``friction``. The left finger is ``offset`` above the box's centre, the right one below.
+    Finger lateralFriction ``friction``, box ``box_friction`` (Bullet combines them into
+    their product); the fingers' spinningFriction ``spinning``, the box's 0.
+    The left finger is ``offset`` above the box's centre, the right one below.
     """
     pb.setGravity(0, 0, 0, physicsClientId=cid)
     cube = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=[HALF] * 3, physicsClientId=cid)
@@ -80,7 +86,7 @@ def pinch(cid, fingertip="pad", spinning=0.0, friction=0.5, offset=0.0, settle=6
         linkInertialFrameOrientations=[[0, 0, 0, 1]] * 2, linkParentIndices=[0, 0],
         linkJointTypes=[pb.JOINT_PRISMATIC] * 2, linkJointAxis=[[1, 0, 0]] * 2,
         physicsClientId=cid)
-    pb.changeDynamics(box, -1, lateralFriction=1.0, physicsClientId=cid)
+    pb.changeDynamics(box, -1, lateralFriction=box_friction, physicsClientId=cid)
     for j in (0, 1):
         pb.changeDynamics(hand, j, lateralFriction=friction, spinningFriction=spinning,
                           physicsClientId=cid)
@@ -173,9 +179,10 @@ def test_pybullet_pinched_box(client):
 def test_pybullet_fingertips_hard_versus_soft(client):
     """Two fingertips on the box's centre line. Hard fingers: ``none``, the unresisted motion
     a rotation about the x axis, and the box spins under a torque of 0.05 N m about it.
-    Soft fingers (spinningFriction 0.02 on the tips, 0 on the box: Bullet combines
-    0.02 x 1.0 + 0 x 0.5 = 0.02): ``closure``; the box holds 0.3 N m < 2 x 0.02 x F = 0.4 N m
-    and spins under 0.5 N m."""
+    Soft fingers (spinningFriction 0.02 on the tips and 0 on the box, lateralFriction 0.5 on
+    the tips and 2 on the box: Bullet combines 0.02 x 2 + 0 x 0.5 = 0.04): ``closure``; the
+    box holds 0.6 N m < 2 x 0.04 x F = 0.8 N m, which neither the sum nor the larger of the
+    two spinning frictions (0.02: 0.4 N m) would allow, and spins under 1.0 N m."""
     box, hand = pinch(client, fingertip="sphere")
     hard = contacts_from_pybullet(box, client)
     assert len(hard) == 2
@@ -190,13 +197,13 @@ def test_pybullet_fingertips_hard_versus_soft(client):
 
     cid = pb.connect(pb.DIRECT)
     try:
-        box, hand = pinch(cid, fingertip="sphere", spinning=0.02)
+        box, hand = pinch(cid, fingertip="sphere", spinning=0.02, box_friction=2.0)
         soft = contacts_from_pybullet(box, cid, model="soft")
-        assert [c.torsion for c in soft] == [pytest.approx(0.02)] * 2
+        assert [(c.mu, c.torsion) for c in soft] == [(1.0, pytest.approx(0.04))] * 2
         assert analyze(soft).verdict.value == "closure"
-        _, spin = squeeze_pybullet(cid, box, hand, 240, torque=(0.3, 0, 0))
+        _, spin = squeeze_pybullet(cid, box, hand, 240, torque=(0.6, 0, 0))
         assert abs(spin[0]) < 1e-2
-        _, spin = squeeze_pybullet(cid, box, hand, 240, torque=(0.5, 0, 0))
+        _, spin = squeeze_pybullet(cid, box, hand, 240, torque=(1.0, 0, 0))
         assert spin[0] > 5.0
     finally:
         pb.disconnect(physicsClientId=cid)
@@ -309,6 +316,7 @@ def squeeze_mujoco(m, d, steps, force=(0, 0, 0), torque=(0, 0, 0)):
 # ---------------------------------------------------------------- MuJoCo tests
 
 
+@needs_mujoco
 def test_mujoco_box_on_plane():
     """Four corners on the box's bottom face, normals down; friction the element-wise
     maximum of the two geoms' (0.6, 0.02); condim max(3, 4) = 4: soft fingers."""
@@ -332,6 +340,7 @@ def test_mujoco_box_on_plane():
     assert analyze(contacts).verdict.value == "none"
 
 
+@needs_mujoco
 @pytest.mark.parametrize("push, slides", [(0.5, False), (0.7, True)])
 def test_mujoco_friction_is_the_maximum(push, slides):
     """With the maximum (0.6) the 1 kg box holds a push of 0.5 mg; with the minimum (0.4)
@@ -350,6 +359,7 @@ def test_mujoco_friction_is_the_maximum(push, slides):
     assert (moved > 0.1 and speed > 0.5) if slides else (moved < 5e-3 and speed < 1e-2)
 
 
+@needs_mujoco
 def test_mujoco_pinched_box():
     """As in pybullet: eight pad corners, normals -x and +x, friction max(0.3, 0.5) = 0.5,
     closure; the box stays under 0.3 x 2 mu F and is pushed out by 1.2 x 2 mu F."""
@@ -370,6 +380,7 @@ def test_mujoco_pinched_box():
     assert pushed > 0.1
 
 
+@needs_mujoco
 def test_mujoco_fingertips_hard_versus_soft():
     """condim 3 fingertips: hard, ``none``, the box spins under 0.05 N m about x.
     condim 4 with torsional friction 0.02: soft, ``closure``; the box holds
@@ -390,6 +401,7 @@ def test_mujoco_fingertips_hard_versus_soft():
     assert squeeze_mujoco(m, d, 500, torque=(0.6, 0, 0))[1][0] > 5.0
 
 
+@needs_mujoco
 def test_mujoco_condim_one_is_frictionless_and_inner_cones():
     m, d = mujoco_pinch(tip="sphere", condim=1)
     assert {(c.model, c.mu) for c in contacts_from_mujoco(m, d, body="box")} == {
@@ -404,6 +416,7 @@ def test_mujoco_condim_one_is_frictionless_and_inner_cones():
     assert [c.mu for c in hard] == [0.5, 0.5]
 
 
+@needs_mujoco
 def test_mujoco_errors():
     m = mujoco.MjModel.from_xml_string(ON_PLANE.format(option=OPTION.format(g="0 0 -10")))
     d = mujoco.MjData(m)

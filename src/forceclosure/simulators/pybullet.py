@@ -21,6 +21,11 @@ a length: the spin torque is bounded by it times the normal force. (Bullet's
 solver for maximal-coordinate rigid bodies also caps that torque impulse at
 the coefficient itself; multibodies, pybullet's default, have no such cap.)
 Rolling friction is not represented.
+
+Bullet keeps at most four points per pair of shapes, not always the whole
+contact face (a box dropped exactly flat on a ``GEOM_PLANE`` had two, on
+``plane.urdf`` four); the adapter reports what Bullet has, each repeated
+point once (see :func:`forceclosure.simulators._merge.contacts_from_rows`).
 """
 
 from __future__ import annotations
@@ -151,9 +156,11 @@ def contacts_from_pybullet(object_id: int, client: int = 0, *,
     points, normals, mus, tors = [], [], [], []
     for row in rows:
         body_a, body_b, link_a, link_b = row[1], row[2], row[3], row[4]
+        if body_a == body_b:  # the object touching itself
+            continue
         on_a = body_a == obj and (link is None or link_a == link)
         on_b = body_b == obj and (link is None or link_b == link)
-        if on_a == on_b:  # not the object's, or the object touching itself
+        if on_a == on_b:  # not on the object's link
             continue
         other, other_link = (body_b, link_b) if on_a else (body_a, link_a)
         if others is not None and other not in others:
