@@ -32,6 +32,7 @@ _HOME = {
     **dict.fromkeys(["JawPose", "ParallelJaw", "contacts_of", "pose_from_contacts"], "gripper"),
     **dict.fromkeys(["sample_antipodal"], "antipodal"),
     **dict.fromkeys(["GraspLabels", "grasp_labels", "label_grasps"], "labels"),
+    **dict.fromkeys(["contacts_from_mujoco", "contacts_from_pybullet"], "simulators"),
 }
 
 
@@ -73,6 +74,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, eagerly
     from .gripper import JawPose, ParallelJaw, contacts_of, pose_from_contacts
     from .labels import GraspLabels, grasp_labels, label_grasps
     from .motion import Motion, motion_of
+    from .simulators import contacts_from_mujoco, contacts_from_pybullet
 
 __all__ = [
     "TOLERANCE",
@@ -90,6 +92,8 @@ __all__ = [
     "WrenchSet",
     "__version__",
     "analyze",
+    "contacts_from_mujoco",
+    "contacts_from_pybullet",
     "contacts_of",
     "edge_contact",
     "face_contact",
