@@ -93,6 +93,25 @@ def test_least_friction_of_soft_pairs_in_space_is_the_closure_threshold():
     assert np.allclose(fast[np.isfinite(fast)], ref[np.isfinite(ref)], rtol=1e-9)
 
 
+def test_soft_pairs_in_space_are_decided_as_theorem_1_decides_them():
+    """The compiled pair verdict (closed form, unequal friction too) against Theorem 1's
+    general test with exact cones; only pairs within 1e-3 rad of the boundary may differ
+    (exact cones are decided to 7.5e-5 relative, and then only as marginal)."""
+    rng = np.random.default_rng(21)
+    pairs = list(_soft_pairs(400, 22))
+    P = np.array([[p, q] for p, q, _, _ in pairs])
+    N = np.array([[a, b] for _, _, a, b in pairs])
+    mu = rng.uniform(0.05, 1.5, size=(len(pairs), 2))
+    ours = two_finger_closure(P[:, 0], N[:, 0], P[:, 1], N[:, 1], mu[:, 0], mu[:, 1])
+    theirs = analyze_batch(P, N, mu=mu, model="soft", engine="reference").code
+    moved = []
+    for scale in (1 - 1e-3, 1 + 1e-3):  # the verdict at friction moved by 1e-3 relative
+        moved.append(analyze_batch(P, N, mu=mu * scale, model="soft").code)
+    clear = moved[0] == moved[1]
+    assert np.array_equal(ours.code[clear], theirs[clear])
+    assert clear.sum() >= 380 and {0, 2} <= set(ours.code.tolist())
+
+
 def test_spreading_pairs_close_as_corollary_3_says():
     """Corollary 3 holds for "PQ, or QP": two fingers pushing apart inside a slot close it.
     Checked against Theorem 1 (analyze) in the plane, at random tilts."""

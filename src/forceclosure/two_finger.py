@@ -18,13 +18,14 @@ the line ``PQ`` (the wrenches have rank 5).
 normals are antiparallel.** The paper states it as iff, but a soft finger's
 torques about two non-parallel normals span a plane of torques on their
 own, so a squeeze whose direction lies in both cones but off ``PQ`` can
-complete torque closure (docs/analysis.md works an example). Here such pairs
-that fail the condition are decided by the general test (Theorem 1), so
-every verdict returned is right. Their least friction is exact all the
-same, in closed form: with ``beta`` the angle between ``n_Q`` and ``-n_P``
-and ``psi`` the angle between the line of ``n_Q - n_P`` and that of ``PQ``
-projected on the plane of the two normals, the pair closes iff the cones'
-half-angle exceeds ``beta / 2 + psi`` (docs/analysis.md derives it).
+complete torque closure (docs/analysis.md works an example). Such pairs are
+decided exactly all the same, in closed form: with ``beta`` the angle between
+``n_Q`` and ``-n_P`` and ``psi`` the angle between the line of ``n_Q - n_P``
+and that of ``PQ`` projected on the plane of the two normals, the pair closes
+iff the cones' half-angle exceeds ``beta / 2 + psi`` (docs/analysis.md
+derives it, for unequal friction too). The compiled engine uses it (and the
+general test, Theorem 1, where it is ill-conditioned); the reference engine
+uses Theorem 1, so the two check each other.
 
 Everything here is vectorised over any number of pairs.
 """

@@ -26,8 +26,8 @@ import numpy as np
 
 #: Pair codes, as in :mod:`forceclosure.two_finger`.
 NONE, MARGINAL, CLOSURE = 0, 1, 2
-#: A pair whose code is not final: spatial soft fingers, non-antiparallel
-#: normals, Corollary 3's condition failing (decided by Theorem 1 instead).
+#: A pair whose code is not final: spatial soft fingers whose closed form is
+#: ill-conditioned (decided by Theorem 1 instead).
 UNDECIDED = 3
 #: A pair with a zero normal, or a non-finite coordinate (the caller reports it).
 ZERO_NORMAL, NON_FINITE = 4, 5
@@ -116,6 +116,50 @@ def _flag(code, least, i, pq2, np2, nq2, cp, cq) -> bool:
     return False
 
 
+@nb.njit(inline="always")
+def _soft_verdict(vx, vy, vz, ax, ay, az, bx, by, bz, mp, mq, tol) -> int:
+    """Two spatial soft fingers (uncoupled torques), decided in closed form.
+
+    ``a``, ``b`` unit normals. In the plane ``Π`` of ``-a`` and ``b`` (angle
+    ``beta`` apart), the hull of the polar cones' wedges, ``[-g_P, g_P]`` and
+    ``[beta - g_Q, beta + g_Q]`` (``g = pi/2 - atan(mu)``), must miss the
+    line of ``(a x b) x (Q - P)``; the grasp's margin is the angle by which
+    it misses it (docs/analysis.md).
+    ``UNDECIDED`` where that is ill-conditioned: nearly parallel normals, or
+    ``PQ`` nearly along ``a x b``.
+    """
+    mx, my, mz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+    sin_b = math.sqrt(mx * mx + my * my + mz * mz)
+    if sin_b <= 1e-6:
+        return UNDECIDED
+    mx, my, mz = mx / sin_b, my / sin_b, mz / sin_b
+    along = vx * mx + vy * my + vz * mz
+    wx, wy, wz = vx - along * mx, vy - along * my, vz - along * mz
+    if wx * wx + wy * wy + wz * wz <= 1e-12 * (vx * vx + vy * vy + vz * vz):
+        return UNDECIDED
+    # the plane's axes: u1 = -a, u2 the unit vector in it with b . u2 > 0
+    ux, uy, uz = my * az - mz * ay, mz * ax - mx * az, mx * ay - my * ax  # m x a
+    if ux * bx + uy * by + uz * bz < 0.0:
+        ux, uy, uz = -ux, -uy, -uz
+    beta = math.atan2(ux * bx + uy * by + uz * bz, -(ax * bx + ay * by + az * bz))
+    ex, ey, ez = my * wz - mz * wy, mz * wx - mx * wz, mx * wy - my * wx  # m x w
+    phi = math.atan2(ux * ex + uy * ey + uz * ez, -(ax * ex + ay * ey + az * ez))
+    g_p = 0.5 * math.pi - math.atan(mp)
+    g_q = 0.5 * math.pi - math.atan(mq)
+    low, high = min(-g_p, beta - g_q), max(g_p, beta + g_q)  # the wedges' hull
+    free = math.pi - (high - low)  # the arc of lines it leaves
+    if free <= 0.0:
+        margin = free
+    else:
+        t = (phi - high) % math.pi
+        margin = min(t, free - t) if t < free else -min(t - free, math.pi - t)
+    if margin > tol:
+        return CLOSURE
+    if margin < -tol:
+        return NONE
+    return MARGINAL
+
+
 @nb.njit(parallel=True, cache=True, nogil=True)
 def pair_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, code, least):  # pragma: no cover - compiled
     """Fill ``code`` (int8) and ``least`` (float64) for ``(N, d)`` pairs, ``d`` = 2 or 3.
@@ -183,8 +227,10 @@ def pair_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, code, least):  # pragma: no cov
             bz * inv_q
         antiparallel = (ax + bx) ** 2 + (ay + by) ** 2 + (az + bz) ** 2 <= 1e-18
         if c != CLOSURE and not antiparallel:
-            c = UNDECIDED
-            flagged += 1
+            c = _soft_verdict(vx, vy, vz, ax, ay, az, bx, by, bz, mu_p[i * step_p],
+                              mu_q[i * step_q], tol)
+            if c == UNDECIDED:
+                flagged += 1
         code[i] = c
         if antiparallel:
             least[i] = _least(cp, sp, cq, sq)

@@ -40,6 +40,8 @@ import numpy as np
 from .simplex import INFEASIBLE, OPTIMAL, solve_tableau, tableau
 
 NONE, MARGINAL, CLOSURE, DEFER = 0, 1, 2, 3
+#: The friction the least-friction bisection tries first as its upper end.
+BRACKET = 10.0
 FRICTIONLESS, HARD, SOFT = 0, 1, 2
 
 #: Singular value ratio below which the rank is left to the reference's SVD.
@@ -747,15 +749,22 @@ def least_friction_kernel(points, normals, tors, model, edges, fit, exact, tol, 
                 out[g] = 0.0
                 deferred[g] = c == DEFER
                 continue
-            mu[:] = mu_max
+            # most grasps close at a moderate friction: bracket there first, where cones are
+            # far from half-spaces (near mu_max a step may have to be deferred)
+            mu[:] = BRACKET
             c = grasp(points[g], normals[g], mu, tors[g], model_f, edges, fit, exact, tol,
                       work, ref, y)[0]
+            hi = math.atan(BRACKET)
             if c != CLOSURE:
-                out[g] = np.inf
-                deferred[g] = c == DEFER
-                continue
+                mu[:] = mu_max
+                c = grasp(points[g], normals[g], mu, tors[g], model_f, edges, fit, exact, tol,
+                          work, ref, y)[0]
+                if c != CLOSURE:
+                    out[g] = np.inf
+                    deferred[g] = c == DEFER
+                    continue
+                hi = math.atan(mu_max)
             lo = 0.0
-            hi = math.atan(mu_max)
             while hi - lo > rtol * hi:
                 mid = 0.5 * (lo + hi)
                 mu[:] = math.tan(mid)
