@@ -22,7 +22,8 @@ Carlo, seeded) and labels every perturbed grasp with the batch kernels:
 A sample counts as force-closure only when its verdict is ``closure`` (exact
 cones, at the sample's friction); ``marginal`` counts as not. **A sample
 whose jaws make no contact pair** (a ray misses the object between the
-jaws, or the object is wider than the opening along the turned line)
+jaws, or a jaw starts inside it: the opening about the moved centre does
+not clear the object along the turned line, where the jaw would collide)
 **counts as not force-closure**, with epsilon 0; how many did is in
 ``missed``. The probability comes with a Wilson score interval, the mean
 epsilon (0 for samples not closed) with a Student-t interval, both at
@@ -220,8 +221,9 @@ def robust_labels(obj: Any, poses: Any, gripper: ParallelJaw, mu: float, *,
     the closed samples, the epsilon (:func:`~forceclosure.batch.epsilon_batch`,
     L1, 8-edge inscribed pyramids, torques about the pair's midpoint per its
     half-width). **A sample whose jaws make no contact pair** (they miss the
-    object, or it is wider than the opening along the turned line) **counts
-    as not force-closure**, with epsilon 0; so does a ``marginal`` verdict.
+    object, or a jaw starts inside it: the opening about the moved centre
+    does not clear it) **counts as not force-closure**, with epsilon 0; so
+    does a ``marginal`` verdict.
 
     Parameters
     ----------
