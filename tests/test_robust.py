@@ -171,7 +171,7 @@ def test_cli_grasps_robust(tmp_path, capsys):
         assert z[name].shape == (20,)
     p, lo, hi = z["robust_probability"], z["robust_probability_low"], \
         z["robust_probability_high"]
-    assert p.shape == (20,) and np.all((lo <= p) & (p <= hi)) and np.all((0 <= lo) & (hi <= 1))
+    assert p.shape == (20,) and np.all((lo <= p) & (p <= hi)) and np.all((lo >= 0) & (hi <= 1))
     assert np.all(z["robust_epsilon_low"] <= z["robust_epsilon"])
     assert np.all(z["robust_epsilon"] <= z["robust_epsilon_high"])
     assert z["robust_missed"].dtype.kind == "i"
