@@ -86,6 +86,19 @@ def test_translation_noise_alone_matches_the_jaws_clearing_the_faces():
     assert r.closed[0] + r.missed[0] == 20_000  # every sample not closed made no pair
 
 
+def test_normal_noise_closes_at_least_when_both_normals_stay_in_the_cones():
+    # each normal of the head-on pinch turns by a Rayleigh angle (two Gaussian components of
+    # sigma): both stay within atan(mu) of -+x with probability (1 - exp(-a^2/2s^2))^2, and
+    # then the line x lies in both cones (Corollary 3: closed). With non-parallel normals
+    # the soft pads' torques can close more pairs, so this is a lower bound only
+    mu, sigma = 0.2, 0.15
+    a = math.atan(mu)
+    rayleigh = 1 - math.exp(-a * a / (2 * sigma**2))
+    r = _robust(HEAD_ON, mu, 20_000, normal_sigma=sigma)
+    assert r.probability_high[0] >= rayleigh**2
+    assert r.probability[0] > rayleigh**2 + 0.02  # the torques do close some more
+
+
 def test_interval_shrinks_like_one_over_root_n_and_converges():
     mu, sigma = 0.2, 0.25
     truth = erf(math.atan(mu) / (sigma * math.sqrt(2)))
