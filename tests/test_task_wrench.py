@@ -83,6 +83,18 @@ def test_torque_about_the_closing_axis():
     assert t.spare == pytest.approx(2 * mu * f_max / (mass * 9.81), rel=1e-7)
 
 
+def test_planar_cones_are_exact():
+    # two fingers at (-+1, 0) squeezing along x, weight along -y: 2 mu f_max / (m g), and
+    # the planar cones are exact, so both bounds agree
+    mu, f_max, mass = 0.3, 4.0, 0.5
+    t = resist_wrench([[-1, 0], [1, 0]], [[-1.0, 0], [1, 0]], [0.0, -mass * 9.81, 0.0],
+                      mu=mu, model="hard", f_max=f_max)
+    truth = 2 * mu * f_max / (mass * 9.81)
+    assert t.spare == pytest.approx(truth, rel=1e-9)
+    assert t.spare_upper == pytest.approx(truth, rel=1e-9)
+    assert t.verdict == ("resists" if truth >= 1 else "fails")
+
+
 def _independent_lp(P, N, w, mu, gamma, f_max, k):
     """max s: forces f_i in inscribed k-pyramids (facet form), |tau_i| <= gamma f_n,i,
     f_n,i <= f_max, sum f_i + s F = 0, sum p_i x f_i + tau_i n_i + s T = 0."""
