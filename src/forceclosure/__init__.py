@@ -33,6 +33,9 @@ _HOME = {
     **dict.fromkeys(["sample_antipodal"], "antipodal"),
     **dict.fromkeys(["GraspLabels", "grasp_labels", "label_grasps"], "labels"),
     **dict.fromkeys(["contacts_from_mujoco", "contacts_from_pybullet"], "simulators"),
+    **dict.fromkeys(["Noise", "Robustness", "robust_labels"], "robust"),
+    **dict.fromkeys(["GraspMetrics", "grasp_matrix", "grasp_metrics"], "metrics"),
+    **dict.fromkeys(["TaskWrench", "gravity_wrench", "resist_wrench"], "task"),
 }
 
 
@@ -73,8 +76,11 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, eagerly
     from .errors import ForceClosureError, InputError
     from .gripper import JawPose, ParallelJaw, contacts_of, pose_from_contacts
     from .labels import GraspLabels, grasp_labels, label_grasps
+    from .metrics import GraspMetrics, grasp_matrix, grasp_metrics
     from .motion import Motion, motion_of
+    from .robust import Noise, Robustness, robust_labels
     from .simulators import contacts_from_mujoco, contacts_from_pybullet
+    from .task import TaskWrench, gravity_wrench, resist_wrench
 
 __all__ = [
     "TOLERANCE",
@@ -83,10 +89,14 @@ __all__ = [
     "Contact",
     "ForceClosureError",
     "GraspLabels",
+    "GraspMetrics",
     "InputError",
     "JawPose",
     "Motion",
+    "Noise",
     "ParallelJaw",
+    "Robustness",
+    "TaskWrench",
     "VectorClosure",
     "Verdict",
     "WrenchSet",
@@ -100,10 +110,15 @@ __all__ = [
     "force_direction_closure",
     "generating_wrenches",
     "grasp_labels",
+    "grasp_matrix",
+    "grasp_metrics",
+    "gravity_wrench",
     "label_grasps",
     "motion_of",
     "point_contact",
     "pose_from_contacts",
+    "resist_wrench",
+    "robust_labels",
     "sample_antipodal",
     "torque_closure",
     "vector_closure",

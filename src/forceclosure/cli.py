@@ -537,6 +537,69 @@ def _cmd_dataset(args: argparse.Namespace) -> int:
     return 2 if summary.failed or summary.timeout else 0
 
 
+def _robust_settings(args: argparse.Namespace) -> dict[str, Any] | None:
+    """The ``grasps --robust`` settings, checked (None without ``--robust``)."""
+    import math
+
+    given = [f for f, v in (("--robust-samples", args.robust_samples),
+                            ("--pose-sigma", args.pose_sigma), ("--angle-sigma", args.angle_sigma),
+                            ("--mu-sigma", args.mu_sigma), ("--normal-sigma", args.normal_sigma),
+                            ("--robust-confidence", args.robust_confidence))
+             if v is not None] + (["--no-robust-epsilon"] if args.no_robust_epsilon else [])
+    if not args.robust:
+        if given:
+            raise InputError(f"{given[0]} needs --robust")
+        return None
+    settings = {"samples": 100 if args.robust_samples is None else args.robust_samples,
+                "pose_sigma": 0.01 * args.width if args.pose_sigma is None else args.pose_sigma,
+                "angle_sigma": 0.05 if args.angle_sigma is None else args.angle_sigma,
+                "mu_sigma": 0.05 if args.mu_sigma is None else args.mu_sigma,
+                "normal_sigma": 0.0 if args.normal_sigma is None else args.normal_sigma,
+                "confidence": 0.95 if args.robust_confidence is None else args.robust_confidence}
+    if settings["samples"] < 2:
+        raise InputError(f"--robust-samples must be a whole number >= 2 (an interval needs "
+                         f"two), got {settings['samples']}")
+    for flag in ("pose_sigma", "angle_sigma", "mu_sigma", "normal_sigma"):
+        if not (math.isfinite(settings[flag]) and settings[flag] >= 0):
+            raise InputError(f"--{flag.replace('_', '-')} must be finite and >= 0, got "
+                             f"{settings[flag]}")
+    if not 0 < settings["confidence"] < 1:
+        raise InputError(f"--robust-confidence must be strictly between 0 and 1, got "
+                         f"{settings['confidence']}")
+    return settings
+
+
+def _robust_stage(obj: Any, labels: Any, gripper: Any, args: argparse.Namespace,
+                  settings: dict[str, Any]) -> tuple[Any, dict[str, Any]]:
+    """``grasps --robust``: the labels with robustness, and the summary's ``robust`` entry."""
+    import time
+
+    import numpy as np
+    from tqdm import tqdm
+
+    from .robust import robust_labels
+
+    samples = settings["samples"]
+    start = time.perf_counter()
+    with tqdm(total=len(labels) * samples, unit=" samples", unit_scale=True, file=sys.stderr,
+              disable=None, desc="robustness") as bar:
+        r = robust_labels(obj, labels, gripper, args.mu, samples=samples, seed=args.seed,
+                          pose_sigma=settings["pose_sigma"], angle_sigma=settings["angle_sigma"],
+                          mu_sigma=settings["mu_sigma"], normal_sigma=settings["normal_sigma"],
+                          contact=args.contact, confidence=settings["confidence"],
+                          epsilon=not args.no_robust_epsilon, progress=bar.update)
+    seconds = time.perf_counter() - start
+    median = (lambda a: float(np.median(a)) if len(a) and np.all(np.isfinite(a))  # noqa: E731
+              else None)
+    total = len(labels) * samples
+    entry = {**settings, "probability_mean": float(np.mean(r.probability)) if len(r) else None,
+             "probability_median": median(r.probability), "epsilon_median": median(r.epsilon),
+             "missed_fraction": float(r.missed.sum() / total) if total else None,
+             "seconds": round(seconds, 3),
+             "samples_per_second": round(total / seconds) if seconds > 0 else None}
+    return labels.with_robustness(r), entry
+
+
 def _cmd_grasps(args: argparse.Namespace) -> int:
     """Sample parallel-jaw grasps on a mesh and label them: verdict, least friction, epsilon."""
     import math
@@ -557,6 +620,7 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
         raise InputError(f"--mu must be finite and positive, got {args.mu}")
     if not (math.isfinite(args.pad_radius) and args.pad_radius >= 0):
         raise InputError(f"--pad-radius must be finite and >= 0, got {args.pad_radius}")
+    robust = _robust_settings(args)
     if args.out:
         from .atomic import check_output
 
@@ -575,6 +639,8 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
                               args.contact, progress=bar.update,
                               least_friction=not args.no_least_friction)
     seconds = time.perf_counter() - start
+    if robust is not None:
+        labels, robust = _robust_stage(obj, labels, gripper, args, robust)
     if args.out:
         labels.save(args.out)
     counts = labels.counts()
@@ -589,6 +655,8 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
                "seconds": round(seconds, 3),
                "grasps_per_second": round(len(labels) / seconds) if seconds > 0 else None,
                "out": args.out}
+    if robust is not None:
+        summary["robust"] = robust
     if args.json:
         json.dump(summary, sys.stdout, indent=2, allow_nan=False)
         sys.stdout.write("\n")
@@ -605,6 +673,17 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
                                   else f"median {mu_star:.4g}")
           + (f"; epsilon (L1) of the closed: median {summary['epsilon_median']:.4g}"
              if closed.size else ""))
+    if robust is not None:
+        print(f"  robust ({robust['samples']} samples a grasp; pose sigma "
+              f"{robust['pose_sigma']:g}, angle sigma {robust['angle_sigma']:g} rad, mu sigma "
+              f"{robust['mu_sigma']:g}, normal sigma {robust['normal_sigma']:g} rad): "
+              + ("no grasps" if robust["probability_mean"] is None else
+                 f"P(closure) mean {robust['probability_mean']:.3g}, median "
+                 f"{robust['probability_median']:.3g}"
+                 + (f"; expected epsilon median {robust['epsilon_median']:.4g}"
+                    if robust["epsilon_median"] is not None else "")
+                 + f"; {robust['seconds']:.2f} s ({robust['samples_per_second'] or 0:,} "
+                   "samples/s)"))
     print(f"  {seconds:.2f} s ({summary['grasps_per_second'] or 0:,} grasps/s)"
           + (f"; labels in {printable(args.out)}" if args.out else ""))
     return 0
@@ -813,6 +892,26 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--out", metavar="FILE.npz", help="save the poses, contacts and labels, "
                                                       "atomically")
     g.add_argument("--json", action="store_true", help="print the summary as JSON")
+    # robustness (issue 17): Monte Carlo over pose, friction and normal noise
+    g.add_argument("--robust", action="store_true",
+                   help="also the probability of force closure and the expected epsilon "
+                        "under noise, with confidence intervals (saved as robust_* arrays)")
+    g.add_argument("--robust-samples", type=int, metavar="K",
+                   help="noise samples per grasp (default 100; at least 2)")
+    g.add_argument("--pose-sigma", type=float, metavar="S",
+                   help="jaw translation noise per axis, object units (default 1%% of --width)")
+    g.add_argument("--angle-sigma", type=float, metavar="RAD",
+                   help="closing-axis rotation noise about each perpendicular axis, radians "
+                        "(default 0.05)")
+    g.add_argument("--mu-sigma", type=float, metavar="S",
+                   help="friction noise, absolute, clipped at 0 (default 0.05)")
+    g.add_argument("--normal-sigma", type=float, metavar="RAD",
+                   help="contact normal noise per tangent axis, radians (default 0)")
+    g.add_argument("--robust-confidence", type=float, metavar="C",
+                   help="confidence of the intervals (default 0.95)")
+    g.add_argument("--no-robust-epsilon", action="store_true",
+                   help="skip the expected epsilon (saved as NaN): the probability alone, "
+                        "about ten times faster")
     g.set_defaults(run=_cmd_grasps)
     parser.epilog = f"Verdicts within {TOLERANCE:g} of the boundary are 'marginal'."
     return parser

@@ -12,7 +12,7 @@ them; the result saves as ``.npz``, atomically.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -28,6 +28,10 @@ _VERDICTS = np.array(["none", "marginal", "closure"])
 #: The arrays of a saved label file, in order (``GraspLabels.save``).
 ARRAYS = ("center", "closing_axis", "approach_axis", "width", "points", "normals", "code",
           "least_friction", "epsilon")
+
+#: The optional arrays of robustness (:meth:`GraspLabels.with_robustness`), saved when present.
+ROBUST_ARRAYS = ("robust_probability", "robust_probability_low", "robust_probability_high",
+                 "robust_epsilon", "robust_epsilon_low", "robust_epsilon_high", "robust_missed")
 
 
 @dataclass(frozen=True, eq=False)
@@ -48,7 +52,15 @@ class GraspLabels:
         Ferrari–Canny ε (L1), 0 where not closed.
     meta : dict
         ``object``, ``mu``, ``contact``, ``torsion``, ``width_max``,
-        ``pad_radius``, ``seed``, ``attempts``, ``rejected``.
+        ``pad_radius``, ``seed``, ``attempts``, ``rejected``; with
+        robustness also ``robust`` (samples, seed, confidence, noise).
+    robust_probability, robust_probability_low, robust_probability_high : (N,) arrays or None
+        Probability of force closure under noise and its Wilson interval
+        (:func:`forceclosure.robust.robust_labels`); None when not computed.
+    robust_epsilon, robust_epsilon_low, robust_epsilon_high : (N,) arrays or None
+        Mean epsilon under noise and its Student-t interval (NaN: not computed).
+    robust_missed : (N,) int array or None
+        Noise samples whose jaws made no contact pair (counted as not closed).
     """
 
     center: NDArray[np.float64]
@@ -61,6 +73,13 @@ class GraspLabels:
     least_friction: NDArray[np.float64]
     epsilon: NDArray[np.float64]
     meta: dict[str, Any] = field(default_factory=dict)
+    robust_probability: NDArray[np.float64] | None = None
+    robust_probability_low: NDArray[np.float64] | None = None
+    robust_probability_high: NDArray[np.float64] | None = None
+    robust_epsilon: NDArray[np.float64] | None = None
+    robust_epsilon_low: NDArray[np.float64] | None = None
+    robust_epsilon_high: NDArray[np.float64] | None = None
+    robust_missed: NDArray[np.int64] | None = None
 
     def __len__(self) -> int:
         return len(self.code)
@@ -74,23 +93,44 @@ class GraspLabels:
         """How many grasps have each verdict."""
         return {v: int(np.sum(self.code == c)) for c, v in enumerate(_VERDICTS)}
 
+    def with_robustness(self, robustness: Any) -> GraspLabels:
+        """These labels with the arrays of a :class:`~forceclosure.robust.Robustness` of the
+        same grasps, and its settings in ``meta["robust"]``."""
+        r = robustness
+        if len(r) != len(self):
+            raise InputError(f"robustness of {len(r)} grasps for {len(self)} labels")
+        meta = dict(self.meta)
+        meta["robust"] = {"samples": r.samples, "seed": r.seed, "confidence": r.confidence,
+                          **r.noise.to_dict()}
+        return replace(self, meta=meta, robust_probability=r.probability,
+                       robust_probability_low=r.probability_low,
+                       robust_probability_high=r.probability_high, robust_epsilon=r.epsilon,
+                       robust_epsilon_low=r.epsilon_low, robust_epsilon_high=r.epsilon_high,
+                       robust_missed=r.missed)
+
+    def _arrays(self) -> tuple[str, ...]:
+        """The names of the arrays present: :data:`ARRAYS`, then any of :data:`ROBUST_ARRAYS`."""
+        return ARRAYS + tuple(n for n in ROBUST_ARRAYS if getattr(self, n) is not None)
+
     def to_dict(self) -> dict[str, Any]:
         """Every array as nested lists (``inf`` μ* as None) and the metadata; JSON-ready."""
         out: dict[str, Any] = {"meta": dict(self.meta), "verdict": self.verdict.tolist()}
-        for name in ARRAYS:
+        for name in self._arrays():
             a = getattr(self, name)
             out[name] = ([None if not np.isfinite(x) else float(x) for x in a]  # inf, NaN
-                         if name == "least_friction" else a.tolist())
+                         if name == "least_friction" or name.startswith("robust_epsilon")
+                         else a.tolist())
         return out
 
     def save(self, path: str) -> None:
-        """Write the arrays (:data:`ARRAYS`) and ``meta`` (as JSON text) to an ``.npz``,
-        atomically (:func:`forceclosure.atomic.atomic_write`)."""
+        """Write the arrays (:data:`ARRAYS`, and those of :data:`ROBUST_ARRAYS` present) and
+        ``meta`` (as JSON text) to an ``.npz``, atomically
+        (:func:`forceclosure.atomic.atomic_write`)."""
         import json
 
         from .atomic import atomic_write
 
-        arrays = {name: getattr(self, name) for name in ARRAYS}
+        arrays = {name: getattr(self, name) for name in self._arrays()}
         arrays["meta"] = np.array(json.dumps(self.meta))
         with atomic_write(path) as f:
             np.savez_compressed(f, **arrays)
