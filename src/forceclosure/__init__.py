@@ -32,6 +32,7 @@ _HOME = {
     **dict.fromkeys(["JawPose", "ParallelJaw", "contacts_of", "pose_from_contacts"], "gripper"),
     **dict.fromkeys(["sample_antipodal"], "antipodal"),
     **dict.fromkeys(["GraspLabels", "grasp_labels", "label_grasps"], "labels"),
+    **dict.fromkeys(["collides"], "collision"),
 }
 
 
@@ -59,6 +60,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, eagerly
         torque_closure,
         vector_closure,
     )
+    from .collision import collides
     from .contacts import (
         Cone,
         Contact,
@@ -90,6 +92,7 @@ __all__ = [
     "WrenchSet",
     "__version__",
     "analyze",
+    "collides",
     "contacts_of",
     "edge_contact",
     "face_contact",

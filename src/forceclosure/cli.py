@@ -537,6 +537,22 @@ def _cmd_dataset(args: argparse.Namespace) -> int:
     return 2 if summary.failed or summary.timeout else 0
 
 
+def _collision_summary(labels) -> dict:
+    """The summary's collision counts: colliding grasps, by verdict, and the closed clear
+    ones (all None when the check did not run)."""
+    import numpy as np
+
+    keys = ("collides", "collides_closure", "collides_marginal", "collides_none",
+            "closure_clear")
+    if labels.collides is None:
+        return dict.fromkeys(keys)
+    hit = labels.collides
+    return {"collides": int(hit.sum()),
+            **{f"collides_{v}": int(np.sum(hit & (labels.code == c)))
+               for c, v in enumerate(("none", "marginal", "closure"))},
+            "closure_clear": int(np.sum(~hit & (labels.code == 2)))}
+
+
 def _cmd_grasps(args: argparse.Namespace) -> int:
     """Sample parallel-jaw grasps on a mesh and label them: verdict, least friction, epsilon."""
     import math
@@ -557,6 +573,9 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
         raise InputError(f"--mu must be finite and positive, got {args.mu}")
     if not (math.isfinite(args.pad_radius) and args.pad_radius >= 0):
         raise InputError(f"--pad-radius must be finite and >= 0, got {args.pad_radius}")
+    if args.clearance is not None and not (math.isfinite(args.clearance)
+                                           and args.clearance >= 0):
+        raise InputError(f"--clearance must be finite and >= 0, got {args.clearance}")
     if args.out:
         from .atomic import check_output
 
@@ -573,7 +592,8 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
               desc="labelling") as bar:
         labels = grasp_labels(obj, gripper, args.mu, args.count, args.seed,
                               args.contact, progress=bar.update,
-                              least_friction=not args.no_least_friction)
+                              least_friction=not args.no_least_friction,
+                              collision=not args.no_collision, clearance=args.clearance)
     seconds = time.perf_counter() - start
     if args.out:
         labels.save(args.out)
@@ -586,6 +606,7 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
                "contact": args.contact, "mu": args.mu, "width": args.width, **counts,
                "least_friction_median": mu_star if math.isfinite(mu_star) else None,
                "epsilon_median": float(np.median(closed)) if len(closed) else None,
+               **_collision_summary(labels),
                "seconds": round(seconds, 3),
                "grasps_per_second": round(len(labels) / seconds) if seconds > 0 else None,
                "out": args.out}
@@ -605,6 +626,13 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
                                   else f"median {mu_star:.4g}")
           + (f"; epsilon (L1) of the closed: median {summary['epsilon_median']:.4g}"
              if closed.size else ""))
+    if labels.collides is None:
+        print("  collision: not checked")
+    else:
+        print(f"  collides: {summary['collides']:,} (closure {summary['collides_closure']:,}, "
+              f"marginal {summary['collides_marginal']:,}, none {summary['collides_none']:,}; "
+              f"verdicts kept: they are of the contacts); closure and clear: "
+              f"{summary['closure_clear']:,}")
     print(f"  {seconds:.2f} s ({summary['grasps_per_second'] or 0:,} grasps/s)"
           + (f"; labels in {printable(args.out)}" if args.out else ""))
     return 0
@@ -813,6 +841,13 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--out", metavar="FILE.npz", help="save the poses, contacts and labels, "
                                                       "atomically")
     g.add_argument("--json", action="store_true", help="print the summary as JSON")
+    # collision, export and picture (docs/gripper.md)
+    g.add_argument("--no-collision", action="store_true",
+                   help="skip checking the opened hand (fingers and palm as boxes) against the "
+                        "object; 'collides' is then not saved")
+    g.add_argument("--clearance", type=float, default=None, metavar="D",
+                   help="each finger's pad stands D off its contact in the collision check "
+                        "(default 0.01 x --width)")
     g.set_defaults(run=_cmd_grasps)
     parser.epilog = f"Verdicts within {TOLERANCE:g} of the boundary are 'marginal'."
     return parser
