@@ -33,6 +33,7 @@ _HOME = {
     **dict.fromkeys(["sample_antipodal"], "antipodal"),
     **dict.fromkeys(["GraspLabels", "grasp_labels", "label_grasps"], "labels"),
     **dict.fromkeys(["collides"], "collision"),
+    **dict.fromkeys(["graspnet_array", "save_acronym", "save_graspnet"], "export"),
 }
 
 
@@ -72,6 +73,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, eagerly
         vertex_contact,
     )
     from .errors import ForceClosureError, InputError
+    from .export import graspnet_array, save_acronym, save_graspnet
     from .gripper import JawPose, ParallelJaw, contacts_of, pose_from_contacts
     from .labels import GraspLabels, grasp_labels, label_grasps
     from .motion import Motion, motion_of
@@ -99,11 +101,14 @@ __all__ = [
     "force_direction_closure",
     "generating_wrenches",
     "grasp_labels",
+    "graspnet_array",
     "label_grasps",
     "motion_of",
     "point_contact",
     "pose_from_contacts",
     "sample_antipodal",
+    "save_acronym",
+    "save_graspnet",
     "torque_closure",
     "vector_closure",
     "vertex_contact",

@@ -582,6 +582,7 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
         if not args.out.lower().endswith(".npz"):
             raise InputError(f"--out {args.out}: labels are saved as .npz")
         check_output(args.out, inputs=[args.object])
+    _check_exports(args)
     obj = load_object(args.object, allow_open=args.allow_open, part=args.part,
                       allow_outside_meshes=args.allow_outside_meshes)
     for warning in obj.warnings:
@@ -597,6 +598,7 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     seconds = time.perf_counter() - start
     if args.out:
         labels.save(args.out)
+    _write_exports(args, labels, gripper)
     counts = labels.counts()
     mu_star = (float(np.median(labels.least_friction))
                if len(labels) and not args.no_least_friction else math.nan)
@@ -607,6 +609,7 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
                "least_friction_median": mu_star if math.isfinite(mu_star) else None,
                "epsilon_median": float(np.median(closed)) if len(closed) else None,
                **_collision_summary(labels),
+               "exports": [{"kind": kind, "file": path} for kind, path in args.export],
                "seconds": round(seconds, 3),
                "grasps_per_second": round(len(labels) / seconds) if seconds > 0 else None,
                "out": args.out}
@@ -635,7 +638,41 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
               f"{summary['closure_clear']:,}")
     print(f"  {seconds:.2f} s ({summary['grasps_per_second'] or 0:,} grasps/s)"
           + (f"; labels in {printable(args.out)}" if args.out else ""))
+    for kind, path in args.export:
+        print(f"  {kind} export in {printable(path)}")
     return 0
+
+
+def _check_exports(args: argparse.Namespace) -> None:
+    """Refuse a bad ``--export`` before any work: its kind, extension, place, and h5py."""
+    from .atomic import check_output
+    from .export import KINDS, require_h5py
+
+    for kind, path in args.export:
+        if kind not in KINDS:
+            raise InputError(f"--export: unknown kind {kind!r}; the kinds are "
+                             + ", ".join(f"{k} ({'/'.join(e)})" for k, e in KINDS.items()))
+        if not path.lower().endswith(KINDS[kind]):
+            raise InputError(f"--export {kind} {path}: written as {' or '.join(KINDS[kind])}")
+        check_output(path, inputs=[args.object, *([args.out] if args.out else [])])
+        if kind == "acronym":
+            require_h5py()
+        if kind == "graspnet" and args.graspnet_score == "friction" and args.no_least_friction:
+            raise InputError("--export graspnet: the friction score needs the least friction; "
+                             "drop --no-least-friction or pass --graspnet-score epsilon")
+    paths = [path for _, path in args.export] + ([args.out] if args.out else [])
+    if len(set(paths)) < len(paths):
+        raise InputError("--export and --out: each needs its own file")
+
+
+def _write_exports(args: argparse.Namespace, labels, gripper) -> None:
+    from .export import save_acronym, save_graspnet
+
+    for kind, path in args.export:
+        if kind == "graspnet":
+            save_graspnet(path, labels, gripper, score=args.graspnet_score)
+        else:
+            save_acronym(path, labels, args.object, gripper=gripper)
 
 
 def _cmd_warmup(args: argparse.Namespace) -> int:
@@ -848,6 +885,14 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--clearance", type=float, default=None, metavar="D",
                    help="each finger's pad stands D off its contact in the collision check "
                         "(default 0.01 x --width)")
+    g.add_argument("--export", nargs=2, action="append", default=[], metavar=("KIND", "FILE"),
+                   help="also write the labelled poses for a trainer, atomically: 'graspnet "
+                        "FILE.npy' (graspnetAPI's GraspGroup array, N x 17) or 'acronym "
+                        "FILE.h5' (ACRONYM's HDF5 layout; needs the 'export' extra); "
+                        "repeatable")
+    g.add_argument("--graspnet-score", choices=("friction", "epsilon"), default="friction",
+                   help="the GraspGroup score: 1.1 - least friction (GraspNet's, default) or "
+                        "the Ferrari-Canny epsilon; -1 for grasps that do not close or collide")
     g.set_defaults(run=_cmd_grasps)
     parser.epilog = f"Verdicts within {TOLERANCE:g} of the boundary are 'marginal'."
     return parser
