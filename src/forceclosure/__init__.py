@@ -34,6 +34,7 @@ _HOME = {
     **dict.fromkeys(["GraspLabels", "grasp_labels", "label_grasps"], "labels"),
     **dict.fromkeys(["collides"], "collision"),
     **dict.fromkeys(["graspnet_array", "save_acronym", "save_graspnet"], "export"),
+    **dict.fromkeys(["plot_grasps"], "grasp_plot"),
 }
 
 
@@ -74,6 +75,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, eagerly
     )
     from .errors import ForceClosureError, InputError
     from .export import graspnet_array, save_acronym, save_graspnet
+    from .grasp_plot import plot_grasps
     from .gripper import JawPose, ParallelJaw, contacts_of, pose_from_contacts
     from .labels import GraspLabels, grasp_labels, label_grasps
     from .motion import Motion, motion_of
@@ -104,6 +106,7 @@ __all__ = [
     "graspnet_array",
     "label_grasps",
     "motion_of",
+    "plot_grasps",
     "point_contact",
     "pose_from_contacts",
     "sample_antipodal",

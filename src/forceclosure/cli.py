@@ -583,6 +583,14 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
             raise InputError(f"--out {args.out}: labels are saved as .npz")
         check_output(args.out, inputs=[args.object])
     _check_exports(args)
+    if args.plot:
+        from .atomic import check_output
+        from .grasp_plot import check_plot_path
+
+        check_plot_path(args.plot)
+        if args.plot_top < 0:
+            raise InputError(f"--plot-top must be a whole number >= 0, got {args.plot_top}")
+        check_output(args.plot, inputs=[args.object])
     obj = load_object(args.object, allow_open=args.allow_open, part=args.part,
                       allow_outside_meshes=args.allow_outside_meshes)
     for warning in obj.warnings:
@@ -599,6 +607,10 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     if args.out:
         labels.save(args.out)
     _write_exports(args, labels, gripper)
+    if args.plot:
+        from .grasp_plot import plot_grasps
+
+        plot_grasps(obj, labels, args.plot, top=args.plot_top, gripper=gripper)
     counts = labels.counts()
     mu_star = (float(np.median(labels.least_friction))
                if len(labels) and not args.no_least_friction else math.nan)
@@ -610,6 +622,7 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
                "epsilon_median": float(np.median(closed)) if len(closed) else None,
                **_collision_summary(labels),
                "exports": [{"kind": kind, "file": path} for kind, path in args.export],
+               "plot": args.plot,
                "seconds": round(seconds, 3),
                "grasps_per_second": round(len(labels) / seconds) if seconds > 0 else None,
                "out": args.out}
@@ -640,6 +653,8 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
           + (f"; labels in {printable(args.out)}" if args.out else ""))
     for kind, path in args.export:
         print(f"  {kind} export in {printable(path)}")
+    if args.plot:
+        print(f"  picture of the {min(args.plot_top, len(labels))} best: {printable(args.plot)}")
     return 0
 
 
@@ -660,9 +675,9 @@ def _check_exports(args: argparse.Namespace) -> None:
         if kind == "graspnet" and args.graspnet_score == "friction" and args.no_least_friction:
             raise InputError("--export graspnet: the friction score needs the least friction; "
                              "drop --no-least-friction or pass --graspnet-score epsilon")
-    paths = [path for _, path in args.export] + ([args.out] if args.out else [])
+    paths = [path for _, path in args.export] + [p for p in (args.out, args.plot) if p]
     if len(set(paths)) < len(paths):
-        raise InputError("--export and --out: each needs its own file")
+        raise InputError("--export, --out and --plot: each needs its own file")
 
 
 def _write_exports(args: argparse.Namespace, labels, gripper) -> None:
@@ -893,6 +908,11 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--graspnet-score", choices=("friction", "epsilon"), default="friction",
                    help="the GraspGroup score: 1.1 - least friction (GraspNet's, default) or "
                         "the Ferrari-Canny epsilon; -1 for grasps that do not close or collide")
+    g.add_argument("--plot", metavar="FILE.png",
+                   help="save a picture (.png or .svg) of the object and its best jaw poses "
+                        "drawn as grippers, coloured by label")
+    g.add_argument("--plot-top", type=int, default=10, metavar="K",
+                   help="how many of the best poses the picture draws (default 10)")
     g.set_defaults(run=_cmd_grasps)
     parser.epilog = f"Verdicts within {TOLERANCE:g} of the boundary are 'marginal'."
     return parser
