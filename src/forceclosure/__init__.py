@@ -36,6 +36,9 @@ _HOME = {
     **dict.fromkeys(["Noise", "Robustness", "robust_labels"], "robust"),
     **dict.fromkeys(["GraspMetrics", "grasp_matrix", "grasp_metrics"], "metrics"),
     **dict.fromkeys(["TaskWrench", "gravity_wrench", "resist_wrench"], "task"),
+    **dict.fromkeys(["collides"], "collision"),
+    **dict.fromkeys(["graspnet_array", "save_acronym", "save_graspnet"], "export"),
+    **dict.fromkeys(["plot_grasps"], "grasp_plot"),
 }
 
 
@@ -63,6 +66,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, eagerly
         torque_closure,
         vector_closure,
     )
+    from .collision import collides
     from .contacts import (
         Cone,
         Contact,
@@ -74,6 +78,8 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, eagerly
         vertex_contact,
     )
     from .errors import ForceClosureError, InputError
+    from .export import graspnet_array, save_acronym, save_graspnet
+    from .grasp_plot import plot_grasps
     from .gripper import JawPose, ParallelJaw, contacts_of, pose_from_contacts
     from .labels import GraspLabels, grasp_labels, label_grasps
     from .metrics import GraspMetrics, grasp_matrix, grasp_metrics
@@ -102,6 +108,7 @@ __all__ = [
     "WrenchSet",
     "__version__",
     "analyze",
+    "collides",
     "contacts_from_mujoco",
     "contacts_from_pybullet",
     "contacts_of",
@@ -112,14 +119,18 @@ __all__ = [
     "grasp_labels",
     "grasp_matrix",
     "grasp_metrics",
+    "graspnet_array",
     "gravity_wrench",
     "label_grasps",
     "motion_of",
+    "plot_grasps",
     "point_contact",
     "pose_from_contacts",
     "resist_wrench",
     "robust_labels",
     "sample_antipodal",
+    "save_acronym",
+    "save_graspnet",
     "torque_closure",
     "vector_closure",
     "vertex_contact",

@@ -600,6 +600,22 @@ def _robust_stage(obj: Any, labels: Any, gripper: Any, args: argparse.Namespace,
     return labels.with_robustness(r), entry
 
 
+def _collision_summary(labels) -> dict:
+    """The summary's collision counts: colliding grasps, by verdict, and the closed clear
+    ones (all None when the check did not run)."""
+    import numpy as np
+
+    keys = ("collides", "collides_closure", "collides_marginal", "collides_none",
+            "closure_clear")
+    if labels.collides is None:
+        return dict.fromkeys(keys)
+    hit = labels.collides
+    return {"collides": int(hit.sum()),
+            **{f"collides_{v}": int(np.sum(hit & (labels.code == c)))
+               for c, v in enumerate(("none", "marginal", "closure"))},
+            "closure_clear": int(np.sum(~hit & (labels.code == 2)))}
+
+
 def _cmd_grasps(args: argparse.Namespace) -> int:
     """Sample parallel-jaw grasps on a mesh and label them: verdict, least friction, epsilon."""
     import math
@@ -621,12 +637,24 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     if not (math.isfinite(args.pad_radius) and args.pad_radius >= 0):
         raise InputError(f"--pad-radius must be finite and >= 0, got {args.pad_radius}")
     robust = _robust_settings(args)
+    if args.clearance is not None and not (math.isfinite(args.clearance)
+                                           and args.clearance >= 0):
+        raise InputError(f"--clearance must be finite and >= 0, got {args.clearance}")
     if args.out:
         from .atomic import check_output
 
         if not args.out.lower().endswith(".npz"):
             raise InputError(f"--out {args.out}: labels are saved as .npz")
         check_output(args.out, inputs=[args.object])
+    _check_exports(args)
+    if args.plot:
+        from .atomic import check_output
+        from .grasp_plot import check_plot_path
+
+        check_plot_path(args.plot)
+        if args.plot_top < 0:
+            raise InputError(f"--plot-top must be a whole number >= 0, got {args.plot_top}")
+        check_output(args.plot, inputs=[args.object])
     obj = load_object(args.object, allow_open=args.allow_open, part=args.part,
                       allow_outside_meshes=args.allow_outside_meshes)
     for warning in obj.warnings:
@@ -637,12 +665,18 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
               desc="labelling") as bar:
         labels = grasp_labels(obj, gripper, args.mu, args.count, args.seed,
                               args.contact, progress=bar.update,
-                              least_friction=not args.no_least_friction)
+                              least_friction=not args.no_least_friction,
+                              collision=not args.no_collision, clearance=args.clearance)
     seconds = time.perf_counter() - start
     if robust is not None:
         labels, robust = _robust_stage(obj, labels, gripper, args, robust)
     if args.out:
         labels.save(args.out)
+    _write_exports(args, labels, gripper)
+    if args.plot:
+        from .grasp_plot import plot_grasps
+
+        plot_grasps(obj, labels, args.plot, top=args.plot_top, gripper=gripper)
     counts = labels.counts()
     mu_star = (float(np.median(labels.least_friction))
                if len(labels) and not args.no_least_friction else math.nan)
@@ -652,6 +686,9 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
                "contact": args.contact, "mu": args.mu, "width": args.width, **counts,
                "least_friction_median": mu_star if math.isfinite(mu_star) else None,
                "epsilon_median": float(np.median(closed)) if len(closed) else None,
+               **_collision_summary(labels),
+               "exports": [{"kind": kind, "file": path} for kind, path in args.export],
+               "plot": args.plot,
                "seconds": round(seconds, 3),
                "grasps_per_second": round(len(labels) / seconds) if seconds > 0 else None,
                "out": args.out}
@@ -684,9 +721,52 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
                     if robust["epsilon_median"] is not None else "")
                  + f"; {robust['seconds']:.2f} s ({robust['samples_per_second'] or 0:,} "
                    "samples/s)"))
+    if labels.collides is None:
+        print("  collision: not checked")
+    else:
+        print(f"  collides: {summary['collides']:,} (closure {summary['collides_closure']:,}, "
+              f"marginal {summary['collides_marginal']:,}, none {summary['collides_none']:,}; "
+              f"verdicts kept: they are of the contacts); closure and clear: "
+              f"{summary['closure_clear']:,}")
     print(f"  {seconds:.2f} s ({summary['grasps_per_second'] or 0:,} grasps/s)"
           + (f"; labels in {printable(args.out)}" if args.out else ""))
+    for kind, path in args.export:
+        print(f"  {kind} export in {printable(path)}")
+    if args.plot:
+        print(f"  picture of the {min(args.plot_top, len(labels))} best: {printable(args.plot)}")
     return 0
+
+
+def _check_exports(args: argparse.Namespace) -> None:
+    """Refuse a bad ``--export`` before any work: its kind, extension, place, and h5py."""
+    from .atomic import check_output
+    from .export import KINDS, require_h5py
+
+    for kind, path in args.export:
+        if kind not in KINDS:
+            raise InputError(f"--export: unknown kind {kind!r}; the kinds are "
+                             + ", ".join(f"{k} ({'/'.join(e)})" for k, e in KINDS.items()))
+        if not path.lower().endswith(KINDS[kind]):
+            raise InputError(f"--export {kind} {path}: written as {' or '.join(KINDS[kind])}")
+        check_output(path, inputs=[args.object, *([args.out] if args.out else [])])
+        if kind == "acronym":
+            require_h5py()
+        if kind == "graspnet" and args.graspnet_score == "friction" and args.no_least_friction:
+            raise InputError("--export graspnet: the friction score needs the least friction; "
+                             "drop --no-least-friction or pass --graspnet-score epsilon")
+    paths = [path for _, path in args.export] + [p for p in (args.out, args.plot) if p]
+    if len(set(paths)) < len(paths):
+        raise InputError("--export, --out and --plot: each needs its own file")
+
+
+def _write_exports(args: argparse.Namespace, labels, gripper) -> None:
+    from .export import save_acronym, save_graspnet
+
+    for kind, path in args.export:
+        if kind == "graspnet":
+            save_graspnet(path, labels, gripper, score=args.graspnet_score)
+        else:
+            save_acronym(path, labels, args.object, gripper=gripper)
 
 
 def _cmd_warmup(args: argparse.Namespace) -> int:
@@ -912,6 +992,26 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--no-robust-epsilon", action="store_true",
                    help="skip the expected epsilon (saved as NaN): the probability alone, "
                         "about ten times faster")
+    # collision, export and picture (docs/gripper.md)
+    g.add_argument("--no-collision", action="store_true",
+                   help="skip checking the opened hand (fingers and palm as boxes) against the "
+                        "object; 'collides' is then not saved")
+    g.add_argument("--clearance", type=float, default=None, metavar="D",
+                   help="each finger's pad stands D off its contact in the collision check "
+                        "(default 0.01 x --width)")
+    g.add_argument("--export", nargs=2, action="append", default=[], metavar=("KIND", "FILE"),
+                   help="also write the labelled poses for a trainer, atomically: 'graspnet "
+                        "FILE.npy' (graspnetAPI's GraspGroup array, N x 17) or 'acronym "
+                        "FILE.h5' (ACRONYM's HDF5 layout; needs the 'export' extra); "
+                        "repeatable")
+    g.add_argument("--graspnet-score", choices=("friction", "epsilon"), default="friction",
+                   help="the GraspGroup score: 1.1 - least friction (GraspNet's, default) or "
+                        "the Ferrari-Canny epsilon; -1 for grasps that do not close or collide")
+    g.add_argument("--plot", metavar="FILE.png",
+                   help="save a picture (.png or .svg) of the object and its best jaw poses "
+                        "drawn as grippers, coloured by label")
+    g.add_argument("--plot-top", type=int, default=10, metavar="K",
+                   help="how many of the best poses the picture draws (default 10)")
     g.set_defaults(run=_cmd_grasps)
     parser.epilog = f"Verdicts within {TOLERANCE:g} of the boundary are 'marginal'."
     return parser

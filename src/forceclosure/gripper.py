@@ -65,6 +65,11 @@ def default_approach(closing: NDArray[np.float64]) -> NDArray[np.float64]:
     return a / np.linalg.norm(a)
 
 
+#: The hand's box dimensions (:class:`ParallelJaw`) and their defaults, shares of ``width_max``.
+_SHAPE = {"depth": 0.2, "finger_length": 0.5, "finger_thickness": 0.1, "finger_height": 0.2,
+          "palm_thickness": 0.1}
+
+
 @dataclass(frozen=True)
 class ParallelJaw:
     """A parallel-jaw gripper.
@@ -78,25 +83,62 @@ class ParallelJaw:
         the pads' torsional friction is coupled to the normal force, ``|τ| ≤
         (2/3) μ a f_n`` (a uniform pressure over a disc of radius ``a``); 0
         gives the paper's soft finger (uncoupled torque).
+    depth, finger_length, finger_thickness, finger_height, palm_thickness : float, optional
+        The hand's boxes, for collision checks (:mod:`forceclosure.collision`),
+        in the jaw frame (x the approach axis, y the closing axis, origin the
+        jaw centre): each finger is a box ``finger_length`` long along x, from
+        ``depth - finger_length`` to its tip at ``depth`` (how far the tips
+        reach past the jaw centre, graspnetAPI's ``depth``),
+        ``finger_thickness`` thick along y, outside the opening, and
+        ``finger_height`` high along z (graspnetAPI's ``height``); the palm
+        joins the fingers' bases, ``palm_thickness`` thick along x behind
+        them, as wide as the fully open hand (``width_max + 2
+        finger_thickness``) and as high as the fingers (0: no palm). Defaults,
+        from ``width_max = w``: depth ``0.2 w``, finger length ``0.5 w``,
+        thickness ``0.1 w``, height ``0.2 w``, palm ``0.1 w`` (graspnetAPI's
+        collision model at ``w = 0.1``: height 0.02, finger width 0.01, palm
+        0.02 behind the centre for a depth of 0.02, not its thickness).
 
     Examples
     --------
     >>> ParallelJaw(0.08, pad_radius=0.01).torsion(0.3)
     0.002
+    >>> ParallelJaw(0.1).finger_length, ParallelJaw(0.1, depth=0.03).depth
+    (0.05, 0.03)
     """
 
     width_max: float
     pad_radius: float = 0.0
+    depth: float | None = None
+    finger_length: float | None = None
+    finger_thickness: float | None = None
+    finger_height: float | None = None
+    palm_thickness: float | None = None
 
     def __post_init__(self) -> None:
-        for name in ("width_max", "pad_radius"):
+        for name in ("width_max", "pad_radius", *_SHAPE):
             value = getattr(self, name)
+            if value is None and name in _SHAPE:
+                continue
             if (isinstance(value, bool) or not isinstance(value, Real)
                     or not np.isfinite(value) or value < 0):
                 raise InputError(f"ParallelJaw: '{name}' must be a finite number >= 0, "
                                  f"got {value!r}")
         if self.width_max <= 0:
             raise InputError(f"ParallelJaw: 'width_max' must be positive, got {self.width_max}")
+        for name, share in _SHAPE.items():
+            if getattr(self, name) is None:
+                object.__setattr__(self, name, round(share * float(self.width_max), 15))
+            else:
+                object.__setattr__(self, name, float(getattr(self, name)))
+        for name in ("finger_length", "finger_thickness", "finger_height"):
+            if getattr(self, name) <= 0:
+                raise InputError(f"ParallelJaw: '{name}' must be positive, got "
+                                 f"{getattr(self, name)}")
+        if self.depth > self.finger_length:
+            raise InputError(f"ParallelJaw: 'depth' ({self.depth}) must not exceed "
+                             f"'finger_length' ({self.finger_length}): the tips reach past the "
+                             "jaw centre by at most the fingers' length")
 
     def torsion(self, mu: float) -> float | None:
         """The soft pads' coupled torsional coefficient at friction ``mu``, or None

@@ -5,8 +5,9 @@
 (Theorem 1), the least friction μ* that closes each pair (one compiled
 pass), and the Ferrari–Canny ε (L1, 8-edge inscribed pyramids, torques
 about the pair's midpoint per its half-width). :func:`grasp_labels`
-samples antipodal candidates (:mod:`forceclosure.antipodal`) and labels
-them; the result saves as ``.npz``, atomically.
+samples antipodal candidates (:mod:`forceclosure.antipodal`), labels
+them and checks the opened hand against the object
+(:mod:`forceclosure.collision`); the result saves as ``.npz``, atomically.
 """
 
 from __future__ import annotations
@@ -26,8 +27,9 @@ __all__ = ["GraspLabels", "grasp_labels", "label_grasps"]
 _VERDICTS = np.array(["none", "marginal", "closure"])
 
 #: The arrays of a saved label file, in order (``GraspLabels.save``).
+#: ``collides`` is written only when the collision check ran (``meta["collision"]`` not None).
 ARRAYS = ("center", "closing_axis", "approach_axis", "width", "points", "normals", "code",
-          "least_friction", "epsilon")
+          "least_friction", "epsilon", "collides")
 
 #: The optional arrays of robustness (:meth:`GraspLabels.with_robustness`), saved when present.
 ROBUST_ARRAYS = ("robust_probability", "robust_probability_low", "robust_probability_high",
@@ -52,8 +54,14 @@ class GraspLabels:
         Ferrari–Canny ε (L1), 0 where not closed.
     meta : dict
         ``object``, ``mu``, ``contact``, ``torsion``, ``width_max``,
-        ``pad_radius``, ``seed``, ``attempts``, ``rejected``; with
-        robustness also ``robust`` (samples, seed, confidence, noise).
+        ``pad_radius``, ``seed``, ``attempts``, ``rejected``, ``collision``
+        (the check's ``clearance`` and the hand's boxes, or None: not checked);
+        with robustness also ``robust`` (samples, seed, confidence, noise).
+    collides : (N,) bool array or None
+        Whether the hand, opened at the pose, meets the object
+        (:func:`~forceclosure.collision.collides`); None when not checked. A
+        colliding grasp keeps its verdict: the labels certify its contacts,
+        and ``collides`` says the gripper cannot reach them as posed.
     robust_probability, robust_probability_low, robust_probability_high : (N,) arrays or None
         Probability of force closure under noise and its Wilson interval
         (:func:`forceclosure.robust.robust_labels`); None when not computed.
@@ -73,6 +81,7 @@ class GraspLabels:
     least_friction: NDArray[np.float64]
     epsilon: NDArray[np.float64]
     meta: dict[str, Any] = field(default_factory=dict)
+    collides: NDArray[np.bool_] | None = None
     robust_probability: NDArray[np.float64] | None = None
     robust_probability_low: NDArray[np.float64] | None = None
     robust_probability_high: NDArray[np.float64] | None = None
@@ -117,6 +126,9 @@ class GraspLabels:
         out: dict[str, Any] = {"meta": dict(self.meta), "verdict": self.verdict.tolist()}
         for name in self._arrays():
             a = getattr(self, name)
+            if a is None:
+                out[name] = None
+                continue
             out[name] = ([None if not np.isfinite(x) else float(x) for x in a]  # inf, NaN
                          if name == "least_friction" or name.startswith("robust_epsilon")
                          else a.tolist())
@@ -130,7 +142,8 @@ class GraspLabels:
 
         from .atomic import atomic_write
 
-        arrays = {name: getattr(self, name) for name in self._arrays()}
+        arrays = {name: getattr(self, name) for name in self._arrays()
+                  if getattr(self, name) is not None}
         arrays["meta"] = np.array(json.dumps(self.meta))
         with atomic_write(path) as f:
             np.savez_compressed(f, **arrays)
@@ -192,8 +205,14 @@ def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str 
 
 def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: int = 0,
                  contact: str = "soft", progress: Callable[[int], object] | None = None,
-                 least_friction: bool = True) -> GraspLabels:
+                 least_friction: bool = True, collision: bool = True,
+                 clearance: float | None = None) -> GraspLabels:
     """Sample ``count`` antipodal jaw poses on ``obj`` for ``gripper`` and label them.
+
+    With ``collision`` (the default) each pose's hand, its fingers opened a
+    ``clearance`` off each contact (default
+    :data:`~forceclosure.collision.CLEARANCE` × ``width_max``), is checked
+    against the object: ``collides``. ``collision=False`` skips it (None).
 
     Examples
     --------
@@ -202,6 +221,9 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
     (20, 20)
     >>> bool(np.all(labels.least_friction[labels.code == 2] < 0.3))
     True
+    >>> labels.collides.shape, grasp_labels("cube", ParallelJaw(3.0), 0.3, 5,
+    ...                                     collision=False).collides
+    ((20,), None)
     """
     from .antipodal import sample_antipodal
 
@@ -211,9 +233,21 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
     torsion = gripper.torsion(mu) if contact == "soft" else None
     code, mu_star, eps = label_grasps(samples.points, samples.normals, mu, contact, torsion,
                                       progress, least_friction)
+    hits, checked = None, None
+    if collision:
+        from .collision import CLEARANCE, collides
+
+        hits = collides(obj, samples, gripper, clearance)
+        c = CLEARANCE * gripper.width_max if clearance is None else float(clearance)
+        checked = {"clearance": c, "depth": gripper.depth,
+                   "finger_length": gripper.finger_length,
+                   "finger_thickness": gripper.finger_thickness,
+                   "finger_height": gripper.finger_height,
+                   "palm_thickness": gripper.palm_thickness}
     name = obj if isinstance(obj, str) else getattr(obj, "name", type(obj).__name__)
     meta = {"object": str(name), "mu": float(mu), "contact": contact, "torsion": torsion,
             "width_max": gripper.width_max, "pad_radius": gripper.pad_radius, "seed": seed,
-            "attempts": samples.attempts, "rejected": samples.rejected}
+            "attempts": samples.attempts, "rejected": samples.rejected, "collision": checked}
     return GraspLabels(samples.center, samples.closing_axis, samples.approach_axis,
-                       samples.width, samples.points, samples.normals, code, mu_star, eps, meta)
+                       samples.width, samples.points, samples.normals, code, mu_star, eps, meta,
+                       collides=hits)
