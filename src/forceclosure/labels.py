@@ -179,7 +179,8 @@ def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str 
     >>> code.tolist(), round(float(mu_star[0]), 5), bool(eps[0] > 0)
     ([2], 0.1, True)
     """
-    from .batch import analyze_batch, epsilon_batch, least_friction_batch
+    from .batch import epsilon_batch, least_friction_batch
+    from .two_finger import pair_codes
 
     if contact not in ("soft", "hard"):
         raise InputError(f"contact must be 'soft' or 'hard', got {contact!r}")
@@ -191,7 +192,7 @@ def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str 
     for lo in range(0, n, CHUNK):
         part = slice(lo, min(n, lo + CHUNK))
         P, N = points[part], normals[part]
-        code[part] = analyze_batch(P, N, mu=mu, model=contact, torsion=torsion).code
+        code[part] = pair_codes(P, N, mu, contact, torsion)
         if least_friction:
             mu_star[part] = least_friction_batch(P, N, model=contact, torsion=torsion)
         closed = np.flatnonzero(code[part] == 2)

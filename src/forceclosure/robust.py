@@ -217,7 +217,7 @@ def robust_labels(obj: Any, poses: Any, gripper: ParallelJaw, mu: float, *,
     centre and closed along the turned axis onto ``obj`` (all poses' samples
     in one ray query per :data:`CHUNK_SAMPLES`), and every sample labelled
     by the batch kernels in one call: the verdict with exact cones at the
-    sample's friction (:func:`~forceclosure.batch.analyze_batch`) and, for
+    sample's friction (:func:`~forceclosure.two_finger.pair_codes`) and, for
     the closed samples, the epsilon (:func:`~forceclosure.batch.epsilon_batch`,
     L1, 8-edge inscribed pyramids, torques about the pair's midpoint per its
     half-width). **A sample whose jaws make no contact pair** (they miss the
@@ -269,8 +269,9 @@ def robust_labels(obj: Any, poses: Any, gripper: ParallelJaw, mu: float, *,
     >>> r.probability.tolist(), r.missed.tolist(), bool(r.epsilon[0] > 0)
     ([1.0, 0.0], [0, 50], True)
     """
-    from .batch import analyze_batch, epsilon_batch
+    from .batch import epsilon_batch
     from .contacts import tangent_basis
+    from .two_finger import pair_codes
 
     if not isinstance(gripper, ParallelJaw):
         raise InputError(f"gripper must be a ParallelJaw, got {type(gripper).__name__}")
@@ -326,7 +327,7 @@ def robust_labels(obj: Any, poses: Any, gripper: ParallelJaw, mu: float, *,
                    if contact == "soft" and gripper.pad_radius > 0 else None)
         code = np.zeros(m, dtype=np.int8)
         if len(ok):
-            code[ok] = analyze_batch(P, N, mu=f, model=contact, torsion=torsion).code
+            code[ok] = pair_codes(P, N, f, contact, torsion)
         won = code == 2
         closed[part] = won.reshape(-1, s).sum(axis=1)
         missed[part] = (reasons != None).reshape(-1, s).sum(axis=1)  # noqa: E711

@@ -202,6 +202,40 @@ def _conditioned(p, n_p, q, n_q):
     return p, normals[0], q, normals[1]
 
 
+def pair_codes(points: ArrayLike, normals: ArrayLike, mu: ArrayLike, model: str = "soft",
+               torsion: ArrayLike | None = None) -> NDArray[np.int8]:
+    """Verdict codes (0 none, 1 marginal, 2 closure; exact cones) of ``(N, 2, d)`` pairs.
+
+    Spatial soft pairs with the paper's uncoupled torque (``torsion`` None)
+    and planar pairs are decided in closed form (:func:`two_finger_closure`,
+    Theorem 1 only where that is ill-conditioned); other pairs by
+    :func:`forceclosure.batch.analyze_batch`. ``mu`` is one value, or one
+    per pair, or ``(N, 2)``.
+
+    Examples
+    --------
+    >>> P = np.array([[[-1, 0, 0], [1, 0.5, 0.3]]])
+    >>> N = np.array([[[-1, 0.2, 0], [1, 0, 0.1]]])
+    >>> pair_codes(P, N, 0.5).tolist(), pair_codes(P, N, 0.5, "hard").tolist()
+    ([2], [0])
+    """
+    from .batch import analyze_batch
+
+    points = np.asarray(points, dtype=float)
+    normals = np.asarray(normals, dtype=float)
+    if torsion is None and model in ("soft", "hard") and points.ndim == 3 \
+            and points.shape[1] == 2 and (model == "soft" or points.shape[2] == 2):
+        mu = np.asarray(mu, dtype=float)
+        try:
+            mu = np.broadcast_to(mu if mu.ndim == 2 else mu.reshape(-1, 1), (len(points), 2))
+        except ValueError:
+            raise InputError(f"'mu' of shape {mu.shape} does not fit {len(points)} pairs") \
+                from None
+        return two_finger_closure(points[:, 0], normals[:, 0], points[:, 1], normals[:, 1],
+                                  mu[:, 0], mu[:, 1], model=model).code
+    return analyze_batch(points, normals, mu=mu, model=model, torsion=torsion).code
+
+
 def pair_least_friction(p: NDArray[np.float64], n_p: NDArray[np.float64],
                         q: NDArray[np.float64], n_q: NDArray[np.float64]
                         ) -> NDArray[np.float64]:
