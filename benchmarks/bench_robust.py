@@ -20,11 +20,11 @@ import numpy as np
 def main() -> None:
     import pybullet_data
 
-    from forceclosure.batch import analyze_batch
     from forceclosure.gripper import ParallelJaw, jaw_contacts, surface_mesh
     from forceclosure.labels import grasp_labels
     from forceclosure.objects.io import load_object
     from forceclosure.robust import robust_labels
+    from forceclosure.two_finger import pair_codes
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--grasps", type=int, default=1000)
@@ -51,7 +51,7 @@ def main() -> None:
         rays = time.perf_counter() - t
         ok = reasons == None  # noqa: E711
         t = time.perf_counter()
-        analyze_batch(points[ok], normals[ok], mu=mu, model="soft")
+        pair_codes(points[ok], normals[ok], mu, "soft")
         verdicts = time.perf_counter() - t
         t = time.perf_counter()
         r = robust_labels(obj, labels, gripper, mu, samples=args.samples, epsilon=False)
