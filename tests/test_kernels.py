@@ -166,6 +166,29 @@ def test_margins_agree_with_the_reference(agreement):
         assert err.max(initial=0.0) <= MARGIN_ATOL, f"{name}: margin off by {err.max():.3g}"
 
 
+def test_single_grasps_agree_with_the_reference(agreement):
+    """``analyze`` on one grasp (the compiled kernel on the calling thread) and batches of
+    one block or less (the serial kernel) give the reference's verdict, rank and margin."""
+    from forceclosure import analyze
+
+    for name, _, ref, (P, N, mu, model, torsion, cone) in agreement:
+        n, k = P.shape[:2]
+        mu_ = np.broadcast_to(np.asarray(mu, float), (n, k))
+        tor_ = np.broadcast_to(np.nan if torsion is None else torsion, (n, k))
+        models = [model] * k if isinstance(model, str) else list(model)
+        small = analyze_batch(P[:40], N[:40], mu=mu_[:40], model=model,
+                              torsion=None if torsion is None else tor_[:40], cone=cone)
+        assert np.array_equal(small.code, ref[:40, 0]), name
+        for g in range(0, min(n, 40), 4):
+            grasp = [point_contact(P[g, i], N[g, i], models[i], float(mu_[g, i]),
+                                   None if np.isnan(tor_[g, i]) else float(tor_[g, i]))
+                     for i in range(k)]
+            a = analyze(grasp, cone=cone)
+            assert _CODES[a.verdict] == ref[g, 0] and a.rank == ref[g, 1], (name, g)
+            if a.margin is not None and np.isfinite(ref[g, 2]):
+                assert a.margin == pytest.approx(ref[g, 2], rel=1e-6, abs=1e-9), (name, g)
+
+
 def test_unresisted_twists_do_no_negative_work(agreement):
     """Every ``none`` twist, checked against the grasp's wrenches built here about the origin."""
     for name, ours, _, (P, N, mu, model, torsion, cone) in agreement:

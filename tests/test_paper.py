@@ -162,3 +162,21 @@ def test_corollary_4_refuses_what_it_cannot_certify():
             point_contact([1, 0.6], [1, 0], "hard", 0.3)]
     f = np.array([2, 0.6])
     assert not nonmarginal_equilibrium(edge, [f, -f]).certified  # on the cone's edge
+
+
+def test_the_explanation_is_worked_out_when_read_and_travels_with_the_result():
+    """``analyze`` decides with the compiled kernel and explains (Theorems 2 and 3, the
+    certificate, the motion) on first reading, by the reference path; the result pickles."""
+    import pickle
+
+    closed = analyze([point_contact([-1, 0, 0], [-1, 0, 0], "soft", 0.5),
+                      point_contact([1, 0.2, 0], [1, 0, 0], "soft", 0.5)])
+    assert "_explanation" not in closed.__dict__  # nothing computed yet
+    forces = closed.contact_forces
+    assert np.allclose(forces.sum(axis=0), 0, atol=1e-9) and np.all(forces[:, 0] * [-1, 1] < 0)
+    assert closed.force_direction_closure and closed.torque_closure
+    loose = analyze([point_contact([x, 0.3, 0.2], [x, 0, 0], "hard", 0.5) for x in (-1, 1)])
+    again = pickle.loads(pickle.dumps(loose))
+    assert again.verdict is loose.verdict and again.rank == 5
+    assert again.motion.kind == "rotation" and not again.torque_closure
+    assert "rotation" in again.explain()

@@ -270,11 +270,12 @@ def analyze_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
         model_codes = np.array([MODELS.index(m) for m in grasps.models], dtype=np.int64)
         maxm = kernel.columns_per_grasp(k, d, 256 if exact else edges)
         extreme = _extreme(grasps)
-        announce_compiling(kernel.closure_kernel)
+        run = kernel.closure_kernel if n > kernel.BLOCK else kernel.closure_serial
+        announce_compiling(run)
         for lo in range(0, n, CHUNK):
             part = slice(lo, min(n, lo + CHUNK))
             P, M = _kernel_inputs(grasps, part, extreme)
-            kernel.closure_kernel(
+            run(
                 P, kernel_array(grasps.normals[part]), M, kernel_array(grasps.torsion[part]),
                 model_codes, edges, fit, exact, float(tol), maxm,
                 code[part], rank[part], margin[part], twist[part])

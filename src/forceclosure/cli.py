@@ -780,8 +780,10 @@ def _cmd_warmup(args: argparse.Namespace) -> int:
 
     points = np.array([[[1.0, 0, 0], [-1, 0.5, 0], [-1, -0.5, 0.1]]])  # three hard fingers
     normals = np.array([[[1.0, 0, 0], [-1, 0, 0], [-1, 0, 0]]])
+    many = [np.repeat(a, 257, axis=0) for a in (points, normals)]  # more than a block
     steps = [
-        ("verdicts, Theorem 1", lambda: analyze_batch(points, normals, mu=0.5)),
+        ("verdicts, Theorem 1 (one grasp, and batches)", lambda: (
+            analyze_batch(points, normals, mu=0.5), analyze_batch(*many, mu=0.5))),
         ("least friction", lambda: least_friction_batch(points, normals)),
         ("Ferrari-Canny epsilon", lambda: epsilon_batch(points, normals, mu=0.5)),
         ("two-finger pairs, Corollary 3", lambda: two_finger_closure(

@@ -30,15 +30,17 @@ so when it is not, the result says which failed.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from enum import StrEnum
+from functools import cached_property, partial
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import linprog
 
 from .contacts import (
+    MODELS,
     Cone,
     Contact,
     WrenchSet,
@@ -76,6 +78,11 @@ class Verdict(StrEnum):
     CLOSURE = "closure"
     MARGINAL = "marginal"
     NONE = "none"
+
+
+#: Verdicts by the kernels' codes (0, 1, 2), and the kernels' codes of contact models.
+_BY_CODE = (Verdict.NONE, Verdict.MARGINAL, Verdict.CLOSURE)
+_MODEL_CODE = {m: i for i, m in enumerate(MODELS)}
 
 
 @dataclass(frozen=True, eq=False)
@@ -416,9 +423,34 @@ def torque_closure(W: ArrayLike) -> bool:
     return True
 
 
+@dataclass(frozen=True)
+class _Explanation:
+    """What :class:`Analysis` says beyond the verdict: Theorems 2 and 3, the certificate,
+    the motion, the reason (computed by the reference path, on first use)."""
+
+    sigma_ratio: float
+    force_direction_closure: bool
+    torque_closure: bool
+    contact_forces: NDArray[np.float64] | None
+    twist: NDArray[np.float64] | None
+    motion: Motion | None
+    reason: str
+    cone: str
+    reference: NDArray[np.float64]
+    length_scale: float
+
+
+def _explanation_field(name: str, doc: str) -> property:
+    return property(lambda self: getattr(self._explanation, name), doc=doc)
+
+
 @dataclass(frozen=True, eq=False)
 class Analysis:
     """The answer to "is this grasp force-closure?", with its reasons.
+
+    The verdict, rank and margin come first (for point contacts, from the
+    compiled kernel: microseconds); the rest is worked out by the reference
+    path the first time any of it is read (linear programs: milliseconds).
 
     Attributes
     ----------
@@ -453,16 +485,22 @@ class Analysis:
     verdict: Verdict
     rank: int
     margin: float | None
-    sigma_ratio: float
-    force_direction_closure: bool
-    torque_closure: bool
-    contact_forces: NDArray[np.float64] | None
-    twist: NDArray[np.float64] | None
-    motion: Motion | None
-    reason: str
-    cone: str
-    reference: NDArray[np.float64] = field(repr=False)
-    length_scale: float = field(repr=False)
+    _explain: Callable[[], _Explanation] = field(repr=False)
+
+    @cached_property
+    def _explanation(self) -> _Explanation:
+        return self._explain()
+
+    sigma_ratio = _explanation_field("sigma_ratio", "Smallest over largest singular value.")
+    force_direction_closure = _explanation_field("force_direction_closure", "Theorem 2.")
+    torque_closure = _explanation_field("torque_closure", "Theorem 3.")
+    contact_forces = _explanation_field("contact_forces", "The certificate of closure.")
+    twist = _explanation_field("twist", "The unresisted (or least-resisted) twist.")
+    motion = _explanation_field("motion", "That twist decoded.")
+    reason = _explanation_field("reason", "Why, in one sentence.")
+    cone = _explanation_field("cone", "Which friction cones decided the verdict.")
+    reference = _explanation_field("reference", "The torque reference point of the margin.")
+    length_scale = _explanation_field("length_scale", "The length scale of the margin.")
 
     @property
     def force_closure(self) -> bool:
@@ -662,6 +700,25 @@ def analyze(contacts: Sequence[Contact], *, cone: str | Cone = "exact", tol: flo
     <Verdict.CLOSURE: 'closure'>
     """
     contacts = check_grasp(contacts)
+    if reference is None and length_scale is None:
+        fast = _compiled(contacts, cone, tol)
+        if fast is not None:
+            verdict, rank, margin = fast
+            return Analysis(verdict, rank, margin,
+                            partial(_explained, contacts, cone, tol, verdict))
+    verdict, rank, margin, explanation = _analysis(contacts, cone, tol, reference,
+                                                   length_scale)
+    return Analysis(verdict, rank, margin, partial(_given, explanation))
+
+
+def _given(explanation: _Explanation) -> _Explanation:
+    return explanation
+
+
+def _analysis(contacts: list[Contact], cone: str | Cone, tol: float,
+              reference: ArrayLike | None, length_scale: float | None,
+              ) -> tuple[Verdict, int, float | None, _Explanation]:
+    """:func:`analyze` by the reference path: the verdict, rank, margin and explanation."""
     vc, ws, label, used, use, half = _decision(contacts, cone, tol, reference, length_scale)
     margin = vc.margin
     ref, scale = ws.reference, ws.length_scale
@@ -684,7 +741,59 @@ def analyze(contacts: Sequence[Contact], *, cone: str | Cone = "exact", tol: flo
         if vc.twist is not None:
             motion = _motion(vc.twist, contacts, vc.repelling <= tol)
             twist = motion.twist
-    return Analysis(vc.verdict, vc.rank, margin, vc.sigma_ratio, fd, tc, forces, twist,
-                    motion, vc.reason.replace("vectors", "wrenches"), label, ref, scale)
+    return vc.verdict, vc.rank, margin, _Explanation(
+        vc.sigma_ratio, fd, tc, forces, twist, motion, vc.reason.replace("vectors", "wrenches"),
+        label, ref, scale)
+
+
+def _explained(contacts: list[Contact], cone: str | Cone, tol: float,
+               verdict: Verdict) -> _Explanation:
+    """The explanation of a verdict the compiled kernel gave, by the reference path. Both
+    are certified, so they differ only within the tolerance band (one says ``marginal``);
+    the reason then says so."""
+    found, _, _, explanation = _analysis(contacts, cone, tol, None, None)
+    if found is verdict:
+        return explanation
+    note = (f"{explanation.reason} (the explanation's reference path finds this grasp "
+            f"{found.value}, within the tolerance band of the boundary)")
+    return _Explanation(**{**explanation.__dict__, "reason": note})
+
+
+def _compiled(contacts: list[Contact], cone: str | Cone, tol: float,
+              ) -> tuple[Verdict, int, float | None] | None:
+    """Theorem 1 for a grasp of point contacts by the compiled kernel, on this thread:
+    ``(verdict, rank, margin)``, or None where the kernel defers (or cannot take the grasp:
+    edge, face or vertex contacts, friction above :data:`FRICTION_CAP`, coordinates
+    beyond ``2**±64``) and the reference path decides."""
+    tol = check_tolerance(tol)
+    fixed = _parse_cone(cone)
+    for c in contacts:
+        if len(c.points) != 1 or len(c.normals) != 1 or (c.frictional and c.mu > FRICTION_CAP):
+            return None
+    P = np.concatenate([c.points for c in contacts])  # fresh, writeable: the kernels' type
+    N = np.concatenate([c.normals for c in contacts])
+    big = float(np.abs(P).max())
+    if big != 0 and not 2.0**-64 <= big <= 2.0**64:
+        return None
+    if any(c.torsion is not None for c in contacts):
+        _check_torsion(contacts)
+    from .kernels import announce_compiling
+    from .kernels import theorem1 as kernel
+
+    exact = fixed is None
+    edges, fit = (8, 0) if exact else (fixed.edges, int(fixed.fit == "circumscribed"))
+    mu = np.array([[c.mu for c in contacts]])
+    tors = np.array([[np.nan if c.torsion is None else c.torsion for c in contacts]])
+    model = np.array([_MODEL_CODE[c.model] for c in contacts])
+    maxm = kernel.columns_per_grasp(len(contacts), P.shape[1], 256 if exact else edges)
+    if not kernel.closure_serial.signatures:
+        announce_compiling(kernel.closure_serial)
+    code, rank, margin = np.empty(1, np.int8), np.empty(1, np.int64), np.empty(1)
+    kernel.closure_serial(P[None], N[None], mu, tors, model, edges, fit, exact, float(tol),
+                          maxm, code, rank, margin, np.empty((1, 3 if P.shape[1] == 2 else 6)))
+    code, rank, margin = int(code[0]), rank[0], margin[0]
+    if code == kernel.DEFER:
+        return None
+    return (_BY_CODE[code], int(rank), None if math.isnan(margin) else float(margin))
 
 

@@ -683,30 +683,48 @@ def grasp(P, N, mu, tors, model, edges, fit, exact, tol, work, ref, y):
     return c, r, mg, scale
 
 
+@nb.njit(cache=True, nogil=True)
+def _closure_range(points, normals, mu, tors, model, edges, fit, exact, tol, maxm,
+                   code, rank, margin, twist, lo, hi):  # pragma: no cover - compiled
+    """:func:`closure_kernel`'s work on grasps ``lo`` to ``hi``, with one work area."""
+    d = points.shape[2]
+    work = _work(maxm, max(edges, EXACT_EDGES[-1]))
+    ref = np.empty(d)
+    y = np.empty(3 if d == 2 else 6)
+    for g in range(lo, hi):
+        c, r, mg, scale = grasp(points[g], normals[g], mu[g], tors[g], model, edges, fit,
+                                exact, tol, work, ref, y)
+        code[g] = c
+        rank[g] = r
+        margin[g] = mg
+        if c in (NONE, MARGINAL):
+            _physical(y, ref, scale, d, twist[g])
+        else:
+            twist[g, :] = np.nan
+
+
 @nb.njit(parallel=True, cache=True, nogil=True)
 def closure_kernel(points, normals, mu, tors, model, edges, fit, exact, tol, maxm,
                    code, rank, margin, twist):  # pragma: no cover - compiled
     """Theorem 1 for ``(N, k, d)`` grasps; fills ``code``, ``rank``, ``margin``, ``twist``.
 
     ``fit`` is 0 (inscribed) or 1 (circumscribed): the fixed pyramid used
-    when ``exact`` is False.
+    when ``exact`` is False. Blocks of :data:`BLOCK` grasps run in parallel.
     """
-    n_grasps, _, d = points.shape
-    n_blocks = (n_grasps + BLOCK - 1) // BLOCK
+    n_blocks = (points.shape[0] + BLOCK - 1) // BLOCK
     for blk in nb.prange(n_blocks):
-        work = _work(maxm, max(edges, EXACT_EDGES[-1]))
-        ref = np.empty(d)
-        y = np.empty(3 if d == 2 else 6)
-        for g in range(blk * BLOCK, min(n_grasps, (blk + 1) * BLOCK)):
-            c, r, mg, scale = grasp(points[g], normals[g], mu[g], tors[g], model, edges, fit,
-                                    exact, tol, work, ref, y)
-            code[g] = c
-            rank[g] = r
-            margin[g] = mg
-            if c in (NONE, MARGINAL):
-                _physical(y, ref, scale, d, twist[g])
-            else:
-                twist[g, :] = np.nan
+        _closure_range(points, normals, mu, tors, model, edges, fit, exact, tol, maxm, code,
+                       rank, margin, twist, blk * BLOCK,
+                       min(points.shape[0], (blk + 1) * BLOCK))
+
+
+@nb.njit(cache=True, nogil=True)
+def closure_serial(points, normals, mu, tors, model, edges, fit, exact, tol, maxm,
+                   code, rank, margin, twist):  # pragma: no cover - compiled
+    """:func:`closure_kernel` on the calling thread: for batches of one block or less, which
+    gain nothing from the thread pool and, on a busy machine, lose milliseconds waking it."""
+    _closure_range(points, normals, mu, tors, model, edges, fit, exact, tol, maxm, code,
+                   rank, margin, twist, 0, points.shape[0])
 
 
 @nb.njit(parallel=True, cache=True, nogil=True)
