@@ -742,7 +742,8 @@ def run_dataset(inputs: Sequence[str | Path], out: str | Path, job: Job = Job(),
     out : str or Path
         The results folder (created). Re-running with the same job resumes.
         Locked while the run lasts: a second run on it is refused.
-    job : Job
+    job : Job or forceclosure.dataset_gripper.GripperJob
+        Regions (synthesis, analysis) or labelled parallel-jaw grasps.
     executor : concurrent.futures.Executor, optional
         Where the objects are computed, e.g. a Dask ``Client.get_executor()``.
         Its workers must see the input files at the same paths. Default: a
