@@ -497,18 +497,54 @@ def _save_views(args: argparse.Namespace, found: list) -> None:
         print(f"  interactive view: {args.html}", file=say)
 
 
+def _dataset_job(args: argparse.Namespace):
+    """The dataset's job: regions (synthesis or analysis; options not given take Job's
+    defaults, those of synthesize) or, with --gripper, labelled jaw poses."""
+    from .dataset import Job
+    from .dataset_gripper import GripperJob
+
+    regions = {"--fingers": args.fingers, "--top": args.top, "--margin": args.margin,
+               "--construction": args.construction, "--method": args.method,
+               "--samples": args.samples, "--analyze": args.analyze or None,
+               "--grasps": args.grasps or None}
+    gripper = {"--width": args.width, "--count": args.count, "--pad-radius": args.pad_radius,
+               "--no-least-friction": args.no_least_friction or None}
+    common = {"seed": args.seed, "timeout": args.timeout, "allow_open": args.allow_open,
+              "allow_outside_meshes": args.allow_outside_meshes}
+    if args.gripper:
+        given = [flag for flag, value in regions.items() if value is not None]
+        if given:
+            raise InputError(f"{given[0]} is for regions (synthesize, --analyze), not for "
+                             f"--gripper {args.gripper}")
+        for flag, value in (("--width", args.width), ("--mu", args.mu)):
+            if value is None:
+                raise InputError(f"--gripper {args.gripper} needs {flag}")
+        if args.contact == "frictionless":
+            raise InputError("--contact frictionless: a parallel-jaw gripper has soft or hard "
+                             "contacts")
+        return GripperJob(width=args.width, mu=args.mu,
+                          count=1000 if args.count is None else args.count,
+                          contact=args.contact or "soft",
+                          pad_radius=args.pad_radius or 0.0,
+                          least_friction=not args.no_least_friction, **common)
+    given = [flag for flag, value in gripper.items() if value is not None]
+    if given:
+        raise InputError(f"{given[0]} is for --gripper parallel-jaw")
+    options = {"fingers": args.fingers, "contact": args.contact, "mu": args.mu,
+               "top": args.top, "margin": args.margin, "construction": args.construction,
+               "method": args.method, "samples": args.samples}
+    return Job(mode="analyze" if args.analyze else "synthesize", grasps=args.grasps,
+               **{k: v for k, v in options.items() if v is not None}, **common)
+
+
 def _cmd_dataset(args: argparse.Namespace) -> int:
-    from .dataset import Job, run_dataset
+    from .dataset import run_dataset
 
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers must be at least 1, got {args.workers}")
     if args.scheduler and args.workers is not None:
         raise InputError("--workers is for the local pool; a Dask cluster has its own workers")
-    job = Job(mode="analyze" if args.analyze else "synthesize", fingers=args.fingers,
-              contact=args.contact, mu=args.mu, top=args.top, margin=args.margin,
-              construction=args.construction, method=args.method, samples=args.samples,
-              seed=args.seed, grasps=args.grasps, timeout=args.timeout,
-              allow_open=args.allow_open, allow_outside_meshes=args.allow_outside_meshes)
+    job = _dataset_job(args)
     if args.scheduler:
         try:
             from distributed import Client
@@ -527,11 +563,16 @@ def _cmd_dataset(args: argparse.Namespace) -> int:
     else:
         summary = run_dataset(args.inputs, args.out, job, workers=args.workers,
                               retry_failed=args.retry_failed)
+    table = os.path.join(args.out, "grasps.parquet") if args.gripper else None
     if args.json:
-        json.dump(summary.to_dict(), sys.stdout, indent=2)
+        extra = {"grasps_table": str(table)} if table else {}
+        json.dump({**summary.to_dict(), **extra}, sys.stdout, indent=2)
         sys.stdout.write("\n")
     else:
         print(summary)
+        if table:
+            print(f"grasps: {table} (one row per grasp), labels per object in "
+                  f"{os.path.join(args.out, 'objects')} (.npz)")
     if summary.interrupted:
         return 130
     return 2 if summary.failed or summary.timeout else 0
@@ -945,7 +986,24 @@ def build_parser() -> argparse.ArgumentParser:
     t.add_argument("--retry-failed", action="store_true",
                    help="compute failed and timed-out objects again")
     t.add_argument("--json", action="store_true", help="print the summary as JSON")
-    t.set_defaults(run=_cmd_dataset)
+    # parallel-jaw grasps per object (docs/datasets.md, docs/gripper.md)
+    t.add_argument("--gripper", choices=("parallel-jaw",),
+                   help="instead of regions, sample --count jaw poses on every mesh and label "
+                        "them (verdict, least friction, epsilon, collision): an .npz per "
+                        "object and grasps.parquet; needs --width and --mu")
+    t.add_argument("--width", type=float, default=None,
+                   help="with --gripper: the widest opening (object units)")
+    t.add_argument("--count", type=int, default=None,
+                   help="with --gripper: jaw poses per object (default 1000)")
+    t.add_argument("--pad-radius", type=float, default=None,
+                   help="with --gripper and soft contacts: the pads' radius, torsion bounded "
+                        "by (2/3) mu radius times the normal force (default 0)")
+    t.add_argument("--no-least-friction", action="store_true",
+                   help="with --gripper: skip the least friction (saved as NaN)")
+    # not given: the job's own defaults (regions: synthesize's; --gripper: soft contacts),
+    # so that region-only options given with --gripper can be refused
+    t.set_defaults(run=_cmd_dataset, mu=None, contact=None, top=None, margin=None,
+                   construction=None, method=None, samples=None)
     g = sub.add_parser("grasps", help="sample parallel-jaw grasps on a mesh and label them",
                        description="Sample antipodal parallel-jaw grasps on a mesh (surface "
                                    "points, closing directions inside the friction cone, the "

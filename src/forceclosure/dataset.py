@@ -556,8 +556,11 @@ def process_object(path: str | Path, job: Job) -> dict[str, Any]:
                               allow_outside_meshes=job.allow_outside_meshes)
             record.update(_describe(obj))
             record["load_seconds"] = time.perf_counter() - start
-            record.update(_synthesize(obj, job) if job.mode == "synthesize"
-                          else _analyze(obj, path, job))
+            if job.mode == "gripper":  # forceclosure.dataset_gripper.GripperJob
+                record.update(job.label(obj, path))
+            else:
+                record.update(_synthesize(obj, job) if job.mode == "synthesize"
+                              else _analyze(obj, path, job))
     except InputError as e:
         record.update(status="failed", error=str(e))
     except ObjectTimeout:
@@ -609,7 +612,13 @@ COLUMNS = (("name", "string"), ("path", "string"), ("status", "string"), ("error
            ("best_faces", "string"), ("all_certified", "bool"),
            # analysis
            ("closure", "int64"), ("marginal", "int64"), ("none", "int64"),
-           ("errors", "int64"), ("epsilon_median", "float64"), ("off_surface", "int64"))
+           ("errors", "int64"), ("epsilon_median", "float64"), ("off_surface", "int64"),
+           # gripper (forceclosure.dataset_gripper; also grasps, contact, mu, closure, marginal,
+           # none and epsilon_median above)
+           ("width", "float64"), ("pad_radius", "float64"), ("seed", "int64"),
+           ("least_friction_median", "float64"), ("collides", "int64"),
+           ("closure_clear", "int64"), ("attempts", "int64"), ("rejected", "int64"),
+           ("labels_file", "string"))
 
 
 def row_of(record: dict[str, Any]) -> dict[str, Any]:
@@ -679,7 +688,9 @@ def _damage(record: Any, path: Path, identity: dict[str, Any], stamp: str) -> st
 
 
 def _held(folder: Path, names: dict[str, Path], identity: dict[str, Any],
-          stamps: dict[str, str], say: Callable[[str], object]) -> dict[str, dict[str, Any]]:
+          stamps: dict[str, str], say: Callable[[str], object],
+          check: Callable[[Path, dict[str, Any]], str | None] | None = None
+          ) -> dict[str, dict[str, Any]]:
     """The records in ``folder`` that stand for their objects; the others are warned about
     (the first :data:`_WARNED` one by one, then counted) and will be computed again."""
     held, bad = {}, 0
@@ -690,6 +701,8 @@ def _held(folder: Path, names: dict[str, Path], identity: dict[str, Any],
         try:
             record = json.loads(file.read_text(encoding="utf-8"))
             why = _damage(record, path, identity, stamps[name])
+            if why is None and check is not None:  # the job's own files (gripper: labels)
+                why = check(folder, record)
         except (OSError, ValueError, UnicodeDecodeError, RecursionError) as e:
             why = f"not readable JSON ({type(e).__name__})"
         if why is None:
@@ -729,7 +742,8 @@ def run_dataset(inputs: Sequence[str | Path], out: str | Path, job: Job = Job(),
     out : str or Path
         The results folder (created). Re-running with the same job resumes.
         Locked while the run lasts: a second run on it is refused.
-    job : Job
+    job : Job or forceclosure.dataset_gripper.GripperJob
+        Regions (synthesis, analysis) or labelled parallel-jaw grasps.
     executor : concurrent.futures.Executor, optional
         Where the objects are computed, e.g. a Dask ``Client.get_executor()``.
         Its workers must see the input files at the same paths. Default: a
@@ -805,7 +819,7 @@ def _run_locked(paths: list[Path], out: Path, job: Job, executor: Executor | Non
         write(printable(line))
     identity = job.identity()
     stamps = {n: fingerprint(p, job) for n, p in names.items()}
-    held = _held(folder, names, identity, stamps, say)
+    held = _held(folder, names, identity, stamps, say, getattr(job, "check", None))
     keep = {"done"} if retry_failed else set(STATUSES)
     run = _Run({n: p for n, p in names.items()
                 if n not in held or held[n].get("status") not in keep})
@@ -821,6 +835,8 @@ def _run_locked(paths: list[Path], out: Path, job: Job, executor: Executor | Non
         nonlocal computed
         record = {**record, "job": identity, "input": stamps[name]}
         try:
+            if hasattr(job, "store"):  # files beside the record (gripper: labels), first
+                record = job.store(folder, name, record)
             write_atomically(folder / name, json.dumps(record) + "\n")
         except OSError as e:
             raise _OutputFailed(e) from e
@@ -848,6 +864,8 @@ def _run_locked(paths: list[Path], out: Path, job: Job, executor: Executor | Non
         bar.close()
         try:
             write_table(out, records.values())
+            if hasattr(job, "write_tables"):  # tables of its own (gripper: grasps.parquet)
+                job.write_tables(out, records.values())
         except OSError as e:
             table = e
     if failure is not None or table is not None:
@@ -931,6 +949,9 @@ def _warm_up(job: Job, dims: tuple[int, ...]) -> None:
     from dataclasses import replace
 
     with suppress(Exception):
+        if job.mode == "gripper":
+            job.warm_up()
+            return
         if job.mode == "synthesize":
             small = replace(job, samples=min(job.samples, 200), top=1, timeout=None)
             for name in [("square", "cube")[d - 2] for d in dims]:
