@@ -749,8 +749,8 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
         print(f"  collides: {summary['collides']:,} (closure {summary['collides_closure']:,}, "
               f"marginal {summary['collides_marginal']:,}, none {summary['collides_none']:,}; "
               f"verdicts kept: they are of the contacts); closure and clear: "
-              f"{summary['closure_clear']:,}; {summary['approaches']} approach axes tried "
-              "per pose")
+              f"{summary['closure_clear']:,}; {summary['approaches']} approach "
+              f"ax{'i' if summary['approaches'] == 1 else 'e'}s tried per pose")
     print(f"  {seconds:.2f} s ({summary['grasps_per_second'] or 0:,} grasps/s)"
           + (f"; labels in {printable(args.out)}" if args.out else ""))
     for kind, path in args.export:

@@ -189,8 +189,11 @@ def collides(obj: Any, poses: Any, gripper: ParallelJaw, clearance: float | None
         names = [name for name, _, _ in template]
         extents = [ext for _, ext, _ in template]
         parts = {name: trimesh.creation.box(extents=ext) for name, ext, _ in template}
-        offsets = np.array([[c for _, _, c in hand_boxes(gripper, w, clearance)]
-                            for w in width]).reshape(n, len(names), 3)
+        # the boxes at each opening: the fingers move out by half the width, the palm stays
+        side = np.array([-1.0 if name == "jaw1" else 1.0 if name == "jaw2" else 0.0
+                         for name in names])
+        offsets = np.repeat(np.array([c for _, _, c in template])[None], n, axis=0)
+        offsets[:, :, 1] += 0.5 * width[:, None] * side[None]
     else:
         names, parts = ["hand"], {"hand": hand}
         offsets = np.zeros((n, 1, 3))
