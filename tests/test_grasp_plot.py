@@ -26,7 +26,7 @@ def test_cli_plot_draws_the_labels_colours(tmp_path, capsys):
     png, labels = tmp_path / "g.png", tmp_path / "l.npz"
     assert main(["grasps", "cube", "--width", "2.2", "--count", "60", "--seed", "3",
                  "--clearance", "0.1", "--no-least-friction", "--out", str(labels),
-                 "--plot", str(png), "--plot-top", "12"]) == 0
+                 "--plot", str(png), "--plot-top", "12", "--approaches", "1"]) == 0
     assert "picture of the 12 best" in capsys.readouterr().out
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     with np.load(labels) as saved:

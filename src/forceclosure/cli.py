@@ -681,6 +681,22 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     if args.clearance is not None and not (math.isfinite(args.clearance)
                                            and args.clearance >= 0):
         raise InputError(f"--clearance must be finite and >= 0, got {args.clearance}")
+    if args.approaches is not None:
+        if args.approaches < 1:
+            raise InputError(f"--approaches must be a whole number >= 1, got {args.approaches}")
+        if args.no_collision:
+            raise InputError("--approaches picks each pose's approach by the collision check; "
+                             "it has no use with --no-collision")
+    if args.html:
+        from .atomic import check_output
+        from .view import check_html_path
+
+        check_html_path(args.html)
+        if args.plot_top < 0:
+            raise InputError(f"--plot-top must be a whole number >= 0, got {args.plot_top}")
+        if args.html in [args.out, args.plot, *(path for _, path in args.export)]:
+            raise InputError("--html, --export, --out and --plot: each needs its own file")
+        check_output(args.html, inputs=[args.object])
     if args.out:
         from .atomic import check_output
 
@@ -707,7 +723,8 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
         labels = grasp_labels(obj, gripper, args.mu, args.count, args.seed,
                               args.contact, progress=bar.update,
                               least_friction=not args.no_least_friction,
-                              collision=not args.no_collision, clearance=args.clearance)
+                              collision=not args.no_collision, clearance=args.clearance,
+                              approaches=8 if args.approaches is None else args.approaches)
     seconds = time.perf_counter() - start
     if robust is not None:
         labels, robust = _robust_stage(obj, labels, gripper, args, robust)
@@ -718,6 +735,10 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
         from .grasp_plot import plot_grasps
 
         plot_grasps(obj, labels, args.plot, top=args.plot_top, gripper=gripper)
+    if args.html:
+        from .view import write_grasps_html
+
+        write_grasps_html(obj, labels, args.html, top=args.plot_top, gripper=gripper)
     counts = labels.counts()
     mu_star = (float(np.median(labels.least_friction))
                if len(labels) and not args.no_least_friction else math.nan)
@@ -729,7 +750,8 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
                "epsilon_median": float(np.median(closed)) if len(closed) else None,
                **_collision_summary(labels),
                "exports": [{"kind": kind, "file": path} for kind, path in args.export],
-               "plot": args.plot,
+               "plot": args.plot, "html": args.html,
+               "approaches": labels.meta["approaches"],
                "seconds": round(seconds, 3),
                "grasps_per_second": round(len(labels) / seconds) if seconds > 0 else None,
                "out": args.out}
@@ -768,13 +790,17 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
         print(f"  collides: {summary['collides']:,} (closure {summary['collides_closure']:,}, "
               f"marginal {summary['collides_marginal']:,}, none {summary['collides_none']:,}; "
               f"verdicts kept: they are of the contacts); closure and clear: "
-              f"{summary['closure_clear']:,}")
+              f"{summary['closure_clear']:,}; {summary['approaches']} approach "
+              f"ax{'i' if summary['approaches'] == 1 else 'e'}s tried per pose")
     print(f"  {seconds:.2f} s ({summary['grasps_per_second'] or 0:,} grasps/s)"
           + (f"; labels in {printable(args.out)}" if args.out else ""))
     for kind, path in args.export:
         print(f"  {kind} export in {printable(path)}")
     if args.plot:
         print(f"  picture of the {min(args.plot_top, len(labels))} best: {printable(args.plot)}")
+    if args.html:
+        print(f"  interactive view of the {min(args.plot_top, len(labels))} best: "
+              f"{printable(args.html)}")
     return 0
 
 
@@ -1059,6 +1085,10 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--clearance", type=float, default=None, metavar="D",
                    help="each finger's pad stands D off its contact in the collision check "
                         "(default 0.01 x --width)")
+    g.add_argument("--approaches", type=int, default=None, metavar="K",
+                   help="approach axes tried per contact pair, turned about the closing axis "
+                        "in even steps; the first at which the hand is clear is kept "
+                        "(default 8; 1: the sampler's axis alone)")
     g.add_argument("--export", nargs=2, action="append", default=[], metavar=("KIND", "FILE"),
                    help="also write the labelled poses for a trainer, atomically: 'graspnet "
                         "FILE.npy' (graspnetAPI's GraspGroup array, N x 17) or 'acronym "
@@ -1071,7 +1101,12 @@ def build_parser() -> argparse.ArgumentParser:
                    help="save a picture (.png or .svg) of the object and its best jaw poses "
                         "drawn as grippers, coloured by label")
     g.add_argument("--plot-top", type=int, default=10, metavar="K",
-                   help="how many of the best poses the picture draws (default 10)")
+                   help="how many of the best poses the picture and the page draw "
+                        "(default 10)")
+    g.add_argument("--html", metavar="FILE.html",
+                   help="save an interactive view (.html, self-contained, works offline) of "
+                        "the object and its best jaw poses, coloured by label, with hover "
+                        "text")
     g.set_defaults(run=_cmd_grasps)
     parser.epilog = f"Verdicts within {TOLERANCE:g} of the boundary are 'marginal'."
     return parser

@@ -32,10 +32,14 @@ from numpy.typing import ArrayLike, NDArray
 from .errors import InputError
 from .gripper import JawPose, ParallelJaw
 
-__all__ = ["CLEARANCE", "collides", "hand_boxes", "jaw_frames"]
+__all__ = ["APPROACHES", "CLEARANCE", "approach_axes", "choose_approach", "collides",
+           "hand_boxes", "jaw_frames"]
 
 #: Default clearance of each pad off its contact, as a share of ``width_max``.
 CLEARANCE = 0.01
+
+#: Approach axes tried per contact pair by default (:func:`choose_approach`).
+APPROACHES = 8
 
 
 def hand_boxes(gripper: ParallelJaw, width: float, clearance: float | None = None
@@ -185,8 +189,11 @@ def collides(obj: Any, poses: Any, gripper: ParallelJaw, clearance: float | None
         names = [name for name, _, _ in template]
         extents = [ext for _, ext, _ in template]
         parts = {name: trimesh.creation.box(extents=ext) for name, ext, _ in template}
-        offsets = np.array([[c for _, _, c in hand_boxes(gripper, w, clearance)]
-                            for w in width]).reshape(n, len(names), 3)
+        # the boxes at each opening: the fingers move out by half the width, the palm stays
+        side = np.array([-1.0 if name == "jaw1" else 1.0 if name == "jaw2" else 0.0
+                         for name in names])
+        offsets = np.repeat(np.array([c for _, _, c in template])[None], n, axis=0)
+        offsets[:, :, 1] += 0.5 * width[:, None] * side[None]
     else:
         names, parts = ["hand"], {"hand": hand}
         offsets = np.zeros((n, 1, 3))
@@ -226,3 +233,106 @@ def collides(obj: Any, poses: Any, gripper: ParallelJaw, clearance: float | None
                 inside = hand.contains(local.reshape(-1, 3)).reshape(len(rest), -1)
             hit[rest] |= inside.any(axis=1)
     return bool(hit[0]) if single else hit
+
+
+def approach_axes(closing_axis: ArrayLike, approach_axis: ArrayLike, count: int
+                  ) -> NDArray[np.float64]:
+    """``count`` approach axes per pose, ``(count, N, 3)``: the given one turned about the
+    closing axis by ``2 pi k / count``, ``k = 0 … count - 1``.
+
+    Each axis is a unit vector perpendicular to the closing axis; ``k = 0``
+    is the given axis (made perpendicular and normalised).
+
+    Examples
+    --------
+    >>> (approach_axes([[1, 0, 0]], [[0, 0, -1]], 4)[:, 0].round(12) + 0.0).tolist()
+    [[0.0, 0.0, -1.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]]
+    """
+    c = np.asarray(closing_axis, dtype=float).reshape(-1, 3)
+    a = np.asarray(approach_axis, dtype=float).reshape(-1, 3)
+    c = c / np.linalg.norm(c, axis=1, keepdims=True)
+    a = a - np.einsum("ij,ij->i", a, c)[:, None] * c
+    a = a / np.linalg.norm(a, axis=1, keepdims=True)
+    b = np.cross(c, a)
+    angle = 2 * np.pi * np.arange(int(count)) / int(count)
+    return np.cos(angle)[:, None, None] * a[None] + np.sin(angle)[:, None, None] * b[None]
+
+
+class _Poses:
+    """Arrays of jaw poses, as :func:`collides` reads them."""
+
+    def __init__(self, center, closing_axis, approach_axis, width):
+        self.center, self.closing_axis = center, closing_axis
+        self.approach_axis, self.width = approach_axis, width
+
+
+def choose_approach(obj: Any, poses: Any, gripper: ParallelJaw, approaches: int = APPROACHES,
+                    clearance: float | None = None, hand: Any = None
+                    ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """Per pose, the first of ``approaches`` approach axes at which the hand is clear.
+
+    The approach axis of a parallel-jaw pose may be any direction
+    perpendicular to its closing axis. The candidates are the pose's own
+    axis turned about the closing axis in even steps of ``2 pi /
+    approaches`` (:func:`approach_axes`); the first whose hand does not meet
+    the object (:func:`collides`) is kept. Where every one collides, the
+    pose's own axis is kept and marked colliding. The contacts, and so the
+    verdict, μ* and ε, do not depend on the approach: only the hand moves.
+
+    Two collision calls at most, over arrays: every pose's own axis, then
+    the other ``approaches - 1`` axes of the poses that collided, all at once.
+
+    Parameters
+    ----------
+    obj, poses, gripper, clearance, hand
+        As for :func:`collides` (``poses`` as arrays or ``JawPose`` objects).
+    approaches : int
+        Axes tried per pose (at least 1; 1: the pose's own axis alone).
+
+    Returns
+    -------
+    approach_axis : (N, 3) array
+        The chosen unit axes, perpendicular to the closing axes.
+    collides : (N,) bool array
+        True where all ``approaches`` axes collide.
+
+    Examples
+    --------
+    The 2-unit cube pinched across x, 0.8 above its middle; the given
+    approach (+z, from below) puts the palm in the cube; turned half a
+    turn (the third of 4 axes, -z) it is clear.
+
+    >>> from forceclosure.gripper import JawPose
+    >>> axis, hit = choose_approach("cube", [JawPose([0, 0, 0.8], [1, 0, 0], [0, 0, 1], 2.0)],
+    ...                             ParallelJaw(3.0), approaches=4)
+    >>> (axis.round(12) + 0.0).tolist(), hit.tolist()
+    ([[0.0, 0.0, -1.0]], [False])
+    """
+    if isinstance(approaches, bool) or not isinstance(approaches, int | np.integer) \
+            or approaches < 1:
+        raise InputError(f"approaches must be a whole number >= 1, got {approaches!r}")
+    center, closing, approach, width = _poses(poses)
+    n = len(center)
+    if not (len(closing) == len(approach) == len(width) == n):
+        raise InputError(f"poses: center, closing_axis, approach_axis and width must have "
+                         f"the same length, got {len(center)}, {len(closing)}, "
+                         f"{len(approach)}, {len(width)}")
+    if n == 0:
+        return np.zeros((0, 3)), np.zeros(0, dtype=bool)
+    axes = approach_axes(closing, approach, approaches)
+    hit = np.asarray(collides(obj, _Poses(center, closing, axes[0], width), gripper, clearance,
+                              hand), dtype=bool)
+    chosen = axes[0].copy()
+    rest = np.flatnonzero(hit)
+    if approaches > 1 and len(rest):
+        k = approaches - 1
+        more = collides(obj, _Poses(np.tile(center[rest], (k, 1)),
+                                    np.tile(closing[rest], (k, 1)),
+                                    axes[1:, rest].reshape(-1, 3), np.tile(width[rest], k)),
+                        gripper, clearance, hand).reshape(k, len(rest))
+        clear = ~more
+        found = clear.any(axis=0)
+        first = np.argmax(clear, axis=0)  # the first clear axis, where there is one
+        chosen[rest[found]] = axes[1 + first[found], rest[found]]
+        hit[rest[found]] = False
+    return chosen, hit

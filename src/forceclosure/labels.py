@@ -55,7 +55,8 @@ class GraspLabels:
     meta : dict
         ``object``, ``mu``, ``contact``, ``torsion``, ``width_max``,
         ``pad_radius``, ``seed``, ``attempts``, ``rejected``, ``collision``
-        (the check's ``clearance`` and the hand's boxes, or None: not checked);
+        (the check's ``clearance`` and the hand's boxes, or None: not checked),
+        ``approaches`` (approach axes tried per pair; None: not checked);
         with robustness also ``robust`` (samples, seed, confidence, noise).
     collides : (N,) bool array or None
         Whether the hand, opened at the pose, meets the object
@@ -207,13 +208,22 @@ def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str 
 def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: int = 0,
                  contact: str = "soft", progress: Callable[[int], object] | None = None,
                  least_friction: bool = True, collision: bool = True,
-                 clearance: float | None = None) -> GraspLabels:
+                 clearance: float | None = None, approaches: int = 8) -> GraspLabels:
     """Sample ``count`` antipodal jaw poses on ``obj`` for ``gripper`` and label them.
 
     With ``collision`` (the default) each pose's hand, its fingers opened a
     ``clearance`` off each contact (default
     :data:`~forceclosure.collision.CLEARANCE` × ``width_max``), is checked
     against the object: ``collides``. ``collision=False`` skips it (None).
+
+    ``approaches`` approach axes are tried per contact pair: the sampler's
+    (seeded) axis turned about the closing axis in even steps; the first at
+    which the hand is clear is kept as ``approach_axis``, else the sampler's,
+    marked colliding (:func:`~forceclosure.collision.choose_approach`). The
+    contacts, and so the verdict, μ* and ε, are the same at every approach.
+    Without the collision check there is nothing to choose by: the sampler's
+    axis is kept. ``meta["approaches"]`` records the number tried (None
+    without the check).
 
     Examples
     --------
@@ -230,15 +240,18 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
 
     if contact not in ("soft", "hard"):
         raise InputError(f"contact must be 'soft' or 'hard', got {contact!r}")
+    if isinstance(approaches, bool) or not isinstance(approaches, int | np.integer) \
+            or approaches < 1:
+        raise InputError(f"approaches must be a whole number >= 1, got {approaches!r}")
     samples = sample_antipodal(obj, mu, count, seed, gripper.width_max)
     torsion = gripper.torsion(mu) if contact == "soft" else None
     code, mu_star, eps = label_grasps(samples.points, samples.normals, mu, contact, torsion,
                                       progress, least_friction)
-    hits, checked = None, None
+    hits, checked, approach = None, None, samples.approach_axis
     if collision:
-        from .collision import CLEARANCE, collides
+        from .collision import CLEARANCE, choose_approach
 
-        hits = collides(obj, samples, gripper, clearance)
+        approach, hits = choose_approach(obj, samples, gripper, int(approaches), clearance)
         c = CLEARANCE * gripper.width_max if clearance is None else float(clearance)
         checked = {"clearance": c, "depth": gripper.depth,
                    "finger_length": gripper.finger_length,
@@ -248,7 +261,8 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
     name = obj if isinstance(obj, str) else getattr(obj, "name", type(obj).__name__)
     meta = {"object": str(name), "mu": float(mu), "contact": contact, "torsion": torsion,
             "width_max": gripper.width_max, "pad_radius": gripper.pad_radius, "seed": seed,
-            "attempts": samples.attempts, "rejected": samples.rejected, "collision": checked}
-    return GraspLabels(samples.center, samples.closing_axis, samples.approach_axis,
+            "attempts": samples.attempts, "rejected": samples.rejected, "collision": checked,
+            "approaches": int(approaches) if collision else None}
+    return GraspLabels(samples.center, samples.closing_axis, approach,
                        samples.width, samples.points, samples.normals, code, mu_star, eps, meta,
                        collides=hits)

@@ -270,3 +270,116 @@ def write_html(found: Sequence[SpatialRegions] | Sequence[Regions], path: str | 
     except OSError as exc:
         raise InputError(f"{path}: cannot write ({exc.strerror})") from None
     return path
+
+
+# --- labelled parallel-jaw poses (``forceclosure grasps --html``) ---------------------------
+
+
+def _number(x: float, missing: str) -> str:
+    """A label's value for hover text: ``missing`` for NaN, "none closes" for inf."""
+    x = float(x)
+    return missing if np.isnan(x) else "none closes" if np.isinf(x) else f"{x:.4g}"
+
+
+def grasps_figure(obj, labels, top: int = 10, gripper=None, title: str | None = None
+                  ) -> go.Figure:
+    """The interactive figure of an object and its ``top`` best labelled jaw poses.
+
+    The same poses as the picture of :func:`forceclosure.grasp_plot.plot_grasps`
+    (:func:`~forceclosure.grasp_plot.best_grasps`), each drawn as a gripper
+    outline (its fingers, the palm's bar, the stem) in the colour of its
+    label (:data:`forceclosure.grasp_plot.COLOURS`), with its contacts as
+    dots. Each pose is one line trace named ``grasp K`` (legend group of the
+    same name, its dots in a second trace of that group); hovering shows the
+    verdict, μ*, ε and whether the hand collides.
+
+    Parameters
+    ----------
+    obj : file, bundled name, trimesh.Trimesh or Polyhedron
+    labels : GraspLabels
+    top : int
+        How many of the best poses to draw.
+    gripper : ParallelJaw, optional
+        Default: the labels' gripper, from their ``meta``.
+    title : str, optional
+
+    Examples
+    --------
+    >>> from forceclosure.gripper import ParallelJaw
+    >>> from forceclosure.labels import grasp_labels
+    >>> labels = grasp_labels("cube", ParallelJaw(3.0), 0.3, 6, least_friction=False)
+    >>> fig = grasps_figure("cube", labels, top=4)
+    >>> sorted({t.legendgroup for t in fig.data if t.legendgroup})
+    ['grasp 1', 'grasp 2', 'grasp 3', 'grasp 4']
+    """
+    from .export import labels_gripper
+    from .grasp_plot import COLOURS as LABEL_COLOURS
+    from .grasp_plot import _category, _outline, best_grasps
+    from .gripper import surface_mesh
+
+    gripper = labels_gripper(labels) if gripper is None else gripper
+    poly, _ = surface_mesh(obj)
+    chosen = best_grasps(labels, top)
+    category = _category(labels)
+    names = list(LABEL_COLOURS)
+    fig = go.Figure(_object_traces(poly))
+    verdicts = np.array(["none", "marginal", "closure"])
+    for rank, i in enumerate(chosen, start=1):
+        kind = names[category[i]]
+        colour, group = LABEL_COLOURS[kind], f"grasp {rank}"
+        hit = ("not checked" if labels.collides is None
+               else "yes" if labels.collides[i] else "no")
+        text = (f"{group}: {verdicts[labels.code[i]]}<br>"
+                f"least friction mu* {_number(labels.least_friction[i], 'not computed')}<br>"
+                f"epsilon {_number(labels.epsilon[i], 'not computed')}<br>"
+                f"hand collides: {hit}<br>width {float(labels.width[i]):.4g}")
+        line = _lines(_outline(labels.center[i], labels.closing_axis[i],
+                               labels.approach_axis[i], labels.width[i], gripper), closed=False)
+        fig.add_trace(go.Scatter3d(x=line[:, 0], y=line[:, 1], z=line[:, 2], mode="lines",
+                                   name=f"{group}: {kind}", legendgroup=group,
+                                   line={"color": colour, "width": 5}, hovertext=text,
+                                   hoverinfo="text"))
+        dots = np.asarray(labels.points[i], dtype=float)
+        fig.add_trace(go.Scatter3d(x=dots[:, 0], y=dots[:, 1], z=dots[:, 2], mode="markers",
+                                   legendgroup=group, marker={"size": 4, "color": colour},
+                                   hovertext=text, hoverinfo="text", showlegend=False))
+    fig.update_layout(
+        title={"text": title or f"{poly.name}: the {len(chosen)} best of {len(labels.code):,} "
+                                "labelled jaw poses", "x": 0.02, "font": {"size": 15}},
+        scene={"aspectmode": "data", "xaxis_title": "x", "yaxis_title": "y",
+               "zaxis_title": "z", "camera": {"eye": {"x": 1.5, "y": -1.6, "z": 1.0}}},
+        margin={"l": 0, "r": 0, "t": 60, "b": 0}, paper_bgcolor="white")
+    return fig
+
+
+def check_html_path(path: str | Path) -> None:
+    """Refuse a page file that is not ``.html`` (or ``.htm``), before any work."""
+    if Path(path).suffix.lower() not in (".html", ".htm"):
+        raise InputError(f"{path}: an interactive view is saved as .html")
+
+
+def write_grasps_html(obj, labels, path: str | Path, top: int = 10, gripper=None,
+                      title: str | None = None) -> list[int]:
+    """Save the object and its ``top`` best labelled jaw poses (:func:`grasps_figure`) as one
+    self-contained, offline HTML page, atomically. Returns the indices of the poses drawn.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from forceclosure.gripper import ParallelJaw
+    >>> from forceclosure.labels import grasp_labels
+    >>> labels = grasp_labels("cube", ParallelJaw(3.0), 0.3, 6, least_friction=False)
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "grasps.html"
+    >>> len(write_grasps_html("cube", labels, out, top=3)), out.stat().st_size > 10**6
+    (3, True)
+    """
+    from .atomic import atomic_write
+    from .grasp_plot import best_grasps
+
+    check_html_path(path)
+    fig = grasps_figure(obj, labels, top, gripper, title)
+    page = fig.to_html(include_plotlyjs=True, full_html=True,
+                       config={"displaylogo": False, "responsive": True})
+    with atomic_write(str(path)) as f:
+        f.write(page.encode("utf-8"))
+    return best_grasps(labels, top).tolist()
