@@ -19,3 +19,14 @@ def test_batch_benchmark_runs(tmp_path):
     assert "planar pairs, Corollary 3" in out and "linprog" in out
     assert "streamed 200,000 grasps" in out
     assert png.stat().st_size > 10_000
+
+
+@pytest.mark.long
+def test_gripper_benchmark_runs():
+    """The labelling benchmark against the Dex-Net/graspnetAPI pipeline, on a few poses."""
+    pytest.importorskip("cvxopt")
+    bench = Path(__file__).parents[1] / "benchmarks" / "bench_gripper.py"
+    run = subprocess.run([sys.executable, str(bench), "--poses", "300", "--baseline", "20"],
+                         capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert "bunny.obj" in run.stdout and "Dex-Net's own epsilon" in run.stdout

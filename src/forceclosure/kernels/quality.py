@@ -2,7 +2,8 @@
 
 A grasp's epsilon is 0 unless it is force-closure, both with exact cones and
 with the inscribed pyramid the value is measured on (as the reference
-decides it); then it is the distance from the origin to the nearest facet of
+decides it; the pyramid lies inside the exact cones, so its closure proves
+theirs and is the one decided here); then it is the distance from the origin to the nearest facet of
 the hull of the generating wrenches (:func:`.hull.hull_radius`; the ``L1``
 epsilon). Grasps whose verdict the kernel defers, or whose hull it cannot
 build and check, are left to the reference path.
@@ -14,7 +15,7 @@ import numba as nb
 import numpy as np
 
 from .hull import hull_radius
-from .theorem1 import BLOCK, CLOSURE, DEFER, EXACT_EDGES, _decide, _work, grasp, wrenches
+from .theorem1 import BLOCK, CLOSURE, DEFER, EXACT_EDGES, _decide, _frame, _work, wrenches
 
 
 @nb.njit(parallel=True, cache=True, nogil=True)
@@ -33,9 +34,10 @@ def epsilon_kernel(points, normals, mu, tors, model, edges, tol, maxm,
             out[g] = 0.0
             deferred[g] = False
             P, N, M, T = points[g], normals[g], mu[g], tors[g]
-            c, _, _, scale = grasp(P, N, M, T, model, 8, 0, True, tol, work, ref, y)
-            if c == CLOSURE:  # and with the pyramid epsilon is measured on
-                c = _decide(P, N, M, T, model, edges, 1.0, ref, scale, tol, work, y)[0]
+            # closed with the inscribed pyramid epsilon is measured on: then with the exact
+            # cones around it too (a proof for the pyramid is one for the larger cones)
+            scale = _frame(P, ref)
+            c = _decide(P, N, M, T, model, edges, 1.0, ref, scale, tol, work, y)[0]
             if c != CLOSURE:
                 deferred[g] = c == DEFER
                 continue
