@@ -53,8 +53,8 @@ def test_warmup_compiles_every_kernel_with_a_line_each(capsys):
     assert main(["warmup"]) == 0
     err = capsys.readouterr().err.splitlines()
     assert [line.split(" ...")[0] for line in err if line.startswith("[")] == [
-        "[1/4] verdicts, Theorem 1", "[2/4] least friction", "[3/4] Ferrari-Canny epsilon",
-        "[4/4] two-finger pairs, Corollary 3"]
+        "[1/4] verdicts, Theorem 1 (one grasp, and batches)", "[2/4] least friction",
+        "[3/4] Ferrari-Canny epsilon", "[4/4] two-finger pairs, Corollary 3"]
     assert err[-1].startswith("forceclosure: kernels ready in")
 
 
@@ -75,5 +75,30 @@ def test_compiling_is_announced_once_when_nothing_is_cached(tmp_path, caplog, mo
     assert not caplog.records
     kernels.announce_compiling(kernel(tmp_path / "cached.nbi"), kernel(tmp_path / "no.nbi"))
     kernels.announce_compiling(kernel(tmp_path / "no.nbi"))
+    assert [r.getMessage().split(",")[0] for r in caplog.records] == [
+        "forceclosure: warning: compiling the batch kernels for this machine"]
+
+
+def test_single_grasps_take_the_reference_path_until_the_kernels_are_compiled(tmp_path, caplog,
+                                                                             monkeypatch):
+    """On a machine with nothing compiled, the first COMPILE_AFTER single-grasp calls of a
+    process get their answer from the reference path at once; the next one compiles, with
+    the notice. A compiled kernel is used from the first call."""
+    from types import SimpleNamespace
+
+    from forceclosure import kernels
+
+    def kernel(index):
+        return SimpleNamespace(_cache=SimpleNamespace(_cache_file=SimpleNamespace(
+            _index_path=str(index))))
+
+    (tmp_path / "cached.nbi").write_bytes(b"")
+    monkeypatch.setattr(kernels, "_announced", False)
+    monkeypatch.setattr(kernels, "_uncompiled_uses", 0)
+    assert kernels.use_compiled(kernel(tmp_path / "cached.nbi"))
+    missing = kernel(tmp_path / "no.nbi")
+    assert not any(kernels.use_compiled(missing) for _ in range(kernels.COMPILE_AFTER))
+    assert not caplog.records
+    assert kernels.use_compiled(missing)
     assert [r.getMessage().split(",")[0] for r in caplog.records] == [
         "forceclosure: warning: compiling the batch kernels for this machine"]

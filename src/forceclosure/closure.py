@@ -764,7 +764,8 @@ def _compiled(contacts: list[Contact], cone: str | Cone, tol: float,
     """Theorem 1 for a grasp of point contacts by the compiled kernel, on this thread:
     ``(verdict, rank, margin)``, or None where the kernel defers (or cannot take the grasp:
     edge, face or vertex contacts, friction above :data:`FRICTION_CAP`, coordinates
-    beyond ``2**±64``) and the reference path decides."""
+    beyond ``2**±64``; or is not compiled yet, :func:`forceclosure.kernels.use_compiled`)
+    and the reference path decides."""
     tol = check_tolerance(tol)
     fixed = _parse_cone(cone)
     for c in contacts:
@@ -777,8 +778,8 @@ def _compiled(contacts: list[Contact], cone: str | Cone, tol: float,
         return None
     if any(c.torsion is not None for c in contacts):
         _check_torsion(contacts)
-    from .kernels import announce_compiling
     from .kernels import theorem1 as kernel
+    from .kernels import use_compiled
 
     exact = fixed is None
     edges, fit = (8, 0) if exact else (fixed.edges, int(fixed.fit == "circumscribed"))
@@ -786,8 +787,8 @@ def _compiled(contacts: list[Contact], cone: str | Cone, tol: float,
     tors = np.array([[np.nan if c.torsion is None else c.torsion for c in contacts]])
     model = np.array([_MODEL_CODE[c.model] for c in contacts])
     maxm = kernel.columns_per_grasp(len(contacts), P.shape[1], 256 if exact else edges)
-    if not kernel.closure_serial.signatures:
-        announce_compiling(kernel.closure_serial)
+    if not use_compiled(kernel.closure_serial):
+        return None  # a first answer now, by the reference path, not after compiling
     code, rank, margin = np.empty(1, np.int8), np.empty(1, np.int64), np.empty(1)
     kernel.closure_serial(P[None], N[None], mu, tors, model, edges, fit, exact, float(tol),
                           maxm, code, rank, margin, np.empty((1, 3 if P.shape[1] == 2 else 6)))

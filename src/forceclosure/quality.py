@@ -172,9 +172,12 @@ def least_friction(contacts: Sequence[Contact], *, cone: str | Cone = "exact",
     contacts = check_grasp(contacts)
     tol = check_tolerance(tol)
     rtol = check_rtol(rtol)
-    if all(len(c.points) == 1 and len(c.normals) == 1 for c in contacts):
-        # point contacts: one compiled bisection (Corollary 3 in closed form for planar
-        # pairs), the reference below only where the kernel defers
+    from .kernels import pairs, theorem1, use_compiled
+
+    if all(len(c.points) == 1 and len(c.normals) == 1 for c in contacts) and use_compiled(
+            pairs.pair_kernel, theorem1.least_friction_kernel):
+        # point contacts: one compiled bisection (closed forms for pairs), the reference
+        # below only where the kernel defers (or before the kernels are compiled)
         from .batch import least_friction_batch
 
         models = ["hard" if c.model == "frictionless" else c.model for c in contacts]

@@ -23,6 +23,40 @@ def compiling_announced() -> None:
     _announced = True
 
 
+def cached(kernel) -> bool:
+    """Whether ``kernel`` has compiled code cached on disk (numba's cache index) or in this
+    process: False on the first run after installing. An unknown numba layout counts as
+    cached (nothing is said or avoided on a guess)."""
+    if getattr(kernel, "signatures", None):
+        return True
+    try:
+        index = kernel._cache._cache_file._index_path
+    except AttributeError:
+        return True
+    return os.path.exists(index)
+
+
+#: Single grasps left to the reference path (milliseconds each) on a machine with no compiled
+#: kernel cached yet, before :func:`use_compiled` has them compiled (about a minute, once per
+#: installation): a first answer at once, the kernels' microseconds for longer runs.
+COMPILE_AFTER = 100
+_uncompiled_uses = 0
+
+
+def use_compiled(*kernels) -> bool:
+    """Whether a single-grasp call should run these kernels: yes once they are compiled (on
+    disk or in this process); before that, no for the first :data:`COMPILE_AFTER` calls of
+    the process (the caller takes its reference path), then yes, with the compile notice."""
+    global _uncompiled_uses
+    if all(cached(kernel) for kernel in kernels):
+        return True
+    _uncompiled_uses += 1
+    if _uncompiled_uses <= COMPILE_AFTER:
+        return False
+    announce_compiling(*kernels)
+    return True
+
+
 def announce_compiling(*kernels) -> None:
     """Say once per process, as a warning on the ``forceclosure`` logger (standard error
     unless configured), that compilation is about to take a while: called just before
@@ -32,17 +66,11 @@ def announce_compiling(*kernels) -> None:
     global _announced
     if _announced:
         return
-    for kernel in kernels:
-        try:
-            index = kernel._cache._cache_file._index_path
-        except AttributeError:  # another numba's layout: say nothing rather than guess
-            return
-        if not os.path.exists(index):
-            _announced = True
-            _log.warning("forceclosure: warning: compiling the batch kernels for this machine, "
-                         "once (about a minute; cached for later runs; `forceclosure warmup` "
-                         "does it ahead)")
-            return
+    if not all(cached(kernel) for kernel in kernels):
+        _announced = True
+        _log.warning("forceclosure: warning: compiling the batch kernels for this machine, "
+                     "once (about a minute; cached for later runs; `forceclosure warmup` "
+                     "does it ahead)")
 
 
 def kernel_array(a: ArrayLike, dtype: type = np.float64) -> NDArray:
