@@ -26,6 +26,7 @@ import pytest
 from forceclosure.cli import main
 from forceclosure.gripper import ParallelJaw
 from forceclosure.labels import grasp_labels, label_metrics
+from forceclosure.task import gravity_wrench, resist_wrench, resist_wrench_batch
 
 COS8 = math.cos(math.pi / 8)
 
@@ -191,3 +192,30 @@ def test_task_refused_on_an_open_mesh(tmp_path, capsys):
                  "--task-mass", "1"]) == 2
     errors = [line for line in capsys.readouterr().err.splitlines() if "error" in line]
     assert len(errors) == 1 and "closed mesh" in errors[0]  # (after the mesh's warnings)
+
+
+@pytest.mark.parametrize("model, torsion", [("soft", None), ("soft", 0.05), ("hard", None)])
+def test_stacked_lps_answer_as_one_at_a_time(model, torsion):
+    # the batch stacks grasps' LPs into one; each must come out as resist_wrench's own LP
+    rng = np.random.default_rng(7)
+    P, N = rng.normal(size=(40, 3, 3)), rng.normal(size=(40, 3, 3))
+    w = gravity_wrench(0.3, [0.1, 0.2, -0.1])
+    names, seen = {0: "fails", 1: "undecided", 2: "resists"}, set()
+    for f_max in (2.0, 50.0):
+        code, spare, upper = resist_wrench_batch(P, N, w, mu=0.5, model=model,
+                                                 torsion=torsion, f_max=f_max)
+        for g in range(40):
+            t = resist_wrench(P[g], N[g], w, mu=0.5, model=model, torsion=torsion,
+                              f_max=f_max)
+            assert spare[g] == pytest.approx(t.spare, rel=1e-7, abs=1e-9)
+            assert upper[g] == pytest.approx(t.spare_upper, rel=1e-7, abs=1e-9)
+            assert names[int(code[g])] == t.verdict
+        seen |= set(code.tolist())
+    assert seen >= {0, 2}
+
+
+def test_unbounded_blocks_fall_back_to_single_lps():
+    # a pure torque about the soft pads' common normal: any multiple is resisted (inf)
+    P = np.array([[[-1.0, 0, 0], [1, 0, 0]]] * 3)
+    code, spare, upper = resist_wrench_batch(P, P.copy(), [0, 0, 0, 1, 0, 0], mu=0.5)
+    assert code.tolist() == [2, 2, 2] and np.all(np.isinf(spare)) and np.all(np.isinf(upper))

@@ -1230,7 +1230,7 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--task-mass", type=float, metavar="M",
                    help="also test every grasp against the object's weight (mass M, at the "
                         "mesh's centre of mass, uniform density): task_verdict 0 fails, "
-                        "1 undecided, 2 resists, and task_spare; two LPs a grasp (2-4 ms)")
+                        "1 undecided, 2 resists, and task_spare; two LPs a grasp (about 0.5 ms)")
     g.add_argument("--gravity", metavar="GX,GY,GZ",
                    help="gravity of the task test, object frame (default 0,0,-9.81; write "
                         "--gravity=-9.81,0,0 when the first is negative)")

@@ -377,7 +377,8 @@ def label_task(labels: GraspLabels, wrench: ArrayLike, f_max: float, edges: int 
     a normal force of at most ``f_max``. Every grasp is tested, force-closure or not: a
     grasp that is not force-closure may still resist one particular wrench (a pinch
     whose line passes through the centre of mass holds the weight without closing).
-    Two linear programs a grasp (about 2–4 ms).
+    Two linear programs a grasp, stacked :data:`~forceclosure.task.BATCH` grasps to a
+    HiGHS call (about 0.5 ms a grasp).
 
     Examples
     --------

@@ -40,7 +40,7 @@ from numpy.typing import ArrayLike, NDArray
 from .contacts import Cone, primitive_wrenches
 from .errors import ForceClosureError, InputError
 
-__all__ = ["TASK_CODES", "TaskWrench", "gravity_wrench", "resist_wrench",
+__all__ = ["BATCH", "TASK_CODES", "TaskWrench", "gravity_wrench", "resist_wrench",
            "resist_wrench_batch"]
 
 #: The verdicts' codes in :func:`resist_wrench_batch`: 0 fails, 1 undecided, 2 resists.
@@ -248,6 +248,34 @@ def resist_wrench(points: ArrayLike, normals: ArrayLike, wrench: ArrayLike, *,
     return TaskWrench(verdict, spare, spare_upper, forces, tors, w, ref, float(f_max), edges)
 
 
+#: Grasps per stacked linear program in :func:`resist_wrench_batch`.
+BATCH = 128
+
+
+def _stacked_scales(W: NDArray, normal_force: NDArray, owner: NDArray, k: int, w: NDArray,
+                    f_max: float) -> NDArray | None:
+    """``s*`` of ``n`` independent LPs (``W`` ``(n, D, m)``, ``w`` ``(n, D)``) stacked
+    block-diagonally into one: maximising ``Σ s_g`` over separate blocks maximises each
+    ``s_g``. None when the stacked LP is not solved to optimality (e.g. one block is
+    unbounded): the caller solves the blocks one at a time."""
+    from scipy.optimize import linprog
+    from scipy.sparse import block_diag
+
+    n, D, m = W.shape
+    c = np.zeros((n, m + 1))
+    c[:, -1] = -1.0
+    A_eq = block_diag([np.hstack([W[g], w[g][:, None]]) for g in range(n)], format="csr")
+    rows = np.zeros((n, k, m + 1))
+    for i in range(k):
+        rows[:, i, :m] = np.where(owner == i, normal_force, 0.0)
+    A_ub = block_diag(list(rows), format="csr")
+    res = linprog(c.ravel(), A_ub=A_ub, b_ub=np.full(n * k, f_max), A_eq=A_eq,
+                  b_eq=np.zeros(n * D), bounds=(0, None), method="highs")
+    if res.status != 0:
+        return None
+    return np.maximum(0.0, res.x.reshape(n, m + 1)[:, -1])
+
+
 def resist_wrench_batch(points: ArrayLike, normals: ArrayLike, wrench: ArrayLike, *,
                         mu: float = 0.0, model: str | Sequence[str] = "soft",
                         torsion: float | None = None, f_max: float = 1.0,
@@ -258,10 +286,12 @@ def resist_wrench_batch(points: ArrayLike, normals: ArrayLike, wrench: ArrayLike
     codes (:data:`TASK_CODES`: 0 fails, 1 undecided, 2 resists), ``spare`` and
     ``spare_upper``, each ``(N,)``.
 
-    **A loop**, two HiGHS linear programs a grasp (about 2–4 ms): the LPs are independent
-    and scipy's ``linprog`` solves one at a time; stacking them block-diagonally into one
-    LP would tie every grasp's answer to one solver status. ``progress`` is called with 1
-    after each grasp.
+    The same two LPs a grasp as :func:`resist_wrench`, the generators of all grasps built
+    at once and :data:`BATCH` grasps' LPs stacked block-diagonally into one HiGHS call
+    (the blocks share no variable, so maximising the sum of the scales maximises each);
+    a stacked LP that HiGHS does not solve to optimality (a block unbounded: ``inf``, e.g.
+    a pure torque about a soft finger's normal) is solved again grasp by grasp.
+    ``progress`` is called with the number of grasps done after each stack.
 
     Examples
     --------
@@ -276,21 +306,58 @@ def resist_wrench_batch(points: ArrayLike, normals: ArrayLike, wrench: ArrayLike
     >>> resist_wrench_batch(P, N, w, mu=0.5, f_max=1.0)[0].tolist()
     [0, 0]
     """
+    from .batch import _validate
+
+    grasps = _validate(points, normals, mu, model, torsion)
+    P, N_ = grasps.points, grasps.normals
+    n, k, d = P.shape
+    D = 3 if d == 2 else 6
     try:
-        P = np.asarray(points, dtype=float)
-        N_ = np.asarray(normals, dtype=float)
+        w = np.asarray(wrench, dtype=float).reshape(-1)
     except (TypeError, ValueError):
-        raise InputError("points and normals must be arrays of numbers") from None
-    if P.ndim != 3 or N_.shape != P.shape:
-        raise InputError(f"points and normals must have the same shape (N, k, 2 or 3), got "
-                         f"{P.shape} and {N_.shape}")
-    n = len(P)
+        raise InputError(f"wrench must be {D} numbers") from None
+    if w.shape != (D,) or not np.all(np.isfinite(w)):
+        raise InputError(f"wrench must be {D} finite numbers (force, torque), got shape "
+                         f"{w.shape}")
+    if not np.any(w):
+        raise InputError("wrench is zero: any grasp resists it, there is nothing to test")
+    if isinstance(f_max, bool) or not isinstance(f_max, Real) or not math.isfinite(f_max) \
+            or f_max <= 0:
+        raise InputError(f"f_max must be a finite positive number, got {f_max!r}")
+    ref = np.zeros(d) if reference is None else np.asarray(reference, dtype=float).reshape(-1)
+    if ref.shape != (d,) or not np.all(np.isfinite(ref)):
+        raise InputError(f"reference must be {d} finite numbers")
     code = np.zeros(n, np.int8)
     spare, upper = np.zeros(n), np.zeros(n)
-    for i in range(n):
-        t = resist_wrench(P[i], N_[i], wrench, mu=mu, model=model, torsion=torsion,
-                          f_max=f_max, reference=reference, edges=edges)
-        code[i], spare[i], upper[i] = TASK_CODES[t.verdict], t.spare, t.spare_upper
+    for lo in range(0, n, BATCH):
+        part = slice(lo, min(n, lo + BATCH))
+        Pc, Nc = P[part], N_[part]
+        b = len(Pc)
+        scale = np.max(np.linalg.norm(Pc - ref, axis=2), axis=1)
+        big = np.maximum(1.0, np.max(np.abs(Pc), axis=(1, 2)))
+        scale = np.where(scale > 1e-12 * big, scale, 1.0)
+        ws = np.concatenate([np.broadcast_to(w[:d], (b, d)), w[d:][None] / scale[:, None]],
+                            axis=1)
+        found = []
+        for fit in ("inscribed", "circumscribed"):
+            cone = Cone(edges, fit)
+            blocks = [primitive_wrenches(Pc[:, i], Nc[:, i], m, grasps.mu[part, i],
+                                         grasps.torsion[part, i],
+                                         np.broadcast_to(ref, (b, d)), scale, cone)
+                      for i, m in enumerate(grasps.models)]
+            W = np.concatenate(blocks, axis=2)
+            owner = np.concatenate([np.full(x.shape[2], i) for i, x in enumerate(blocks)])
+            normal_force = -np.einsum("gdj,gjd->gj", W[:, :d], Nc[:, owner])
+            found.append(_stacked_scales(W, normal_force, owner, k, ws, float(f_max)))
+        if found[0] is None or found[1] is None:
+            for g in range(b):
+                t = resist_wrench(Pc[g], Nc[g], w, mu=grasps.mu[lo + g],
+                                  model=grasps.models, torsion=grasps.torsion[lo + g],
+                                  f_max=f_max, reference=ref, edges=edges)
+                spare[lo + g], upper[lo + g] = t.spare, t.spare_upper
+        else:
+            spare[part], upper[part] = found
         if progress is not None:
-            progress(1)
+            progress(b)
+    code[:] = np.where(spare >= 1, 2, np.where(upper < 1, 0, 1))
     return code, spare, upper
