@@ -657,6 +657,89 @@ def _collision_summary(labels) -> dict:
             "closure_clear": int(np.sum(~hit & (labels.code == 2)))}
 
 
+#: ``grasps --f-max`` default: each jaw's normal force, N (a Franka Emika hand's
+#: continuous grip force, 70 N).
+DEFAULT_F_MAX = 70.0
+
+
+def _task_settings(args: argparse.Namespace) -> dict[str, Any] | None:
+    """The ``grasps --task-mass`` settings, checked (None without ``--task-mass``)."""
+    import math
+
+    if args.task_mass is None:
+        for flag, value in (("--gravity", args.gravity), ("--f-max", args.f_max)):
+            if value is not None:
+                raise InputError(f"{flag} needs --task-mass")
+        return None
+    if not (math.isfinite(args.task_mass) and args.task_mass > 0):
+        raise InputError(f"--task-mass must be a finite positive mass, got {args.task_mass}")
+    gravity = [0.0, 0.0, -9.81]
+    if args.gravity is not None:
+        try:
+            gravity = [float(x) for x in args.gravity.split(",")]
+        except ValueError:
+            gravity = []
+        if len(gravity) != 3 or not all(math.isfinite(x) for x in gravity):
+            raise InputError(f"--gravity must be three finite numbers GX,GY,GZ, got "
+                             f"{args.gravity!r}")
+        if not any(gravity):
+            raise InputError("--gravity is zero: there is no weight to resist")
+    f_max = DEFAULT_F_MAX if args.f_max is None else args.f_max
+    if not (math.isfinite(f_max) and f_max > 0):
+        raise InputError(f"--f-max must be a finite positive force, got {f_max}")
+    return {"mass": args.task_mass, "gravity": gravity, "f_max": f_max, "edges": 8}
+
+
+def _task_stage(obj: Any, labels: Any, settings: dict[str, Any]) -> tuple[Any, dict[str, Any]]:
+    """``grasps --task-mass``: the labels with the task arrays, and the summary's ``task``
+    entry. The weight acts at the mesh's centre of mass (trimesh, uniform density)."""
+    import time
+
+    import numpy as np
+    from tqdm import tqdm
+
+    from .gripper import surface_mesh
+    from .labels import TASK_VERDICTS, label_task
+    from .task import gravity_wrench
+
+    com = [float(x) for x in surface_mesh(obj)[1].center_mass]
+    settings = {**settings, "center_of_mass": com}
+    wrench = gravity_wrench(settings["mass"], com, settings["gravity"])
+    start = time.perf_counter()
+    with tqdm(total=len(labels), unit=" grasps", unit_scale=True, file=sys.stderr,
+              disable=None, desc="task wrench") as bar:
+        code, spare, upper = label_task(labels, wrench, settings["f_max"], settings["edges"],
+                                        progress=bar.update)
+    seconds = time.perf_counter() - start
+    finite = spare[np.isfinite(spare)]
+    entry = {**settings, **{v: int(np.sum(code == c)) for c, v in enumerate(TASK_VERDICTS)},
+             "spare_median": float(np.median(finite)) if len(finite) == len(spare)
+             and len(spare) else None,
+             "seconds": round(seconds, 3),
+             "grasps_per_second": round(len(labels) / seconds) if seconds > 0 else None}
+    return labels.with_task(code, spare, upper, settings), entry
+
+
+def _metrics_stage(labels: Any) -> tuple[Any, dict[str, Any]]:
+    """``grasps --metrics``: the labels with the metric arrays, and the summary's medians."""
+    import time
+
+    import numpy as np
+    from tqdm import tqdm
+
+    from .labels import METRIC_ARRAYS, label_metrics
+
+    start = time.perf_counter()
+    with tqdm(total=len(labels), unit=" grasps", unit_scale=True, file=sys.stderr,
+              disable=None, desc="metrics") as bar:
+        labels = labels.with_metrics(label_metrics(labels, progress=bar.update))
+    seconds = time.perf_counter() - start
+    entry = {f"{name}_median": float(np.median(getattr(labels, name))) if len(labels) else None
+             for name in METRIC_ARRAYS}
+    entry["seconds"] = round(seconds, 3)
+    return labels, entry
+
+
 def _cmd_grasps(args: argparse.Namespace) -> int:
     """Sample parallel-jaw grasps on a mesh and label them: verdict, least friction, epsilon."""
     import math
@@ -678,6 +761,9 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     if not (math.isfinite(args.pad_radius) and args.pad_radius >= 0):
         raise InputError(f"--pad-radius must be finite and >= 0, got {args.pad_radius}")
     robust = _robust_settings(args)
+    task = _task_settings(args)
+    if args.no_epsilon and args.graspnet_score == "epsilon":
+        raise InputError("--graspnet-score epsilon needs the epsilon: drop --no-epsilon")
     if args.clearance is not None and not (math.isfinite(args.clearance)
                                            and args.clearance >= 0):
         raise InputError(f"--clearance must be finite and >= 0, got {args.clearance}")
@@ -716,6 +802,9 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
                       allow_outside_meshes=args.allow_outside_meshes)
     for warning in obj.warnings:
         print(f"forceclosure: warning: {obj.name}: {warning}", file=sys.stderr)
+    if task is not None and getattr(obj, "watertight", True) is False:
+        raise InputError(f"{obj.name}: --task-mass needs a closed mesh for its centre of mass; "
+                         "this one is open")
     gripper = ParallelJaw(args.width, args.pad_radius)
     start = time.perf_counter()
     with tqdm(total=args.count, unit=" grasps", unit_scale=True, file=sys.stderr, disable=None,
@@ -724,10 +813,16 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
                               args.contact, progress=bar.update,
                               least_friction=not args.no_least_friction,
                               collision=not args.no_collision, clearance=args.clearance,
-                              approaches=8 if args.approaches is None else args.approaches)
+                              approaches=8 if args.approaches is None else args.approaches,
+                              epsilon=not args.no_epsilon)
     seconds = time.perf_counter() - start
     if robust is not None:
         labels, robust = _robust_stage(obj, labels, gripper, args, robust)
+    metrics = _metrics_stage(labels) if args.metrics else None
+    if metrics is not None:
+        labels, metrics = metrics
+    if task is not None:
+        labels, task = _task_stage(obj, labels, task)
     if args.out:
         labels.save(args.out)
     _write_exports(args, labels, gripper)
@@ -742,7 +837,7 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     counts = labels.counts()
     mu_star = (float(np.median(labels.least_friction))
                if len(labels) and not args.no_least_friction else math.nan)
-    closed = labels.epsilon[labels.code == 2]
+    closed = labels.epsilon[labels.code == 2] if not args.no_epsilon else np.zeros(0)
     summary = {"object": args.object, "candidates": len(labels), "requested": args.count,
                "attempts": labels.meta["attempts"], "rejected": labels.meta["rejected"],
                "contact": args.contact, "mu": args.mu, "width": args.width, **counts,
@@ -757,6 +852,10 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
                "out": args.out}
     if robust is not None:
         summary["robust"] = robust
+    if metrics is not None:
+        summary["metrics"] = metrics
+    if task is not None:
+        summary["task"] = task
     if args.json:
         json.dump(summary, sys.stdout, indent=2, allow_nan=False)
         sys.stdout.write("\n")
@@ -772,7 +871,23 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
                                   else "median: none closes" if not math.isfinite(mu_star)
                                   else f"median {mu_star:.4g}")
           + (f"; epsilon (L1) of the closed: median {summary['epsilon_median']:.4g}"
-             if closed.size else ""))
+             if closed.size else "; epsilon not computed" if args.no_epsilon else ""))
+    if metrics is not None:
+        print("  grasp matrix: median " + (
+            "of none" if metrics["sigma_min_median"] is None else
+            f"sigma_min {metrics['sigma_min_median']:.4g}, sigma_max "
+            f"{metrics['sigma_max_median']:.4g}, isotropy {metrics['isotropy_median']:.4g}, "
+            f"wrench-hull volume {metrics['volume_median']:.4g}")
+            + f"; {metrics['seconds']:.2f} s")
+    if task is not None:
+        g = ",".join(f"{x:g}" for x in task["gravity"])
+        print(f"  task: mass {task['mass']:g} under gravity {g} at the centre of mass "
+              f"({', '.join(f'{x:.4g}' for x in task['center_of_mass'])}), jaws pressing "
+              f"at most {task['f_max']:g}: resists {task['resists']:,}, undecided "
+              f"{task['undecided']:,}, fails {task['fails']:,}"
+              + (f"; spare median {task['spare_median']:.4g}"
+                 if task["spare_median"] is not None else "")
+              + f"; {task['seconds']:.2f} s ({task['grasps_per_second'] or 0:,} grasps/s)")
     if robust is not None:
         print(f"  robust ({robust['samples']} samples a grasp; pose sigma "
               f"{robust['pose_sigma']:g}, angle sigma {robust['angle_sigma']:g} rad, mu sigma "
@@ -1107,6 +1222,24 @@ def build_parser() -> argparse.ArgumentParser:
                    help="save an interactive view (.html, self-contained, works offline) of "
                         "the object and its best jaw poses, coloured by label, with hover "
                         "text")
+    # grasp-matrix metrics, the task wrench, skipping epsilon (issue 17; docs/gripper.md)
+    g.add_argument("--metrics", action="store_true",
+                   help="also the grasp-matrix metrics of every grasp: smallest and largest "
+                        "singular values, isotropy, wrench-hull volume (saved as sigma_min, "
+                        "sigma_max, isotropy, volume; about 1 ms a grasp)")
+    g.add_argument("--task-mass", type=float, metavar="M",
+                   help="also test every grasp against the object's weight (mass M, at the "
+                        "mesh's centre of mass, uniform density): task_verdict 0 fails, "
+                        "1 undecided, 2 resists, and task_spare; two LPs a grasp (about 0.5 ms)")
+    g.add_argument("--gravity", metavar="GX,GY,GZ",
+                   help="gravity of the task test, object frame (default 0,0,-9.81; write "
+                        "--gravity=-9.81,0,0 when the first is negative)")
+    g.add_argument("--f-max", type=float, metavar="F",
+                   help="the task test's bound on each jaw's normal force, in the units of "
+                        f"mass x gravity (default {DEFAULT_F_MAX:g}: N with kg and m/s^2)")
+    g.add_argument("--no-epsilon", action="store_true",
+                   help="skip the Ferrari-Canny epsilon (saved as NaN), most of the labelling "
+                        "time: verdicts (and least friction) only")
     g.set_defaults(run=_cmd_grasps)
     parser.epilog = f"Verdicts within {TOLERANCE:g} of the boundary are 'marginal'."
     return parser

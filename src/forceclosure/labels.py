@@ -22,7 +22,7 @@ from numpy.typing import ArrayLike, NDArray
 from .errors import InputError
 from .gripper import ParallelJaw
 
-__all__ = ["GraspLabels", "grasp_labels", "label_grasps"]
+__all__ = ["GraspLabels", "grasp_labels", "label_grasps", "label_metrics", "label_task"]
 
 _VERDICTS = np.array(["none", "marginal", "closure"])
 
@@ -34,6 +34,17 @@ ARRAYS = ("center", "closing_axis", "approach_axis", "width", "points", "normals
 #: The optional arrays of robustness (:meth:`GraspLabels.with_robustness`), saved when present.
 ROBUST_ARRAYS = ("robust_probability", "robust_probability_low", "robust_probability_high",
                  "robust_epsilon", "robust_epsilon_low", "robust_epsilon_high", "robust_missed")
+
+#: The optional arrays of grasp-matrix metrics (:meth:`GraspLabels.with_metrics`), saved when
+#: present; named as the fields of :class:`~forceclosure.metrics.GraspMetrics`.
+METRIC_ARRAYS = ("sigma_min", "sigma_max", "isotropy", "volume")
+
+#: The optional arrays of the task-wrench test (:meth:`GraspLabels.with_task`), saved when
+#: present.
+TASK_ARRAYS = ("task_verdict", "task_spare", "task_spare_upper")
+
+#: ``task_verdict`` codes: 0 ``fails``, 1 ``undecided``, 2 ``resists`` (:mod:`forceclosure.task`).
+TASK_VERDICTS = ("fails", "undecided", "resists")
 
 
 @dataclass(frozen=True, eq=False)
@@ -51,13 +62,14 @@ class GraspLabels:
         μ*: the least friction, equal at both contacts, closing the pair
         (``inf``: none does; NaN: not computed).
     epsilon : (N,) array
-        Ferrari–Canny ε (L1), 0 where not closed.
+        Ferrari–Canny ε (L1), 0 where not closed (NaN: not computed).
     meta : dict
         ``object``, ``mu``, ``contact``, ``torsion``, ``width_max``,
         ``pad_radius``, ``seed``, ``attempts``, ``rejected``, ``collision``
         (the check's ``clearance`` and the hand's boxes, or None: not checked),
         ``approaches`` (approach axes tried per pair; None: not checked);
-        with robustness also ``robust`` (samples, seed, confidence, noise).
+        with robustness also ``robust`` (samples, seed, confidence, noise); with the
+        task test also ``task`` (mass, gravity, center_of_mass, f_max, edges).
     collides : (N,) bool array or None
         Whether the hand, opened at the pose, meets the object
         (:func:`~forceclosure.collision.collides`); None when not checked. A
@@ -70,6 +82,16 @@ class GraspLabels:
         Mean epsilon under noise and its Student-t interval (NaN: not computed).
     robust_missed : (N,) int array or None
         Noise samples whose jaws made no contact pair (counted as not closed).
+    sigma_min, sigma_max, isotropy, volume : (N,) arrays or None
+        Grasp-matrix metrics of the contact pairs (:func:`label_metrics`): smallest and
+        largest singular values, their ratio, and the volume of the wrench hull; None when
+        not computed.
+    task_verdict : (N,) int8 array or None
+        The task-wrench test (:func:`label_task`): 0 ``fails`` (proved, circumscribed
+        pyramids), 1 ``undecided``, 2 ``resists`` (proved, inscribed pyramids).
+    task_spare, task_spare_upper : (N,) arrays or None
+        The largest multiple of the task wrench resisted: lower bound (inscribed pyramids)
+        and upper bound (circumscribed).
     """
 
     center: NDArray[np.float64]
@@ -90,6 +112,13 @@ class GraspLabels:
     robust_epsilon_low: NDArray[np.float64] | None = None
     robust_epsilon_high: NDArray[np.float64] | None = None
     robust_missed: NDArray[np.int64] | None = None
+    sigma_min: NDArray[np.float64] | None = None
+    sigma_max: NDArray[np.float64] | None = None
+    isotropy: NDArray[np.float64] | None = None
+    volume: NDArray[np.float64] | None = None
+    task_verdict: NDArray[np.int8] | None = None
+    task_spare: NDArray[np.float64] | None = None
+    task_spare_upper: NDArray[np.float64] | None = None
 
     def __len__(self) -> int:
         return len(self.code)
@@ -118,12 +147,36 @@ class GraspLabels:
                        robust_epsilon_low=r.epsilon_low, robust_epsilon_high=r.epsilon_high,
                        robust_missed=r.missed)
 
+    def with_metrics(self, metrics: Any) -> GraspLabels:
+        """These labels with the arrays of a :class:`~forceclosure.metrics.GraspMetrics` of
+        the same grasps (:func:`label_metrics`)."""
+        if len(metrics) != len(self):
+            raise InputError(f"metrics of {len(metrics)} grasps for {len(self)} labels")
+        return replace(self, **{n: np.asarray(getattr(metrics, n), dtype=float)
+                                for n in METRIC_ARRAYS})
+
+    def with_task(self, verdict: ArrayLike, spare: ArrayLike, spare_upper: ArrayLike,
+                  settings: dict[str, Any]) -> GraspLabels:
+        """These labels with the task-wrench arrays of the same grasps (:func:`label_task`)
+        and the test's ``settings`` in ``meta["task"]``."""
+        arrays = [np.asarray(verdict, dtype=np.int8), np.asarray(spare, dtype=float),
+                  np.asarray(spare_upper, dtype=float)]
+        if any(a.shape != (len(self),) for a in arrays):
+            raise InputError(f"task arrays of shapes {[a.shape for a in arrays]} for "
+                             f"{len(self)} labels")
+        meta = dict(self.meta)
+        meta["task"] = dict(settings)
+        return replace(self, meta=meta, **dict(zip(TASK_ARRAYS, arrays, strict=True)))
+
     def _arrays(self) -> tuple[str, ...]:
-        """The names of the arrays present: :data:`ARRAYS`, then any of :data:`ROBUST_ARRAYS`."""
-        return ARRAYS + tuple(n for n in ROBUST_ARRAYS if getattr(self, n) is not None)
+        """The names of the arrays present: :data:`ARRAYS`, then any of :data:`ROBUST_ARRAYS`,
+        :data:`METRIC_ARRAYS` and :data:`TASK_ARRAYS`."""
+        return ARRAYS + tuple(n for n in ROBUST_ARRAYS + METRIC_ARRAYS + TASK_ARRAYS
+                              if getattr(self, n) is not None)
 
     def to_dict(self) -> dict[str, Any]:
-        """Every array as nested lists (``inf`` μ* as None) and the metadata; JSON-ready."""
+        """Every array as nested lists (``inf`` μ*, NaN ε and ``inf`` spares as None) and the
+        metadata; JSON-ready."""
         out: dict[str, Any] = {"meta": dict(self.meta), "verdict": self.verdict.tolist()}
         for name in self._arrays():
             a = getattr(self, name)
@@ -131,12 +184,14 @@ class GraspLabels:
                 out[name] = None
                 continue
             out[name] = ([None if not np.isfinite(x) else float(x) for x in a]  # inf, NaN
-                         if name == "least_friction" or name.startswith("robust_epsilon")
+                         if name in ("least_friction", "epsilon", "task_spare",
+                                     "task_spare_upper") or name.startswith("robust_epsilon")
                          else a.tolist())
         return out
 
     def save(self, path: str) -> None:
-        """Write the arrays (:data:`ARRAYS`, and those of :data:`ROBUST_ARRAYS` present) and
+        """Write the arrays (:data:`ARRAYS`, and those of :data:`ROBUST_ARRAYS`,
+        :data:`METRIC_ARRAYS` and :data:`TASK_ARRAYS` present) and
         ``meta`` (as JSON text) to an ``.npz``, atomically
         (:func:`forceclosure.atomic.atomic_write`)."""
         import json
@@ -156,7 +211,8 @@ CHUNK = 2048
 
 def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str = "soft",
                  torsion: float | None = None,
-                 progress: Callable[[int], object] | None = None, least_friction: bool = True
+                 progress: Callable[[int], object] | None = None, least_friction: bool = True,
+                 epsilon: bool = True
                  ) -> tuple[NDArray[np.int8], NDArray[np.float64], NDArray[np.float64]]:
     """Verdict codes, least friction and epsilon of ``N`` contact pairs (``(N, 2, 3)``).
 
@@ -167,7 +223,9 @@ def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str 
     held at the value given. ``progress`` is called with the number of
     grasps just labelled, after every :data:`CHUNK` of them. μ* costs about
     3 ms a pair with exact cones (a bisection of verdicts), far more than the
-    verdict and ε together; ``least_friction=False`` skips it (NaN).
+    verdict and ε together; ``least_friction=False`` skips it (NaN). ε (about
+    130 µs a closed soft pair) is in turn most of the rest: ``epsilon=False``
+    skips it (NaN for every grasp), leaving the verdicts, a few µs a pair.
 
     Examples
     --------
@@ -179,6 +237,8 @@ def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str 
     >>> code, mu_star, eps = label_grasps(P, N, mu=0.3)
     >>> code.tolist(), round(float(mu_star[0]), 5), bool(eps[0] > 0)
     ([2], 0.1, True)
+    >>> label_grasps(P, N, mu=0.3, least_friction=False, epsilon=False)[2].tolist()
+    [nan]
     """
     from .batch import epsilon_batch, least_friction_batch
     from .two_finger import pair_codes
@@ -189,14 +249,14 @@ def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str 
     normals = np.asarray(normals, dtype=float)
     n = len(points)
     code = np.zeros(n, np.int8)
-    mu_star, eps = np.full(n, np.nan), np.zeros(n)
+    mu_star, eps = np.full(n, np.nan), np.zeros(n) if epsilon else np.full(n, np.nan)
     for lo in range(0, n, CHUNK):
         part = slice(lo, min(n, lo + CHUNK))
         P, N = points[part], normals[part]
         code[part] = pair_codes(P, N, mu, contact, torsion)
         if least_friction:
             mu_star[part] = least_friction_batch(P, N, model=contact, torsion=torsion)
-        closed = np.flatnonzero(code[part] == 2)
+        closed = np.flatnonzero(code[part] == 2) if epsilon else np.zeros(0, np.int64)
         if len(closed):
             eps[lo + closed] = epsilon_batch(P[closed], N[closed], mu=mu, model=contact,
                                              torsion=torsion)
@@ -208,7 +268,8 @@ def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str 
 def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: int = 0,
                  contact: str = "soft", progress: Callable[[int], object] | None = None,
                  least_friction: bool = True, collision: bool = True,
-                 clearance: float | None = None, approaches: int = 8) -> GraspLabels:
+                 clearance: float | None = None, approaches: int = 8,
+                 epsilon: bool = True) -> GraspLabels:
     """Sample ``count`` antipodal jaw poses on ``obj`` for ``gripper`` and label them.
 
     With ``collision`` (the default) each pose's hand, its fingers opened a
@@ -223,7 +284,8 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
     contacts, and so the verdict, μ* and ε, are the same at every approach.
     Without the collision check there is nothing to choose by: the sampler's
     axis is kept. ``meta["approaches"]`` records the number tried (None
-    without the check).
+    without the check). ``least_friction=False`` and ``epsilon=False`` skip
+    μ* and ε (NaN), as in :func:`label_grasps`.
 
     Examples
     --------
@@ -246,7 +308,7 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
     samples = sample_antipodal(obj, mu, count, seed, gripper.width_max)
     torsion = gripper.torsion(mu) if contact == "soft" else None
     code, mu_star, eps = label_grasps(samples.points, samples.normals, mu, contact, torsion,
-                                      progress, least_friction)
+                                      progress, least_friction, epsilon)
     hits, checked, approach = None, None, samples.approach_axis
     if collision:
         from .collision import CLEARANCE, choose_approach
@@ -266,3 +328,73 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
     return GraspLabels(samples.center, samples.closing_axis, approach,
                        samples.width, samples.points, samples.normals, code, mu_star, eps, meta,
                        collides=hits)
+
+
+def label_metrics(labels: GraspLabels, progress: Callable[[int], object] | None = None
+                  ) -> Any:
+    """The grasp-matrix metrics (:func:`~forceclosure.metrics.grasp_metrics`) of every
+    contact pair of ``labels``, at its ``meta`` friction, contact model and torsion.
+
+    All grasps at once (one batched SVD), the hull volumes one Qhull call a grasp (about a
+    millisecond), in chunks of :data:`CHUNK` with ``progress`` called after each. A hard
+    pair's volume is 0 (its generators do not span the wrench space), its ``sigma_min`` 0.
+
+    Examples
+    --------
+    Soft pads on the cube: the pinches are head-on or tilted, every one of rank 6.
+
+    >>> labels = grasp_labels("cube", ParallelJaw(3.0), mu=0.3, count=5, collision=False)
+    >>> m = label_metrics(labels)
+    >>> len(m), bool(np.all(m.sigma_min > 0)), bool(np.all(m.volume > 0))
+    (5, True, True)
+    """
+    from .metrics import GraspMetrics, grasp_metrics
+
+    meta = labels.meta
+    torsion = meta.get("torsion")
+    parts = []
+    for lo in range(0, len(labels), CHUNK):
+        part = slice(lo, min(len(labels), lo + CHUNK))
+        parts.append(grasp_metrics(labels.points[part], labels.normals[part], mu=meta["mu"],
+                                   model=meta["contact"],
+                                   torsion=np.nan if torsion is None else torsion))
+        if progress is not None:
+            progress(part.stop - part.start)
+    if not parts:
+        return GraspMetrics(*(np.zeros(0) for _ in range(4)), np.zeros((0, 3)), np.zeros(0))
+    return GraspMetrics(*(np.concatenate([getattr(p, f) for p in parts]) for f in (
+        "sigma_min", "sigma_max", "isotropy", "volume", "reference", "length_scale")))
+
+
+def label_task(labels: GraspLabels, wrench: ArrayLike, f_max: float, edges: int = 8,
+               progress: Callable[[int], object] | None = None
+               ) -> tuple[NDArray[np.int8], NDArray[np.float64], NDArray[np.float64]]:
+    """The task-wrench test (:func:`~forceclosure.task.resist_wrench_batch`) of every
+    contact pair of ``labels``: ``(task_verdict, task_spare, task_spare_upper)``.
+
+    ``wrench`` is the external wrench on the object, torque about the origin of the
+    object's frame (e.g. :func:`~forceclosure.task.gravity_wrench`); each jaw presses with
+    a normal force of at most ``f_max``. Every grasp is tested, force-closure or not: a
+    grasp that is not force-closure may still resist one particular wrench (a pinch
+    whose line passes through the centre of mass holds the weight without closing).
+    Two linear programs a grasp, stacked :data:`~forceclosure.task.BATCH` grasps to a
+    HiGHS call (about 0.5 ms a grasp).
+
+    Examples
+    --------
+    The 2-unit cube, mass 1 under g = 10 along -z, pads of friction 0.3 pressing at most
+    1: friction holds at most 2 · 0.3 · 1 and a pad below at most 1, short of 10.
+
+    >>> labels = grasp_labels("cube", ParallelJaw(3.0), mu=0.3, count=3, collision=False)
+    >>> from forceclosure.task import gravity_wrench
+    >>> w = gravity_wrench(1.0, [0, 0, 0], g=[0, 0, -10])
+    >>> code, spare, upper = label_task(labels, w, f_max=1.0)
+    >>> code.tolist(), bool(np.all(spare <= upper)), bool(np.all(upper < 1))
+    ([0, 0, 0], True, True)
+    """
+    from .task import resist_wrench_batch
+
+    meta = labels.meta
+    return resist_wrench_batch(labels.points, labels.normals, wrench, mu=meta["mu"],
+                               model=meta["contact"], torsion=meta.get("torsion"),
+                               f_max=f_max, edges=edges, progress=progress)

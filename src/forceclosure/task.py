@@ -30,7 +30,7 @@ the paper's soft finger (``torsion`` None or NaN), else at most
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from numbers import Real
 
@@ -40,7 +40,11 @@ from numpy.typing import ArrayLike, NDArray
 from .contacts import Cone, primitive_wrenches
 from .errors import ForceClosureError, InputError
 
-__all__ = ["TaskWrench", "gravity_wrench", "resist_wrench"]
+__all__ = ["BATCH", "TASK_CODES", "TaskWrench", "gravity_wrench", "resist_wrench",
+           "resist_wrench_batch"]
+
+#: The verdicts' codes in :func:`resist_wrench_batch`: 0 fails, 1 undecided, 2 resists.
+TASK_CODES = {"fails": 0, "undecided": 1, "resists": 2}
 
 
 @dataclass(frozen=True, eq=False)
@@ -242,3 +246,118 @@ def resist_wrench(points: ArrayLike, normals: ArrayLike, wrench: ArrayLike, *,
                 tors[i] = 0.0
     verdict = "resists" if spare >= 1 else "fails" if spare_upper < 1 else "undecided"
     return TaskWrench(verdict, spare, spare_upper, forces, tors, w, ref, float(f_max), edges)
+
+
+#: Grasps per stacked linear program in :func:`resist_wrench_batch`.
+BATCH = 128
+
+
+def _stacked_scales(W: NDArray, normal_force: NDArray, owner: NDArray, k: int, w: NDArray,
+                    f_max: float) -> NDArray | None:
+    """``s*`` of ``n`` independent LPs (``W`` ``(n, D, m)``, ``w`` ``(n, D)``) stacked
+    block-diagonally into one: maximising ``Σ s_g`` over separate blocks maximises each
+    ``s_g``. None when the stacked LP is not solved to optimality (e.g. one block is
+    unbounded): the caller solves the blocks one at a time."""
+    from scipy.optimize import linprog
+    from scipy.sparse import block_diag
+
+    n, D, m = W.shape
+    c = np.zeros((n, m + 1))
+    c[:, -1] = -1.0
+    A_eq = block_diag([np.hstack([W[g], w[g][:, None]]) for g in range(n)], format="csr")
+    rows = np.zeros((n, k, m + 1))
+    for i in range(k):
+        rows[:, i, :m] = np.where(owner == i, normal_force, 0.0)
+    A_ub = block_diag(list(rows), format="csr")
+    res = linprog(c.ravel(), A_ub=A_ub, b_ub=np.full(n * k, f_max), A_eq=A_eq,
+                  b_eq=np.zeros(n * D), bounds=(0, None), method="highs")
+    if res.status != 0:
+        return None
+    return np.maximum(0.0, res.x.reshape(n, m + 1)[:, -1])
+
+
+def resist_wrench_batch(points: ArrayLike, normals: ArrayLike, wrench: ArrayLike, *,
+                        mu: float = 0.0, model: str | Sequence[str] = "soft",
+                        torsion: float | None = None, f_max: float = 1.0,
+                        reference: ArrayLike | None = None, edges: int = 8,
+                        progress: Callable[[int], object] | None = None
+                        ) -> tuple[NDArray[np.int8], NDArray[np.float64], NDArray[np.float64]]:
+    """:func:`resist_wrench` for ``N`` grasps (``(N, k, d)``) and one wrench: the verdict
+    codes (:data:`TASK_CODES`: 0 fails, 1 undecided, 2 resists), ``spare`` and
+    ``spare_upper``, each ``(N,)``.
+
+    The same two LPs a grasp as :func:`resist_wrench`, the generators of all grasps built
+    at once and :data:`BATCH` grasps' LPs stacked block-diagonally into one HiGHS call
+    (the blocks share no variable, so maximising the sum of the scales maximises each);
+    a stacked LP that HiGHS does not solve to optimality (a block unbounded: ``inf``, e.g.
+    a pure torque about a soft finger's normal) is solved again grasp by grasp.
+    ``progress`` is called with the number of grasps done after each stack.
+
+    Examples
+    --------
+    The box of :func:`resist_wrench`'s example, and the same pads ten times weaker:
+
+    >>> P = [[[-1, 0, 0], [1, 0, 0]]] * 2
+    >>> N = [[[-1, 0, 0], [1, 0, 0]]] * 2
+    >>> w = gravity_wrench(0.4, [0, 0, 0], g=[0, 0, -10])
+    >>> code, spare, upper = resist_wrench_batch(P, N, w, mu=0.5, f_max=10.0)
+    >>> code.tolist(), spare.round(6).tolist()
+    ([2, 2], [2.5, 2.5])
+    >>> resist_wrench_batch(P, N, w, mu=0.5, f_max=1.0)[0].tolist()
+    [0, 0]
+    """
+    from .batch import _validate
+
+    grasps = _validate(points, normals, mu, model, torsion)
+    P, N_ = grasps.points, grasps.normals
+    n, k, d = P.shape
+    D = 3 if d == 2 else 6
+    try:
+        w = np.asarray(wrench, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise InputError(f"wrench must be {D} numbers") from None
+    if w.shape != (D,) or not np.all(np.isfinite(w)):
+        raise InputError(f"wrench must be {D} finite numbers (force, torque), got shape "
+                         f"{w.shape}")
+    if not np.any(w):
+        raise InputError("wrench is zero: any grasp resists it, there is nothing to test")
+    if isinstance(f_max, bool) or not isinstance(f_max, Real) or not math.isfinite(f_max) \
+            or f_max <= 0:
+        raise InputError(f"f_max must be a finite positive number, got {f_max!r}")
+    ref = np.zeros(d) if reference is None else np.asarray(reference, dtype=float).reshape(-1)
+    if ref.shape != (d,) or not np.all(np.isfinite(ref)):
+        raise InputError(f"reference must be {d} finite numbers")
+    code = np.zeros(n, np.int8)
+    spare, upper = np.zeros(n), np.zeros(n)
+    for lo in range(0, n, BATCH):
+        part = slice(lo, min(n, lo + BATCH))
+        Pc, Nc = P[part], N_[part]
+        b = len(Pc)
+        scale = np.max(np.linalg.norm(Pc - ref, axis=2), axis=1)
+        big = np.maximum(1.0, np.max(np.abs(Pc), axis=(1, 2)))
+        scale = np.where(scale > 1e-12 * big, scale, 1.0)
+        ws = np.concatenate([np.broadcast_to(w[:d], (b, d)), w[d:][None] / scale[:, None]],
+                            axis=1)
+        found = []
+        for fit in ("inscribed", "circumscribed"):
+            cone = Cone(edges, fit)
+            blocks = [primitive_wrenches(Pc[:, i], Nc[:, i], m, grasps.mu[part, i],
+                                         grasps.torsion[part, i],
+                                         np.broadcast_to(ref, (b, d)), scale, cone)
+                      for i, m in enumerate(grasps.models)]
+            W = np.concatenate(blocks, axis=2)
+            owner = np.concatenate([np.full(x.shape[2], i) for i, x in enumerate(blocks)])
+            normal_force = -np.einsum("gdj,gjd->gj", W[:, :d], Nc[:, owner])
+            found.append(_stacked_scales(W, normal_force, owner, k, ws, float(f_max)))
+        if found[0] is None or found[1] is None:
+            for g in range(b):
+                t = resist_wrench(Pc[g], Nc[g], w, mu=grasps.mu[lo + g],
+                                  model=grasps.models, torsion=grasps.torsion[lo + g],
+                                  f_max=f_max, reference=ref, edges=edges)
+                spare[lo + g], upper[lo + g] = t.spare, t.spare_upper
+        else:
+            spare[part], upper[part] = found
+        if progress is not None:
+            progress(b)
+    code[:] = np.where(spare >= 1, 2, np.where(upper < 1, 0, 1))
+    return code, spare, upper
