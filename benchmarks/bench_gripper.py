@@ -21,6 +21,8 @@ Ferrari-Canny epsilon. Timed in one run, on the same poses:
   QP per facet: a ratio measured against it is a lower bound).
 
 Collision of the hand is left out of both (the pipeline has none of its own).
+A second row times both without the epsilon (GraspNet's own labels have
+none: the verdict and the least friction).
 
     uv run --extra bench python benchmarks/bench_gripper.py [--poses 20000] [--baseline 1000]
 """
@@ -83,8 +85,9 @@ def dexnet_epsilon(W):
     return min(min_norm_in_facet(W[:, f]) for f in hull.simplices)
 
 
-def pipeline(mesh, centers, closing, width, mu):
-    """The per-grasp pipeline: rays, wrenches, QP verdict, six-value friction, Qhull epsilon."""
+def pipeline(mesh, centers, closing, width, mu, epsilon=True):
+    """The per-grasp pipeline: rays, wrenches, QP verdict, six-value friction, Qhull epsilon
+    (GraspNet's labels have no epsilon: ``epsilon=False``)."""
     from forceclosure.gripper import cast_first
 
     out = []
@@ -98,7 +101,7 @@ def pipeline(mesh, centers, closing, width, mu):
         closed = min_norm_qp_closure(soft_wrenches(pts, normals, mu, soft=False))
         star = graspnet_loop(pts[None, 0], normals[None, 0], pts[None, 1], normals[None, 1])[0]
         out.append((closed, star, qhull_epsilon(soft_wrenches(pts, normals, mu))
-                    if closed else 0.0))
+                    if closed and epsilon else 0.0))
     return out
 
 
@@ -142,6 +145,17 @@ def main() -> None:
         angle = sum(a[1] <= mu for a in theirs)
         shares = f"{mine[:m].mean():.0%} / {qp / m:.0%} / {angle / m:.0%}"
         print(f"{name:16} {ours:15,.0f} {base:19,.0f} {ours / base:6.0f}x {shares:>32}")
+        t = time.perf_counter()
+        points_, normals_, _, reasons_ = jaw_contacts(mesh, poly.size, s.center, s.closing_axis,
+                                                      widths)
+        ok_ = reasons_ == None  # noqa: E711
+        label_grasps(points_[ok_], normals_[ok_], mu, epsilon=False)
+        ours_bare = len(s) / (time.perf_counter() - t)
+        t = time.perf_counter()
+        pipeline(mesh, s.center[:m], s.closing_axis[:m], width, mu, epsilon=False)
+        base_bare = m / (time.perf_counter() - t)
+        print(f"{'  no epsilon':16} {ours_bare:15,.0f} {base_bare:19,.0f} "
+              f"{ours_bare / base_bare:6.0f}x   (GraspNet's labels: verdict and least friction)")
         closed = np.flatnonzero(mine[:m])[:5]
         t = time.perf_counter()
         for g in closed:  # Dex-Net's own epsilon, on a few closed grasps
