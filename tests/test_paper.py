@@ -171,7 +171,7 @@ def test_the_explanation_is_worked_out_when_read_and_travels_with_the_result():
 
     closed = analyze([point_contact([-1, 0, 0], [-1, 0, 0], "soft", 0.5),
                       point_contact([1, 0.2, 0], [1, 0, 0], "soft", 0.5)])
-    assert "_explanation" not in closed.__dict__  # nothing computed yet
+    assert "_explained" not in closed.__dict__  # nothing computed yet
     forces = closed.contact_forces
     assert np.allclose(forces.sum(axis=0), 0, atol=1e-9) and np.all(forces[:, 0] * [-1, 1] < 0)
     assert closed.force_direction_closure and closed.torque_closure

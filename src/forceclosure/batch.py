@@ -349,7 +349,7 @@ def least_friction_batch(points: ArrayLike, normals: ArrayLike, *,
     n, k, d = grasps.points.shape
     out = np.empty(n)
     soft = [i for i, m in enumerate(grasps.models) if m == "soft"]
-    closed_form = k == 2 and (d == 2 or len(soft) == 2) and bool(
+    closed_form = k == 2 and (d == 2 or (len(soft) == 2 and exact)) and bool(
         np.all(np.isnan(grasps.torsion[:, soft])))
     if engine == "reference":
         todo = np.arange(n)
@@ -357,7 +357,8 @@ def least_friction_batch(points: ArrayLike, normals: ArrayLike, *,
         from .two_finger import pair_least_friction
 
         P, N_ = grasps.points, grasps.normals
-        return pair_least_friction(P[:, 0], N_[:, 0], P[:, 1], N_[:, 1])
+        least = pair_least_friction(P[:, 0], N_[:, 0], P[:, 1], N_[:, 1])
+        return np.where(least > MU_MAX, np.inf, least)
     else:
         from .kernels import announce_compiling, kernel_array
         from .kernels import theorem1 as kernel

@@ -522,6 +522,9 @@ def _dataset_job(args: argparse.Namespace):
         if args.contact == "frictionless":
             raise InputError("--contact frictionless: a parallel-jaw gripper has soft or hard "
                              "contacts")
+        if args.contact == "hard" and args.pad_radius:
+            raise InputError("--pad-radius couples a soft pad's torsion; hard contacts have "
+                             "none (drop it, or --contact soft)")
         return GripperJob(width=args.width, mu=args.mu,
                           count=1000 if args.count is None else args.count,
                           contact=args.contact or "soft",
@@ -760,6 +763,9 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
         raise InputError(f"--mu must be finite and positive, got {args.mu}")
     if not (math.isfinite(args.pad_radius) and args.pad_radius >= 0):
         raise InputError(f"--pad-radius must be finite and >= 0, got {args.pad_radius}")
+    if args.contact == "hard" and args.pad_radius:
+        raise InputError("--pad-radius couples a soft pad's torsion; hard contacts have none "
+                         "(drop it, or --contact soft)")
     robust = _robust_settings(args)
     task = _task_settings(args)
     if args.no_epsilon and args.graspnet_score == "epsilon":
@@ -767,6 +773,11 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     if args.clearance is not None and not (math.isfinite(args.clearance)
                                            and args.clearance >= 0):
         raise InputError(f"--clearance must be finite and >= 0, got {args.clearance}")
+    if args.clearance is not None and args.no_collision:
+        raise InputError("--clearance is the collision check's; it has no use with "
+                         "--no-collision")
+    if (args.html or args.plot) and args.plot_top < 0:
+        raise InputError(f"--plot-top must be a whole number >= 0, got {args.plot_top}")
     if args.approaches is not None:
         if args.approaches < 1:
             raise InputError(f"--approaches must be a whole number >= 1, got {args.approaches}")
@@ -778,8 +789,6 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
         from .view import check_html_path
 
         check_html_path(args.html)
-        if args.plot_top < 0:
-            raise InputError(f"--plot-top must be a whole number >= 0, got {args.plot_top}")
         if args.html in [args.out, args.plot, *(path for _, path in args.export)]:
             raise InputError("--html, --export, --out and --plot: each needs its own file")
         check_output(args.html, inputs=[args.object])
@@ -795,8 +804,6 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
         from .grasp_plot import check_plot_path
 
         check_plot_path(args.plot)
-        if args.plot_top < 0:
-            raise InputError(f"--plot-top must be a whole number >= 0, got {args.plot_top}")
         check_output(args.plot, inputs=[args.object])
     obj = load_object(args.object, allow_open=args.allow_open, part=args.part,
                       allow_outside_meshes=args.allow_outside_meshes)
@@ -1168,8 +1175,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "normal force; 0 (default): the paper's soft finger")
     g.add_argument("--seed", type=int, default=0, help="random seed of the sampling")
     g.add_argument("--no-least-friction", action="store_true",
-                   help="skip the least friction (about 3 ms a grasp; saved as NaN): verdicts "
-                        "and epsilon only, thousands of grasps a second")
+                   help="skip the least friction (saved as NaN): microseconds a grasp for "
+                        "soft pads, milliseconds with --pad-radius or hard contacts")
     g.add_argument("--out", metavar="FILE.npz", help="save the poses, contacts and labels, "
                                                       "atomically")
     g.add_argument("--json", action="store_true", help="print the summary as JSON")

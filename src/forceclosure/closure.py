@@ -33,7 +33,7 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from enum import StrEnum
-from functools import cached_property, partial
+from functools import partial
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -487,9 +487,14 @@ class Analysis:
     margin: float | None
     _explain: Callable[[], _Explanation] = field(repr=False)
 
-    @cached_property
+    @property
     def _explanation(self) -> _Explanation:
-        return self._explain()
+        # kept in the instance's dict on first reading (no lock: two threads reading at
+        # once compute the same thing; an error in the reference path is not kept)
+        found = self.__dict__.get("_explained")
+        if found is None:
+            found = self.__dict__["_explained"] = self._explain()
+        return found
 
     sigma_ratio = _explanation_field("sigma_ratio", "Smallest over largest singular value.")
     force_direction_closure = _explanation_field("force_direction_closure", "Theorem 2.")

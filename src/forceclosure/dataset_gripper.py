@@ -74,6 +74,12 @@ def object_seed(seed: int, stamp: str) -> int:
 
 
 @dataclass(frozen=True)
+
+def _finite_or_none(value: float) -> float | None:
+    """A JSON-ready number: None where it is not finite (a median μ* of "no friction closes")."""
+    value = float(value)
+    return value if np.isfinite(value) else None
+
 class GripperJob:
     """Sample and label ``count`` parallel-jaw grasps on every object.
 
@@ -91,7 +97,7 @@ class GripperJob:
     seed : int
         The job's seed; each object's is :func:`object_seed` of it.
     least_friction : bool
-        Compute μ* (about 3 ms a grasp); False: NaN.
+        Compute μ* (closed form for soft pads; milliseconds a grasp with a pad radius); False: NaN.
     timeout, allow_open, allow_outside_meshes
         As for :class:`forceclosure.dataset.Job`.
 
@@ -171,8 +177,8 @@ class GripperJob:
                 "pad_radius": self.pad_radius, "seed": seed, "grasps": len(labels),
                 **labels.counts(),
                 "epsilon_median": float(np.median(closed)) if len(closed) else None,
-                "least_friction_median": (float(np.median(labels.least_friction))
-                                          if self.least_friction and len(finite) else None),
+                "least_friction_median": _finite_or_none(np.median(labels.least_friction))
+                if self.least_friction and len(finite) else None,
                 "collides": None if hit is None else int(hit.sum()),
                 "closure_clear": None if hit is None else int(np.sum(~hit & (labels.code == 2))),
                 "attempts": int(labels.meta["attempts"]),

@@ -127,6 +127,9 @@ def graspnet_array(labels: Any, gripper: ParallelJaw | None = None, score: str =
         values = 1.1 - mu_star
     else:
         values = np.asarray(labels.epsilon, dtype=float)
+        if np.any(np.isnan(values[ok])):
+            raise InputError("the GraspNet epsilon score needs the epsilon, which was not "
+                             "computed (--no-epsilon): use the friction score")
     a = np.empty((n, 17))
     a[:, 0] = np.where(ok, values, REJECTED)
     a[:, 1] = labels.width

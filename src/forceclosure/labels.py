@@ -221,11 +221,13 @@ def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str 
     contacts; two of them never close a spatial grasp: nothing resists
     rotation about the line through them). μ* is computed with ``torsion``
     held at the value given. ``progress`` is called with the number of
-    grasps just labelled, after every :data:`CHUNK` of them. μ* costs about
-    3 ms a pair with exact cones (a bisection of verdicts), far more than the
-    verdict and ε together; ``least_friction=False`` skips it (NaN). ε (about
-    130 µs a closed soft pair) is in turn most of the rest: ``epsilon=False``
-    skips it (NaN for every grasp), leaving the verdicts, a few µs a pair.
+    grasps just labelled, after every :data:`CHUNK` of them. Soft pads with
+    the paper's torque (``torsion`` None) have their verdict and μ* in closed
+    form, a few µs a pair (:func:`forceclosure.two_finger.pair_codes`); with
+    a coupled ``torsion``, or hard contacts, μ* is a bisection of verdicts,
+    milliseconds a pair; ``least_friction=False`` skips it (NaN). ε (about
+    130 µs a closed soft pair) is most of the rest: ``epsilon=False`` skips
+    it (NaN for every grasp).
 
     Examples
     --------

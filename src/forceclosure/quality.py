@@ -16,9 +16,9 @@ reference point and length scale.
   bound too).
 * **Least friction**: the smallest friction coefficient, the same at every
   finger, for which the grasp is force-closure (frictionless contacts taken
-  as hard fingers). Planar two-finger grasps and spatial soft pairs are in
-  closed form (:mod:`forceclosure.two_finger`); others bisect on the cone
-  angle, a monotone question.
+  as hard fingers). Planar two-finger grasps and spatial soft pairs (exact
+  cones) are in closed form (:mod:`forceclosure.two_finger`); others bisect
+  on the cone angle, a monotone question.
 """
 
 from __future__ import annotations
@@ -207,11 +207,13 @@ def least_friction_reference(contacts: Sequence[Contact], *, cone: str | Cone = 
     pair = (len(contacts) == 2 and all(len(c.points) == 1 and len(c.normals) == 1
                                        for c in contacts)
             and all(c.model != "soft" or c.torsion is None for c in contacts))
-    if pair and (contacts[0].dim == 2 or all(c.model == "soft" for c in contacts)):
+    if pair and (contacts[0].dim == 2
+                 or (cone == "exact" and all(c.model == "soft" for c in contacts))):
         # Corollary 3 in the plane, and its exact spatial form for soft pairs, in closed form
         a, b = contacts
-        return float(two_finger_closure(a.point, a.normal, b.point, b.normal, 1.0,
-                                        engine="reference").least_friction)
+        least = float(two_finger_closure(a.point, a.normal, b.point, b.normal, 1.0,
+                                         engine="reference").least_friction)
+        return math.inf if least > MU_MAX else least
     if _closes(list(contacts), 0.0, cone, tol):
         return 0.0
     hi = math.atan(MU_MAX)

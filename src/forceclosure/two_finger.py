@@ -136,9 +136,11 @@ def two_finger_closure(p: ArrayLike, n_p: ArrayLike, q: ArrayLike, n_q: ArrayLik
         Angles within ``tol`` radians of the cone's half-angle are
         ``marginal``.
     engine : {"compiled", "reference"}
-        The compiled kernel (:mod:`forceclosure.kernels.pairs`, parallel, no
-        trigonometry) or the NumPy reference computing the angles. They
-        return the same verdicts.
+        The compiled kernel (:mod:`forceclosure.kernels.pairs`, parallel; spatial
+        soft pairs in closed form) or the NumPy reference computing the angles
+        (spatial soft pairs failing Corollary 3 by Theorem 1). They return the
+        same verdicts, but within the tolerance band of the boundary, where one
+        may say ``marginal`` and the other not.
 
     Returns
     -------
@@ -223,14 +225,16 @@ def pair_codes(points: ArrayLike, normals: ArrayLike, mu: ArrayLike, model: str 
 
     points = np.asarray(points, dtype=float)
     normals = np.asarray(normals, dtype=float)
-    if torsion is None and model in ("soft", "hard") and points.ndim == 3 \
-            and points.shape[1] == 2 and (model == "soft" or points.shape[2] == 2):
+    if points.ndim != 3 or points.shape[1] != 2:
+        raise InputError(f"points must have shape (N, 2, 2 or 3); got {points.shape}")
+    try:
         mu = np.asarray(mu, dtype=float)
-        try:
-            mu = np.broadcast_to(mu if mu.ndim == 2 else mu.reshape(-1, 1), (len(points), 2))
-        except ValueError:
-            raise InputError(f"'mu' of shape {mu.shape} does not fit {len(points)} pairs") \
-                from None
+        mu = np.broadcast_to(mu if mu.ndim == 2 else mu.reshape(-1, 1), (len(points), 2))
+    except (TypeError, ValueError):
+        raise InputError(f"'mu' of shape {np.shape(mu)} does not fit {len(points)} pairs: "
+                         "give one value, one per pair, or (N, 2)") from None
+    if torsion is None and model in ("soft", "hard") and (model == "soft"
+                                                            or points.shape[2] == 2):
         return two_finger_closure(points[:, 0], normals[:, 0], points[:, 1], normals[:, 1],
                                   mu[:, 0], mu[:, 1], model=model).code
     return analyze_batch(points, normals, mu=mu, model=model, torsion=torsion).code
@@ -240,7 +244,8 @@ def pair_least_friction(p: NDArray[np.float64], n_p: NDArray[np.float64],
                         q: NDArray[np.float64], n_q: NDArray[np.float64]
                         ) -> NDArray[np.float64]:
     """The least friction of ``(N, d)`` pairs of soft fingers (planar: any fingers), compiled
-    and alone: no verdict is decided. Inputs as :func:`two_finger_closure` checks them."""
+    (the pair kernel, whose verdicts at friction 1 are dropped). Inputs as
+    :func:`two_finger_closure` checks them; exact cones."""
     from .kernels import announce_compiling, kernel_array
     from .kernels import pairs as kernel
 

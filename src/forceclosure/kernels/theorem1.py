@@ -772,7 +772,7 @@ def least_friction_kernel(points, normals, tors, model, edges, fit, exact, tol, 
             mu[:] = BRACKET
             c = grasp(points[g], normals[g], mu, tors[g], model_f, edges, fit, exact, tol,
                       work, ref, y)[0]
-            hi = math.atan(BRACKET)
+            lo, hi = 0.0, math.atan(BRACKET)
             if c != CLOSURE:
                 mu[:] = mu_max
                 c = grasp(points[g], normals[g], mu, tors[g], model_f, edges, fit, exact, tol,
@@ -781,8 +781,7 @@ def least_friction_kernel(points, normals, tors, model, edges, fit, exact, tol, 
                     out[g] = np.inf
                     deferred[g] = c == DEFER
                     continue
-                hi = math.atan(mu_max)
-            lo = 0.0
+                lo, hi = hi, math.atan(mu_max)
             while hi - lo > rtol * hi:
                 mid = 0.5 * (lo + hi)
                 mu[:] = math.tan(mid)
