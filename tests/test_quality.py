@@ -200,3 +200,29 @@ def test_vectorised_pairs_shape():
     q = np.ones((4, 5, 2))
     r = two_finger_closure(p, -np.ones(2), q, np.ones(2), 0.1)
     assert r.verdict.shape == (4, 5) and np.all(r.force_closure)
+
+
+def test_least_friction_of_a_soft_pair_with_a_pyramid_is_that_pyramids():
+    """With a fixed pyramid the closed form (exact cones) does not apply: the answer closes
+    the grasp with that pyramid, and less does not (an offset at 45 degrees to its edges)."""
+    grasp = [point_contact([-1, 0, 0], [-1, 0, 0], "soft"),
+             point_contact([1, 0.2, 0.2], [1, 0, 0], "soft")]
+    exact = least_friction(grasp)
+    square = least_friction(grasp, cone=Cone(4))
+    assert square > exact * 1.2  # the 4-edge pyramid is narrowest at 45 degrees
+    for use in (exact, square):
+        assert least_friction_reference(grasp, cone=Cone(4) if use == square else "exact") \
+            == pytest.approx(use, rel=1e-4)
+    closes = [analyze([c.with_friction(square * f) for c in grasp], cone=Cone(4)).verdict
+              for f in (0.99, 1.01)]
+    assert closes == [Verdict.NONE, Verdict.CLOSURE] or closes[0] is not Verdict.CLOSURE
+
+
+def test_pair_codes_read_friction_per_pair_on_every_path():
+    from forceclosure.two_finger import pair_codes
+
+    P = np.array([[[-1, 0, 0], [1, 0.2, 0]]] * 2, dtype=float)
+    N = np.array([[[-1, 0, 0], [1, 0, 0]]] * 2, dtype=float)
+    mu = [0.05, 0.5]  # one per pair: the first too little for the 0.1 offset
+    assert pair_codes(P, N, mu).tolist() == [0, 2]
+    assert pair_codes(P, N, mu, torsion=0.01).tolist() == [0, 2]
