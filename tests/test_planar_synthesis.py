@@ -364,3 +364,22 @@ def test_frame_grasps_inside_its_hole(capsys):
     for g, gap in zip(grasps[:4], (4, 4, 2, 2), strict=True):
         assert g["min_length"] == pytest.approx(gap * cone, rel=1e-9)
         assert g["certificate"]["holds"]
+
+
+@pytest.mark.parametrize("polygon", [bundled("frame"), bundled("wrench-head"), glyph("e"),
+                                     _slot_in_a_triangle()], ids=lambda p: p.name)
+def test_pruning_keeps_every_pair_that_pushes_apart(polygon):
+    """best_regions prunes the spreading LP to edges that reach outside each other's lines;
+    every pair whose own LP (maximal_regions, no pruning) gives spreading regions is among
+    its results, as long."""
+    mu = 0.6
+    want = {}
+    for i, j in itertools.combinations(range(len(polygon.edges)), 2):
+        r = maximal_regions(polygon, i, j, mu, spreading=True)
+        if r is not None:
+            assert r.spreading and r.certify().holds
+            want[(i, j)] = r.min_length
+    got = {r.edges: r.min_length for r in best_regions(polygon, mu, top=10_000) if r.spreading}
+    assert set(got) == set(want) and want, (got, want)
+    for k, length in want.items():
+        assert got[k] == pytest.approx(length, rel=1e-12)
