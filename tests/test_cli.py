@@ -236,3 +236,47 @@ def test_analyze_npz_truncated_array_keeps_the_rows_before_it(tmp_path, capsys):
     done = verdict != -1
     assert done.sum() == 48  # the three whole chunks before the cut
     np.testing.assert_array_equal(verdict[done], np.where(closed, 2, 0)[:48])
+
+
+@pytest.mark.parametrize("contact,want", [("hard", 3), ("soft", 2)])
+def test_synthesize_a_mesh_with_the_default_fingers(contact, want, capsys):
+    """`synthesize MESH` without --fingers takes the API's (and dataset's) default: the
+    fewest that can hold a polyhedron, 3 hard or 2 soft (two hard fingers cannot resist
+    rotation about the line between them), and says so in one line."""
+    import pybullet_data
+
+    from forceclosure.synthesis.best import synthesize
+
+    mesh = str(Path(pybullet_data.getDataPath()) / "cube.obj")  # not written here
+    assert synthesize(mesh, contact=contact, mu=0.5, top=1).fingers == want
+    assert main(["synthesize", mesh, "--mu", "0.5", "--top", "1", "--contact", contact]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0] == (f"cube: by default {want} {contact} fingers, the fewest that can hold a "
+                      f"polyhedron: " + ("two cannot resist rotation about the line between "
+                                         "them" if contact == "hard" else
+                                         "two soft fingers with friction can (§5.2)")
+                      + " (--fingers N to choose)")
+    assert out[1].startswith(f"cube: 1 best {want}-finger grasps")
+    assert "certified: True" in out[3]
+
+
+@pytest.mark.parametrize("argv,fingers,defaulted", [
+    (["square"], 2, True),  # polygons: two fingers with friction, as before
+    (["square", "--contact", "frictionless"], 4, True),  # the plane needs four without
+    (["square", "--fingers", "2"], 2, False),  # an explicit --fingers: as before, no note
+    (["square", "--fingers", "3", "--mu", "0.8"], 3, False),
+])
+def test_synthesize_default_fingers_on_polygons(argv, fingers, defaulted, capsys):
+    from forceclosure.objects import bundled
+    from forceclosure.synthesis.best import synthesize
+
+    assert main(["synthesize", *argv, "--top", "1"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert (out[0].startswith(f"square: by default {fingers} ")) is defaulted
+    assert out[int(defaulted)].startswith("square: ") and (
+        f" best {fingers}-finger grasps" in out[int(defaulted)])
+    if defaulted:
+        contact = "frictionless" if "frictionless" in argv else "hard"
+        assert synthesize(bundled("square"), contact=contact, top=1).fingers == fingers
+    assert main(["synthesize", *argv, "--top", "1", "--json"]) == 0  # JSON: unchanged
+    assert json.loads(capsys.readouterr().out)["fingers"] == fingers

@@ -31,9 +31,12 @@ def _closed_form(polygon, i, j, t1, t2, mu):
 
 @pytest.mark.parametrize("polygon", OBJECTS, ids=lambda p: p.name)
 def test_lemma_1_is_the_set_of_force_closure_grasps(polygon):
+    """pair_grasps against Corollary 3 in closed form (two_finger_closure: squeezing, PQ, or
+    pushing apart, QP), away from the boundary of closure: its pieces, as shapely polygons,
+    hold exactly the force-closure grasps, each piece those of its orientation."""
     rng = np.random.default_rng(0)
     mu = 0.4
-    nonempty = 0
+    nonempty = {False: 0, True: 0}
     for i in range(len(polygon.edges)):
         for j in range(i + 1, len(polygon.edges)):
             g = pair_grasps(polygon, i, j, mu)
@@ -41,24 +44,29 @@ def test_lemma_1_is_the_set_of_force_closure_grasps(polygon):
             t1 = rng.uniform(0, e1.length, 400)
             t2 = rng.uniform(0, e2.length, 400)
             truth = _closed_form(polygon, i, j, t1, t2, mu)
-            # Lemma 1's set is the squeezing grasps (PQ): the fingers pushing apart inside a
-            # slot (QP, Corollary 3's other case) are not searched (docs/synthesis.md)
-            worst = np.maximum(truth.angle_p, truth.angle_q)
-            squeezing = worst < math.atan(mu)
-            clear = np.abs(worst - math.atan(mu)) > 1e-9
-            assert np.array_equal(truth.force_closure[clear & squeezing],
-                                  np.ones(np.sum(clear & squeezing), bool))
-            np.testing.assert_array_equal(g.contains(t1, t2)[clear], squeezing[clear])
+            closure = truth.force_closure
+            # a spreading grasp has both angles above 90 degrees; away from both boundaries
+            worst = {False: np.maximum(truth.angle_p, truth.angle_q),
+                     True: np.maximum(np.pi - truth.angle_p, np.pi - truth.angle_q)}
+            clear = np.all([np.abs(w - math.atan(mu)) > 1e-9 for w in worst.values()], axis=0)
+            np.testing.assert_array_equal(g.contains(t1, t2)[clear], closure[clear])
             if g.empty:
-                assert not squeezing[clear].any()
-            else:
-                nonempty += 1
-                inside = shapely.Polygon(g.region)
-                pts = shapely.points(np.stack([t1, t2], 1))
-                far = shapely.distance(inside.boundary, pts) > 1e-9
-                np.testing.assert_array_equal(shapely.contains(inside, pts)[far & clear],
-                                              squeezing[far & clear])
-    assert nonempty > 0
+                assert not closure[clear].any()
+            assert [p.spreading for p in g.pieces] == [False, True]
+            pts = shapely.points(np.stack([t1, t2], 1))
+            for piece in g.pieces:
+                way = worst[piece.spreading] < math.atan(mu)
+                if len(piece.region) < 3:
+                    assert not (closure & way)[clear].any()
+                    continue
+                nonempty[piece.spreading] += 1
+                inside = shapely.Polygon(piece.region)
+                far = (shapely.distance(inside.boundary, pts) > 1e-9) & clear
+                np.testing.assert_array_equal(shapely.contains(inside, pts)[far],
+                                              (closure & way)[far])
+    assert nonempty[False] > 0
+    # fingers pushing apart exist only where the outline turns both ways
+    assert (nonempty[True] > 0) == (polygon.name in ("frame", "wrench-head")), nonempty
 
 
 def _sample_box(regions, rng, n):
@@ -258,3 +266,120 @@ def test_nguyen_construction_from_the_command(tmp_path, capsys):
     with pytest.raises(InputError, match="construction must be"):
         best_regions(bundled("square"), 0.3, construction="other")
     assert main(["synthesize", "square", "--fingers", "3", "--construction", "nguyen"]) == 2
+
+
+def _slot_in_a_triangle():
+    """An equilateral triangle 6 wide with a slot 1 wide and 2 deep cut up from its base (a
+    U-shaped opening). At mu 0.2 no two of its edges but the slot's walls have friction
+    cones that counter-overlap (the triangle's normals are 120 degrees apart, the walls'
+    30 or 90 degrees from the others'), and the walls face each other across the slot:
+    every two-finger grasp pushes the walls apart."""
+    h = 3 * math.sqrt(3)
+    return Polygon.from_points([(-3, 0), (-0.5, 0), (-0.5, 2), (0.5, 2), (0.5, 0), (3, 0),
+                                (0, h)], name="slot in a triangle")
+
+
+def _analyzed(polygon, regions, rng, n):
+    """Theorem 1's general test (analyze) on n random pairs and the corners of a region
+    set; also whether each pair spreads (p - q points into the object at p)."""
+    i, j = regions.edges
+    e1, e2 = polygon.edges[i], polygon.edges[j]
+    t1, t2 = _sample_box(regions, rng, n)
+    verdicts, spreads = [], []
+    for a, b in zip(t1, t2, strict=True):
+        p, q = e1.point(a), e2.point(b)
+        grasp = [point_contact(p, e1.normal, "hard", regions.mu[0]),
+                 point_contact(q, e2.normal, "hard", regions.mu[1])]
+        verdicts.append(analyze(grasp).verdict)
+        spreads.append(float((p - q) @ -e1.normal) > 0)
+    return verdicts, spreads
+
+
+def test_grasps_in_a_slot_push_apart_and_are_found():
+    polygon = _slot_in_a_triangle()
+    mu = 0.2
+    rng = np.random.default_rng(3)
+    # the truth, independent of the synthesis: Corollary 3 on dense samples of every pair
+    closing = {}
+    for i, j in itertools.combinations(range(len(polygon.edges)), 2):
+        e1, e2 = polygon.edges[i], polygon.edges[j]
+        t1, t2 = rng.uniform(0, e1.length, 4000), rng.uniform(0, e2.length, 4000)
+        truth = _closed_form(polygon, i, j, t1, t2, mu)
+        if truth.force_closure.any():
+            closing[(i, j)] = truth
+    assert set(closing) == {(1, 3)}  # only the slot's walls
+    truth = closing[(1, 3)]
+    assert np.all(truth.angle_p[truth.force_closure] > np.pi / 2)  # all pushing apart
+    found = best_regions(polygon, mu, top=5)
+    assert [(r.edges, r.spreading) for r in found] == [((1, 3), True)]
+    r = found[0]
+    assert r.certify().holds and "pushing apart" in r.certify().detail
+    # facing walls 1 apart: aligned segments of length tan(atan(mu) - margin)
+    assert r.min_length == pytest.approx(math.tan(math.atan(mu) - ANGLE_MARGIN), rel=1e-6)
+    verdicts, spreads = _analyzed(polygon, r, rng, 1000)
+    assert set(verdicts) == {Verdict.CLOSURE} and all(spreads)
+    # the same regions checked as squeezing ones are refused: the proof has an orientation
+    import dataclasses
+
+    assert not dataclasses.replace(r, spreading=False).certify().holds
+    n = best_regions(polygon, mu, top=5, construction="nguyen")
+    assert [(x.edges, x.spreading) for x in n] == [((1, 3), True)] and n[0].certify().holds
+    assert n[0].min_length <= r.min_length * (1 + 1e-9)
+    assert set(_analyzed(polygon, n[0], rng, 500)[0]) == {Verdict.CLOSURE}
+
+
+@pytest.mark.parametrize("polygon", [bundled("frame"), bundled("wrench-head"),
+                                     _slot_in_a_triangle()], ids=lambda p: p.name)
+@pytest.mark.parametrize("construction", ["maximal", "nguyen"])
+def test_spreading_regions_hold_under_the_general_test(polygon, construction):
+    """Every region set best_regions returns (both orientations ranked together, best
+    first) is certified, and 300 random pairs and the corners of each pass Theorem 1's
+    general test, in the orientation it claims."""
+    rng = np.random.default_rng(4)
+    mu = 0.4 if polygon.name != "slot in a triangle" else 0.2
+    found = best_regions(polygon, mu, top=12, construction=construction)
+    assert any(r.spreading for r in found)
+    for r in found:
+        assert r.certify().holds
+        verdicts, spreads = _analyzed(polygon, r, rng, 300)
+        assert set(verdicts) == {Verdict.CLOSURE}, r
+        assert set(spreads) == {r.spreading}, r
+    lengths = [r.min_length for r in found]
+    assert all(a >= b - 1e-12 for a, b in itertools.pairwise(lengths))
+
+
+def test_frame_grasps_inside_its_hole(capsys):
+    """The frame (a 4 x 4 square with a 2 x 2 hole): at mu 0.4 the best grasps squeeze its
+    outer sides, 4 apart (segments 4 tan(atan(mu) - margin), closed form), then push the
+    hole's sides apart, 2 apart (half as long)."""
+    import json
+
+    from forceclosure.cli import main
+
+    assert main(["synthesize", "frame", "--fingers", "2", "--mu", "0.4", "--json"]) == 0
+    grasps = json.loads(capsys.readouterr().out)["grasps"]
+    got = [(tuple(g["edges"]), g["spreading"]) for g in grasps[:4]]
+    assert got == [((0, 2), False), ((1, 3), False), ((4, 6), True), ((5, 7), True)]
+    cone = math.tan(math.atan(0.4) - ANGLE_MARGIN)
+    for g, gap in zip(grasps[:4], (4, 4, 2, 2), strict=True):
+        assert g["min_length"] == pytest.approx(gap * cone, rel=1e-9)
+        assert g["certificate"]["holds"]
+
+
+@pytest.mark.parametrize("polygon", [bundled("frame"), bundled("wrench-head"), glyph("e"),
+                                     _slot_in_a_triangle()], ids=lambda p: p.name)
+def test_pruning_keeps_every_pair_that_pushes_apart(polygon):
+    """best_regions prunes the spreading LP to edges that reach outside each other's lines;
+    every pair whose own LP (maximal_regions, no pruning) gives spreading regions is among
+    its results, as long."""
+    mu = 0.6
+    want = {}
+    for i, j in itertools.combinations(range(len(polygon.edges)), 2):
+        r = maximal_regions(polygon, i, j, mu, spreading=True)
+        if r is not None:
+            assert r.spreading and r.certify().holds
+            want[(i, j)] = r.min_length
+    got = {r.edges: r.min_length for r in best_regions(polygon, mu, top=10_000) if r.spreading}
+    assert set(got) == set(want) and want, (got, want)
+    for k, length in want.items():
+        assert got[k] == pytest.approx(length, rel=1e-12)

@@ -383,10 +383,16 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
     if args.vertices and args.contact == "frictionless":
         raise InputError("--vertices puts soft fingers, with friction, on vertices; it "
                          "does not go with --contact frictionless")
+    defaulted = args.fingers is None
     result = synthesize(obj, args.fingers, args.contact, args.mu, top=args.top,
                         margin=args.margin, construction=args.construction,
                         method=args.method, samples=args.samples, seed=args.seed)
-    args.fingers = result.fingers  # the default filled in
+    args.fingers = result.fingers  # the default filled in (the API's and dataset's)
+    if defaulted and not args.json:
+        from .synthesis.best import default_fingers_reason
+
+        print(f"{obj.name}: by default {default_fingers_reason(obj.dim, args.contact)} "
+              "(--fingers N to choose)")
     if obj.dim == 3:
         return _synthesize_spatial(args, obj, result)
     found, mu = result.found, result.mu

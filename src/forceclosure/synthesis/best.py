@@ -55,10 +55,39 @@ class Synthesis:
 
 def default_fingers(dim: int, contact: str) -> int:
     """The fewest fingers of a contact model that can hold an object: 2 with friction
-    in the plane (4 frictionless); in space 2 soft, 3 hard, 7 frictionless."""
+    in the plane (4 frictionless); in space 2 soft, 3 hard, 7 frictionless.
+
+    The one default of :func:`synthesize`, ``forceclosure synthesize`` and ``forceclosure
+    dataset`` (:func:`default_fingers_reason` says why).
+
+    Examples
+    --------
+    >>> default_fingers(2, "hard"), default_fingers(3, "hard"), default_fingers(3, "soft")
+    (2, 3, 2)
+    """
     if dim == 2:
         return 4 if contact == "frictionless" else 2
     return {"soft": 2, "hard": 3, "frictionless": 7}[contact]
+
+
+def default_fingers_reason(dim: int, contact: str) -> str:
+    """Why :func:`default_fingers` is the fewest that can hold a ``dim``-D object, in words.
+
+    Examples
+    --------
+    >>> default_fingers_reason(3, "hard")
+    '3 hard fingers, the fewest that can hold a polyhedron: two cannot resist rotation \
+about the line between them'
+    """
+    n = default_fingers(dim, contact)
+    if dim == 2:
+        why = ("without friction the plane needs four (§5.4)" if contact == "frictionless"
+               else "two with friction can (Corollary 3)")
+        return f"{n} {contact} fingers, the fewest that can hold a polygon: {why}"
+    why = {"soft": "two soft fingers with friction can (§5.2)",
+           "hard": "two cannot resist rotation about the line between them",
+           "frictionless": "six cannot (Lakshminarayana 1978)"}[contact]
+    return f"{n} {contact} fingers, the fewest that can hold a polyhedron: {why}"
 
 
 def check_hand(dim: int, fingers: int | None, contact: str = "hard", mu: float = 0.3, *,

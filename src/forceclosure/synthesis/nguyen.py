@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 
 from ..objects.polygon import Edge, Polygon
 from .patches import clip
-from .planar import ANGLE_MARGIN, IndependentRegions, _shrunk_pair
+from .planar import ANGLE_MARGIN, IndependentRegions, Sector, _shrunk_pair
 
 
 def _ray_hits(edge: Edge, direction: NDArray) -> tuple[NDArray, float]:
@@ -27,7 +27,8 @@ def _ray_hits(edge: Edge, direction: NDArray) -> tuple[NDArray, float]:
 
 
 def nguyen_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | None = None,
-                   margin: float = ANGLE_MARGIN) -> IndependentRegions | None:
+                   margin: float = ANGLE_MARGIN, *, spreading: bool | None = None,
+                   ) -> IndependentRegions | None:
     """Independent regions by Nguyen's Algorithm 1: a two-sided cone between two edges (§5.1).
 
     A two-sided cone with vertex ``I`` and the counter-overlapping sector
@@ -42,6 +43,12 @@ def nguyen_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | No
     best vertex is a vertex of the region or a point where the equal-length
     line crosses its boundary: all are tried.
 
+    Fingers pushing apart from inside a slot or a hole (Corollary 3's ``QP``
+    case) are the same construction with the sector negated (``q - p`` in
+    ``-S``): ``spreading`` True builds that, False the squeezing one, None
+    (the default) whichever gives the longer shorter segment (squeezing on a
+    tie).
+
     Returns None when the trade-off region is empty: the edges are far apart
     for their lengths, so no vertex cuts both within them and the paper's
     construction yields nothing. :func:`maximal_regions` then often takes
@@ -53,11 +60,26 @@ def nguyen_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | No
     >>> r = nguyen_regions(bundled("square"), 0, 2, mu=0.3)
     >>> round(r.min_length, 3), r.certify().holds
     (0.598, True)
+    >>> r = nguyen_regions(bundled("frame"), 4, 6, mu=0.3)   # inside the hole: apart
+    >>> round(r.min_length, 3), r.spreading, r.certify().holds
+    (0.598, True, True)
     """
     e1, e2, _, sector = _shrunk_pair(polygon, i, j, mu, mu_q, margin)
     if sector is None:
         return None
     mu_q = mu if mu_q is None else mu_q
+    ways = (False, True) if spreading is None else (bool(spreading),)
+    found = [r for way in ways
+             if (r := _two_sided_cone(polygon, i, j, e1, e2, sector, mu, mu_q, way)) is not None]
+    return max(found, key=lambda r: r.min_length, default=None)
+
+
+def _two_sided_cone(polygon: Polygon, i: int, j: int, e1: Edge, e2: Edge, sector: Sector,
+                    mu: float, mu_q: float, spreading: bool) -> IndependentRegions | None:
+    """Algorithm 1 on one orientation: ``q - p`` in ``sector`` (squeezing) or in its
+    negation (spreading)."""
+    if spreading:
+        sector = Sector(sector.low + math.pi, sector.high + math.pi)
     rays = [np.array([math.cos(a), math.sin(a)]) for a in (sector.low, sector.high)]
     # Each cut endpoint, as an affine function of I: backward rays to e1, forward rays to e2.
     ends = []
@@ -102,5 +124,5 @@ def nguyen_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | No
     regions = IndependentRegions(polygon, (i, j), tuple(segments),
                                  "Nguyen's two-sided cone (Algorithm 1)",
                                  (float(mu), float(mu_q)),
-                                 (float(best[0]) + 0.0, float(best[1]) + 0.0))
+                                 (float(best[0]) + 0.0, float(best[1]) + 0.0), spreading)
     return regions if regions.certify().holds else None

@@ -11,11 +11,15 @@ parameters ``(t1, t2)``, so are the four conditions. Therefore:
 
 * **Lemma 1**: the complete set of force-closure grasps on the pair is the
   parameter box ``[0, L1] x [0, L2]`` cut by four open half-planes, a convex
-  polygon in ``(t1, t2)`` (:func:`pair_grasps`);
+  polygon in ``(t1, t2)`` (:func:`pair_grasps`), for fingers squeezing the
+  object; Corollary 3's other case, ``QP`` (fingers pushing apart from inside
+  a slot or a hole), is the same four conditions on ``-w``, every sign
+  flipped: a second convex polygon (empty on a convex polygon);
 * **independent regions**: segments ``s1 x s2`` on which *every* pair is
   force-closure. A linear condition holds on a box iff it holds at the box's
   four corners, so the largest such pair of segments (largest minimum
-  length) is a small linear program (:func:`maximal_regions`);
+  length) is a small linear program (:func:`maximal_regions`), in either
+  orientation;
 * **certificates**: the corner check is redone in exact rational arithmetic
   on the floating-point data (:meth:`IndependentRegions.certify`): a proof,
   not a numerical judgement.
@@ -160,12 +164,25 @@ class PairGrasps:
     edges : (int, int)
     sector : Sector or None
         The counter-overlapping sector; None when the cones do not counter-overlap.
+        (For the spreading piece: the sector negated, the directions ``q - p``
+        take when the fingers push apart.)
     region : (k, 2) array
         Convex polygon in ``(t1, t2)``, edge parameters (distances from each
-        edge's start). Its interior is the set of force-closure grasps;
-        empty when there are none.
+        edge's start). Its interior is the set of force-closure grasps of this
+        piece's orientation; empty when there are none.
+    A, b : arrays
+        Corollary 3's conditions on ``w = q - p``: ``A @ (t1, t2) + b > 0``
+        squeezing, ``< 0`` (every row) spreading.
     reason : str
-        Why the set is empty, or a description of it.
+        Why the set is empty, or a description of it (of both pieces, on what
+        :func:`pair_grasps` returns).
+    spreading : bool
+        This piece's orientation: False, the fingers squeeze (``PQ``); True,
+        they push apart (``QP``).
+    other : PairGrasps or None
+        On what :func:`pair_grasps` returns (the squeezing piece): the
+        spreading piece. :attr:`pieces` gives both, :attr:`empty` and
+        :meth:`contains` are about their union.
     """
 
     edges: tuple[int, int]
@@ -174,24 +191,40 @@ class PairGrasps:
     A: NDArray[np.float64]
     b: NDArray[np.float64]
     reason: str
+    spreading: bool = False
+    other: PairGrasps | None = None
+
+    @property
+    def pieces(self) -> tuple[PairGrasps, ...]:
+        """The convex pieces: squeezing, then (on what :func:`pair_grasps` returns)
+        spreading."""
+        return (self,) if self.other is None else (self, *self.other.pieces)
 
     @property
     def empty(self) -> bool:
-        """True when no grasp on the pair is force-closure."""
-        return len(self.region) < 3
+        """True when no grasp on the pair is force-closure (in any piece)."""
+        return all(len(g.region) < 3 for g in self.pieces)
 
     def contains(self, t1, t2) -> NDArray[np.bool_]:
-        """Whether the grasps at ``(t1, t2)`` are force-closure (vectorised)."""
+        """Whether the grasps at ``(t1, t2)`` are force-closure, in any piece (vectorised)."""
         t = np.stack(np.broadcast_arrays(np.asarray(t1, float), np.asarray(t2, float)), -1)
-        return np.all(t @ self.A.T + self.b > 0, axis=-1)
+        inside = np.zeros(t.shape[:-1], bool)
+        for g in self.pieces:
+            sign = -1.0 if g.spreading else 1.0
+            inside |= np.all(sign * (t @ g.A.T + g.b) > 0, axis=-1)
+        return inside
 
 
 def pair_grasps(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | None = None,
                 ) -> PairGrasps:
-    """All squeezing force-closure grasps with hard fingers on edges ``i`` and ``j`` (Lemma 1).
+    """All force-closure grasps with hard fingers on edges ``i`` and ``j`` (Lemma 1).
 
-    Fingers pushing apart from inside a slot (Corollary 3's ``QP`` case, only
-    on non-convex polygons) are force-closure too but not in this set.
+    Two convex pieces: the fingers squeezing (``w = q - p`` in the
+    counter-overlapping sector, ``A t + b > 0``), which is returned, and the
+    fingers pushing apart from inside a slot or a hole (Corollary 3's ``QP``
+    case, ``-w`` in it, ``A t + b < 0``), its :attr:`~PairGrasps.other`. On a
+    convex polygon the second is always empty; :attr:`~PairGrasps.empty` and
+    :meth:`~PairGrasps.contains` are about both.
 
     Examples
     --------
@@ -199,25 +232,44 @@ def pair_grasps(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | None 
     >>> g = pair_grasps(bundled("square"), 0, 2, mu=0.3)   # opposite sides, 2 apart
     >>> g.contains(1.0, 1.0).item(), g.contains(0.2, 0.2).item()   # head on; 1.6 apart sideways
     (True, False)
+    >>> h = pair_grasps(bundled("frame"), 4, 6, mu=0.3)   # the hole's sides, 2 apart
+    >>> h.contains(1.0, 1.0).item(), [len(g.region) > 0 for g in h.pieces]   # pushing apart
+    (True, [False, True])
     """
     mu_q = mu if mu_q is None else mu_q
     _check_mu(mu, mu_q)
     e1, e2 = _edges(polygon, i, j)
     sector = counter_overlapping_sector(e1.normal, mu, e2.normal, mu_q)
     A, b = _affine(e1, e2, mu, mu_q)
-    box = np.array([[0, 0], [e1.length, 0], [e1.length, e2.length], [0, e2.length]])
     if sector is None:
-        return PairGrasps((i, j), None, np.zeros((0, 2)), A, b,
-                          "the friction cones do not counter-overlap (the normals are too "
-                          "far from opposite for this friction)")
-    region = clip(box.astype(float), A, -b)
+        why = ("the friction cones do not counter-overlap (the normals are too far from "
+               "opposite for this friction)")
+        none = np.zeros((0, 2))
+        return PairGrasps((i, j), None, none, A, b, why, False,
+                          PairGrasps((i, j), None, none, A, b, why, True))
+    squeeze, spread = (_piece(e1, e2, (i, j), sector, A, b, s) for s in (False, True))
+    said = [g.reason for g in (squeeze, spread) if len(g.region)]
+    reason = "; ".join(said) if said else squeeze.reason
+    return PairGrasps((i, j), sector, squeeze.region, A, b, reason, False, spread)
+
+
+def _piece(e1: Edge, e2: Edge, edges: tuple[int, int], sector: Sector, A: NDArray,
+           b: NDArray, spreading: bool) -> PairGrasps:
+    """One orientation's convex piece of Lemma 1's set: the box cut by four half-planes."""
+    box = np.array([[0, 0], [e1.length, 0], [e1.length, e2.length], [0, e2.length]], float)
+    sign = -1.0 if spreading else 1.0
+    if spreading:
+        sector = Sector(sector.low + math.pi, sector.high + math.pi)
+    region = clip(box, sign * A, -sign * b)
     if len(region) < 3 or _area(region) <= 1e-12 * e1.length * e2.length:
-        return PairGrasps((i, j), sector, np.zeros((0, 2)), A, b,
+        return PairGrasps(edges, sector, np.zeros((0, 2)), A, b,
                           "the edges are placed so that no segment between them lies in the "
-                          "counter-overlapping sector")
+                          "counter-overlapping sector", spreading)
     share = _area(region) / (e1.length * e2.length)
-    return PairGrasps((i, j), sector, region, A, b,
-                      f"{share:.1%} of the pairs of points on the two edges are force-closure")
+    how = "the fingers pushing apart" if spreading else "the fingers squeezing"
+    return PairGrasps(edges, sector, region, A, b,
+                      f"{share:.1%} of the pairs of points on the two edges are force-closure, "
+                      f"{how}", spreading)
 
 
 def _area(poly: NDArray[np.float64]) -> float:
@@ -233,18 +285,25 @@ class IndependentRegions(Regions):
     ------------------------------------
     mu : (float, float)
         The friction at each finger.
+    apex : (float, float) or None
+        The vertex of Nguyen's two-sided cone, if it made them.
+    spreading : bool
+        The fingers push apart from inside a slot or a hole (Corollary 3's ``QP``
+        case: ``p - q`` in the cone at ``p``) rather than squeeze (``PQ``).
     """
 
     mu: tuple[float, float] = (0.0, 0.0)
     apex: tuple[float, float] | None = None  # Nguyen's two-sided cone vertex, if it made them
+    spreading: bool = False
 
     def friction(self) -> tuple[float, ...]:
         """The friction coefficient at each finger."""
         return tuple(self.mu)
 
     def to_dict(self) -> dict[str, object]:
-        """The JSON record (see :meth:`Regions.to_dict`), with ``mu`` (and ``apex``)."""
-        record = {**super().to_dict(), "mu": list(self.mu)}
+        """The JSON record (see :meth:`Regions.to_dict`), with ``mu``, ``spreading`` (and
+        ``apex``)."""
+        record = {**super().to_dict(), "mu": list(self.mu), "spreading": self.spreading}
         if self.apex is not None:
             record["apex"] = list(self.apex)
         return record
@@ -257,7 +316,9 @@ class IndependentRegions(Regions):
         ``s1 x s2`` iff they hold at its four corners. The corners are
         checked with ``fractions.Fraction`` at the very floating-point points
         that are printed and returned, with each edge's normal taken exactly
-        from its two vertices: no rounding enters.
+        from its two vertices: no rounding enters. Squeezing regions are
+        checked with ``w = q - p``, spreading ones with ``w = p - q``
+        (Corollary 3's two cases).
         """
         e1, e2 = (self.polygon.edges[k] for k in self.edges)
         F = Fraction
@@ -275,13 +336,16 @@ class IndependentRegions(Regions):
             for t2 in self.segments[1]:
                 p, q = exact_point(e1, t1), exact_point(e2, t2)
                 w = [q[0] - p[0], q[1] - p[1]]
+                if self.spreading:
+                    w = [-w[0], -w[1]]
                 if not (inside(m_p, mu_p, w) and inside(m_q, mu_q, [-w[0], -w[1]])):
                     return Certificate(False, "corner check (exact rationals)",
                                        f"the grasp at t = ({t1:.6g}, {t2:.6g}) is not "
                                        "strictly inside both friction cones")
+        how = ", the fingers pushing apart (QP)" if self.spreading else ""
         return Certificate(True, "corner check (exact rationals)",
-                           "Corollary 3 holds strictly at the four corners of s1 x s2, hence "
-                           "(linear conditions) at every pair of points")
+                           f"Corollary 3 holds strictly at the four corners of s1 x s2{how}, "
+                           "hence (linear conditions) at every pair of points")
 
 
 def _constraint_triples() -> NDArray[np.int64]:
@@ -345,14 +409,17 @@ def max_min_segments(A: NDArray, b: NDArray, L1: NDArray, L2: NDArray,
 
 
 def maximal_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | None = None,
-                    margin: float = ANGLE_MARGIN) -> IndependentRegions | None:
+                    margin: float = ANGLE_MARGIN, *, spreading: bool | None = None,
+                    ) -> IndependentRegions | None:
     """The largest independent regions of contact on edges ``i`` and ``j`` (exact LP).
 
     Maximises the shorter segment's length, subject to every pair of points
     being force-closure with at least ``margin`` radians to spare in both
     cones. The conditions are linear in the segment endpoints (checked at
     the corners), so this is a small linear program, solved exactly by
-    :func:`max_min_segments`.
+    :func:`max_min_segments`. ``spreading``: the fingers squeeze (False), push
+    apart from inside a slot or a hole (True), or whichever gives the larger
+    regions (None; squeezing on a tie).
 
     Returns None when the pair has no such regions.
 
@@ -366,19 +433,33 @@ def maximal_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | N
     >>> r = maximal_regions(bundled("square"), 0, 2, mu=0.3)
     >>> round(r.min_length, 3), r.certify().holds
     (0.598, True)
+
+    Inside the square hole of the frame, 2 across, the fingers push apart:
+
+    >>> r = maximal_regions(bundled("frame"), 4, 6, mu=0.3)
+    >>> round(r.min_length, 3), r.spreading, r.certify().holds
+    (0.598, True, True)
     """
     e1, e2, shrink, sector = _shrunk_pair(polygon, i, j, mu, mu_q, margin)
     if sector is None:
         return None
     mu_q = mu if mu_q is None else mu_q
     A, b = _affine(e1, e2, *shrink)
-    z, u1, u2 = max_min_segments(A[None], b[None], np.array([e1.length]),
-                                 np.array([e2.length]))
-    return _certified(polygon, i, j, float(z[0]), float(u1[0]), float(u2[0]), (mu, mu_q))
+    ways = (False, True) if spreading is None else (bool(spreading),)
+    found = []
+    for way in ways:
+        sign = -1.0 if way else 1.0
+        z, u1, u2 = max_min_segments(sign * A[None], sign * b[None], np.array([e1.length]),
+                                     np.array([e2.length]))
+        r = _certified(polygon, i, j, float(z[0]), float(u1[0]), float(u2[0]), (mu, mu_q),
+                       way)
+        if r is not None:
+            found.append(r)
+    return max(found, key=lambda r: r.min_length, default=None)
 
 
 def _certified(polygon: Polygon, i: int, j: int, z: float, u1: float, u2: float,
-               mu: tuple[float, float]) -> IndependentRegions | None:
+               mu: tuple[float, float], spreading: bool = False) -> IndependentRegions | None:
     """Segments of length ``z`` from ``u1``, ``u2``, returned only with a holding certificate."""
     e1, e2 = polygon.edges[i], polygon.edges[j]
     z = float(z)
@@ -389,7 +470,8 @@ def _certified(polygon: Polygon, i: int, j: int, z: float, u1: float, u2: float,
     mu = (float(mu[0]), float(mu[1]))
     for trim in (0.0, 1e-9):  # should rounding have cut a corner, trim and check again
         cut = tuple((u + trim * (v - u), v - trim * (v - u)) for u, v in segments)
-        regions = IndependentRegions(polygon, (i, j), cut, "maximal (linear program)", mu)
+        regions = IndependentRegions(polygon, (i, j), cut, "maximal (linear program)", mu,
+                                     spreading=bool(spreading))
         if regions.certify().holds:
             return regions
     return None
@@ -422,16 +504,29 @@ def _candidate_pairs(normal: NDArray[np.float64],
     return np.concatenate(kept_i).astype(np.int64), np.concatenate(kept_j).astype(np.int64)
 
 
+def _convex(polygon: Polygon) -> bool:
+    """A polygon without holes whose outline never turns both ways: no grasp on it spreads
+    (``p - q`` never points into the object from ``p``)."""
+    if polygon.holes:
+        return False
+    d = np.array([e.direction for e in polygon.edges])
+    turns = d[:, 0] * np.roll(d[:, 1], -1) - d[:, 1] * np.roll(d[:, 0], -1)
+    return bool(np.all(turns >= 0) or np.all(turns <= 0))
+
+
 def best_regions(polygon: Polygon, mu: float, top: int = 5, margin: float = ANGLE_MARGIN,
                  construction: str = "maximal") -> list[IndependentRegions]:
     """Independent regions for two hard fingers on every pair of edges, best first.
 
     Pairs whose friction cones cannot counter-overlap are pruned by a test on
     the two normals. The rest are solved together by
-    :func:`max_min_segments`, or, with ``construction="nguyen"``, given
-    Nguyen's regions where maximal ones exist. They are ranked by their
-    shorter segment (the placement error the grasp tolerates; ties by edge
-    indices), and the ``top`` ones are returned, each certified.
+    :func:`max_min_segments`, in both of Corollary 3's orientations (the
+    fingers squeezing, or pushing apart from inside a slot or a hole; only the
+    first on a convex polygon), or, with ``construction="nguyen"``, given
+    Nguyen's regions where maximal ones exist. They are ranked together by
+    their shorter segment (the placement error the grasp tolerates; ties by
+    edge indices, squeezing first), and the ``top`` ones are returned, each
+    certified.
 
     Examples
     --------
@@ -439,6 +534,8 @@ def best_regions(polygon: Polygon, mu: float, top: int = 5, margin: float = ANGL
     >>> best = best_regions(bundled("hexagon"), mu=0.3, top=3)
     >>> [r.edges for r in best], round(best[0].min_length, 3)
     ([(0, 3), (1, 4), (2, 5)], 0.518)
+    >>> [(r.edges, r.spreading) for r in best_regions(bundled("frame"), mu=0.4, top=4)]
+    [((0, 2), False), ((1, 3), False), ((4, 6), True), ((5, 7), True)]
     """
     if not isinstance(top, int) or isinstance(top, bool) or top < 1:
         raise InputError(f"'top' must be a positive integer, got {top!r}")
@@ -449,30 +546,49 @@ def best_regions(polygon: Polygon, mu: float, top: int = 5, margin: float = ANGL
         return []
     start, direction, normal, length = (np.array([getattr(e, k) for e in edges])
                                         for k in ("start", "direction", "normal", "length"))
-    i, j = _candidate_pairs(normal, shrunk)
-    z = np.full(len(i), -np.inf)
-    u1, u2 = np.zeros(len(i)), np.zeros(len(i))
-    for lo in range(0, len(i), CHUNK):
-        sl = slice(lo, lo + CHUNK)
-        A, b = _affine_arrays(start[i[sl]], direction[i[sl]], normal[i[sl]], start[j[sl]],
-                              direction[j[sl]], normal[j[sl]], shrunk, shrunk)
-        z[sl], u1[sl], u2[sl] = max_min_segments(A, b, length[i[sl]], length[j[sl]])
+    i, j = _candidate_pairs(normal, shrunk)  # the same test for both orientations
+    pairs = [(i, j, False)]
+    if not _convex(polygon):  # fingers pushing apart: each edge must reach outside the other's
+        end = start + direction * length[:, None]  # line (a necessary condition, cheap)
+        tol = 1e-12 * polygon.size
+
+        def outside(a, b):
+            return np.maximum(np.einsum("pk,pk->p", start[b] - start[a], normal[a]),
+                              np.einsum("pk,pk->p", end[b] - start[a], normal[a])) > -tol
+
+        keep = outside(i, j) & outside(j, i)
+        pairs.append((i[keep], j[keep], True))
+    solved = []
+    for pi, pj, way in pairs:
+        z, u1, u2 = (np.full(len(pi), -np.inf), np.zeros(len(pi)), np.zeros(len(pi)))
+        sign = -1.0 if way else 1.0
+        for lo in range(0, len(pi), CHUNK):
+            sl = slice(lo, lo + CHUNK)
+            A, b = _affine_arrays(start[pi[sl]], direction[pi[sl]], normal[pi[sl]],
+                                  start[pj[sl]], direction[pj[sl]], normal[pj[sl]], shrunk,
+                                  shrunk)
+            z[sl], u1[sl], u2[sl] = max_min_segments(sign * A, sign * b, length[pi[sl]],
+                                                     length[pj[sl]])
+        solved.append((pi, pj, np.full(len(pi), way), z, u1, u2))
+    i, j, spread, z, u1, u2 = (np.concatenate(c) for c in zip(*solved, strict=True))
     if construction == "nguyen":  # the paper's construction on the same candidate pairs
         from .nguyen import nguyen_regions
 
-        built = [nguyen_regions(polygon, int(a), int(b), mu, margin=margin)
-                 for a, b, zab in zip(i, j, z, strict=True) if zab > 0]
+        built = [nguyen_regions(polygon, int(a), int(b), mu, margin=margin, spreading=bool(w))
+                 for a, b, w, zab in zip(i, j, spread, z, strict=True) if zab > 0]
         built = [r for r in built if r is not None]
-        built.sort(key=lambda r: (-round(r.min_length / polygon.size, 12), r.edges))
+        built.sort(key=lambda r: (-round(r.min_length / polygon.size, 12), r.edges,
+                                  r.spreading))
         return built[:top]
     if construction != "maximal":
         raise InputError(f"construction must be 'maximal' or 'nguyen', got {construction!r}")
-    order = np.lexsort((j, i, -np.round(z / polygon.size, 12)))
+    order = np.lexsort((spread, j, i, -np.round(z / polygon.size, 12)))
     found = []
     for k in order:
         if len(found) == top or not z[k] > 0:
             break
-        regions = _certified(polygon, int(i[k]), int(j[k]), z[k], u1[k], u2[k], (mu, mu))
+        regions = _certified(polygon, int(i[k]), int(j[k]), z[k], u1[k], u2[k], (mu, mu),
+                             bool(spread[k]))
         if regions is not None:
             found.append(regions)
     return found
