@@ -126,7 +126,8 @@ def _vertex_grasp(ax: Any, g: Any, colour: Any, label: str, reach: float,
                   labels_at: dict) -> None:
     """A soft finger on a convex vertex: a dot, and its cone (the hull of the friction cones
     of the two edges meeting there, shaded); the other finger's segment or vertex alike.
-    ``labels_at`` counts the labels already written at each vertex (they stack outward)."""
+    ``labels_at`` counts the labels already written at each vertex (they stack outward) and
+    collects where they are (``"places"``)."""
     polygon = g.polygon
     edges = polygon.edges
 
@@ -167,9 +168,11 @@ def _vertex_grasp(ax: Any, g: Any, colour: Any, label: str, reach: float,
         where = edges[a].end + polygon.size * (0.01 + 0.06 * k) * _outward(edges, a, b)
         ax.text(*where, label, color=colour, fontsize=10, fontweight="bold", ha="center",
                 va="center", zorder=5)
+        labels_at.setdefault("places", []).append(where)
     if other is not None:
         ax.text(*other, label, color=colour, fontsize=10, fontweight="bold", ha="center",
                 va="center", zorder=5)
+        labels_at.setdefault("places", []).append(other)
 
 
 def _outward(edges: Any, a: int, b: int) -> NDArray:
@@ -304,6 +307,11 @@ def plot_regions(regions: Sequence[Any], path: str | Path | None = None,
     for rank, g in enumerate(corners):
         _vertex_grasp(ax, g, colours[(len(sets) + rank) % 10], f"v{rank + 1}", reach,
                       labels_at)
+    if "places" in labels_at:  # room for the labels
+        places, pad = np.array(labels_at["places"]), polygon.size * 0.05
+        (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+        ax.set_xlim(min(x0, places[:, 0].min() - pad), max(x1, places[:, 0].max() + pad))
+        ax.set_ylim(min(y0, places[:, 1].min() - pad), max(y1, places[:, 1].max() + pad))
     words = []
     if sets:
         mu = sets[0].friction()[0]
