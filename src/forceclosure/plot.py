@@ -466,15 +466,14 @@ def _choose_view(normals: list[NDArray], centres: list[NDArray], size: float,
                  up: str) -> tuple[float, float]:
     """The default elevation and the azimuth (of :data:`AZIMUTHS`) that shows the most
     regions clearly from the front, then keeps them furthest apart on the picture (two
-    opposed fingers are not drawn over each other), then the first."""
+    opposed fingers are not drawn over each other), then the first (an oblique view)."""
     def score(k: int) -> tuple:
         eye = _eye((ELEVATION, AZIMUTHS[k]), up)
         facing = np.array([n @ eye for n in normals])
         flat = [c - (c @ eye) * eye for c in centres]
         apart = min(np.linalg.norm(a - b) for i, a in enumerate(flat) for b in flat[i + 1:]) \
             if len(flat) > 1 else 0.0
-        return int(np.sum(facing > 0.35)), round(apart / size, 1), float(
-            np.clip(facing, 0, 1).sum()), -k
+        return int(np.sum(facing > 0.35)), round(apart / size, 1), -k
 
     return ELEVATION, AZIMUTHS[max(range(len(AZIMUTHS)), key=score)]
 
