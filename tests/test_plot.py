@@ -139,6 +139,14 @@ def test_only_faces_in_sight_are_numbered(tmp_path):
     seen = sorted(f.index for f in cube.faces if f.normal @ [1, 0, 0] > 0.5
                   or f.normal @ [0, -1, 0] > 0.5 or f.normal @ [0, 0, 1] > 0.5)
     assert numbers == seen and len(seen) == 3
+    # The holed block (4 x 4 x 1.5, a 2 x 2 hole through it): of the faces turned towards
+    # the camera e = (0.484, -0.775, 0.407) -- top (0), front (2), right (3), and the
+    # hole's walls at x = -1 (6) and y = +1 (7) -- wall 6 is hidden: from its centre
+    # (-1, 0, 0.75) the line of sight meets the hole's front wall y = -1 at t = 1/0.775,
+    # at height 0.75 + 0.407 t = 1.27 < 1.5. From wall 7's centre (0, 1, 0.75) it leaves
+    # through the opening (at z = 1.5: t = 1.84, y = -0.43, x = 0.89).
+    block = plot_object(bundled("holed-block")).axes[0]
+    assert sorted(t.get_text() for t in block.texts) == ["0", "2", "3", "7"]
     assert not plot_spatial_regions(best_soft_pair_regions(cube, 0.5, top=1)[0]).axes[
         0].texts[0].get_text().isdigit()
 
