@@ -5,7 +5,6 @@
 
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import pybullet_data
 
 from forceclosure.objects import bundled, glyph
@@ -17,6 +16,7 @@ from forceclosure.synthesis import (
     best_soft_pair_regions,
     best_three_finger_regions,
     best_three_hard_regions,
+    vertex_grasps,
 )
 from forceclosure.synthesis.best import synthesize
 
@@ -37,21 +37,25 @@ def main() -> None:
         "glyph-e-two-fingers.png": lambda: plot_regions(best_regions(glyph("e"), 0.5, top=3)),
         "frame-four-frictionless.png": lambda: plot_regions(
             best_frictionless_regions(bundled("frame"), top=1)),
+        "triangle-vertex.png": lambda: plot_regions(
+            vertex_grasps(bundled("triangle"), 0.3, top=3)),
         "holed-block.png": lambda: plot_object(bundled("holed-block")),
         "pybullet-duck.png": lambda: plot_object(
-            load_object(Path(pybullet_data.getDataPath()) / "duck.obj")),
+            load_object(Path(pybullet_data.getDataPath()) / "duck.obj"), up="y"),
         "l-prism-two-soft.png": lambda: plot_spatial_regions(
             best_soft_pair_regions(bundled("l-prism"), 0.5, top=1)[0]),
         "cube-three-hard.png": lambda: plot_spatial_regions(
             best_three_hard_regions(bundled("cube"), 0.5, top=1)[0]),
         "duck-three-hard.png": lambda: plot_spatial_regions(synthesize(
             load_object(Path(pybullet_data.getDataPath()) / "duck.obj"), 3, "hard", 0.5,
+            top=1).found[0], up="y"),
+        "bunny-two-soft.png": lambda: plot_spatial_regions(synthesize(
+            load_object(Path(pybullet_data.getDataPath()) / "bunny.obj"), 2, "soft", 0.5,
             top=1).found[0]),
     }
     for name, draw in pictures.items():
         fig = draw()
-        fig.savefig(HERE / name, dpi=90, bbox_inches="tight")
-        plt.close(fig)
+        fig.savefig(HERE / name, dpi=90, bbox_inches="tight")  # a bare Figure: nothing to close
         print(HERE / name)
 
 

@@ -328,6 +328,7 @@ def _cmd_inspect(args: argparse.Namespace) -> int:
 
     from .objects.io import load_object
 
+    _check_picture(args.plot, args.object)
     obj = load_object(args.object, allow_open=True, part=args.part,  # describe open meshes too
                       allow_outside_meshes=args.allow_outside_meshes)
     info = obj.summary()
@@ -376,6 +377,7 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
 
     if args.html and not args.html.lower().endswith((".html", ".htm")):
         raise InputError(f"--html {args.html}: an interactive view is saved as .html")
+    _check_picture(args.plot, args.object)
     obj = load_object(args.object, allow_open=args.allow_open, part=args.part,
                       allow_outside_meshes=args.allow_outside_meshes)
     if obj.dim == 3 and args.vertices:
@@ -431,8 +433,19 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
                          f"({g.min_length:.4g} long)" if kind == "edge" else f"vertex {k}")
                 print(f"  {rank}. vertex {g.vertex} at {vx} with {where}; certified: "
                       f"{g.certify().holds}")
-    _save_views(args, found)
+    _save_views(args, found, corners)
     return 0
+
+
+def _check_picture(path: str | None, source: str) -> None:
+    """``--plot`` of a format the pictures are not saved in, or where nothing can be
+    written (or onto the input file): refused before any work."""
+    if path:
+        from .atomic import check_output
+        from .plot import check_plot_path
+
+        check_plot_path(path)
+        check_output(path, inputs=[source])
 
 
 def _synthesize_spatial(args: argparse.Namespace, obj, result) -> int:
@@ -482,12 +495,18 @@ def _faces_text(faces: tuple[int, ...]) -> str:
     return f"{len(faces)} faces ({faces[0]} to {faces[-1]})"
 
 
-def _save_views(args: argparse.Namespace, found: list) -> None:
-    """The PNG still (``--plot``) and the interactive page (``--html``) of the grasps found."""
+def _save_views(args: argparse.Namespace, found: list, corners: list = ()) -> None:
+    """The PNG still (``--plot``) and the interactive page (``--html``) of the grasps found
+    (the still also draws the grasps with a soft finger on a vertex, ``--vertices``)."""
+    say = sys.stderr if args.json else sys.stdout
+    if args.plot and corners:
+        from .plot import plot_regions
+
+        plot_regions([*found, *corners], args.plot)
+        print(f"  picture: {args.plot}", file=say)
     if not found:
         return
-    say = sys.stderr if args.json else sys.stdout
-    if args.plot:
+    if args.plot and not corners:
         from .plot import plot_regions, plot_spatial_regions
         from .synthesis.patches import SpatialRegions
 
