@@ -73,13 +73,13 @@ def object_seed(seed: int, stamp: str) -> int:
     return int.from_bytes(digest[:8], "big") >> 1
 
 
-@dataclass(frozen=True)
-
 def _finite_or_none(value: float) -> float | None:
     """A JSON-ready number: None where it is not finite (a median μ* of "no friction closes")."""
     value = float(value)
     return value if np.isfinite(value) else None
 
+
+@dataclass(frozen=True)
 class GripperJob:
     """Sample and label ``count`` parallel-jaw grasps on every object.
 
