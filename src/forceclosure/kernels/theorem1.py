@@ -781,7 +781,7 @@ def least_friction_kernel(points, normals, tors, model, edges, fit, exact, tol, 
                     out[g] = np.inf
                     deferred[g] = c == DEFER
                     continue
-                lo, hi = hi, math.atan(mu_max)
+                hi = math.atan(mu_max)  # lo stays 0: the reference's bisection, step by step
             while hi - lo > rtol * hi:
                 mid = 0.5 * (lo + hi)
                 mu[:] = math.tan(mid)
