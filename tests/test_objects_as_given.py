@@ -313,7 +313,8 @@ def test_real_meshes_moved_and_scaled_hold_on_the_original_geometry(name, finger
 @pytest.mark.parametrize("name,fingers,contact,offset,scale", [
     ("cube", 3, "hard", 1e8, 1.0), ("triangular-prism", 3, "hard", -3e5, 2.0**-12),
     ("l-prism", 3, "hard", 1e8, 1e4), ("hexagonal-prism", 3, "hard", 0.0, 1e-4),
-    ("hexagonal-prism", 3, "hard", 2e7, 3.0), ("cube", 7, "frictionless", 1e3, 1e-4),
+    ("hexagonal-prism", 3, "hard", 2e7, 3.0),
+    pytest.param("cube", 7, "frictionless", 1e3, 1e-4, marks=pytest.mark.long),
     pytest.param("l-prism", 7, "frictionless", 0.0, 1e4, marks=pytest.mark.long)])
 def test_sampled_constructions_far_away_or_scaled(name, fingers, contact, offset, scale):
     """§5.3 and §5.5 through sampled prototypes and search zones: moved by up to 1e8 and
@@ -419,7 +420,8 @@ def test_regions_on_a_tessellated_urdf_cylinder_hold_on_the_true_cylinder(tmp_pa
 
 
 @pytest.mark.parametrize("name,fingers,contact,mu", [
-    ("cube", 3, "hard", 0.5), ("cube", 2, "soft", 0.5), ("cube", 7, "frictionless", 0.0),
+    ("cube", 3, "hard", 0.5), ("cube", 2, "soft", 0.5),
+    pytest.param("cube", 7, "frictionless", 0.0, marks=pytest.mark.long),
     ("square", 2, "hard", 0.3), ("triangle", 3, "hard", 0.5),
     ("hexagon", 4, "frictionless", 0.0)])
 def test_synthesis_serves_sizes_from_a_micrometre_to_a_megametre(name, fingers, contact, mu):

@@ -222,6 +222,7 @@ def convex_union_volume(pieces):
     return total
 
 
+@pytest.mark.long
 def test_all_thousand_random_urdf_objects():
     """Each loads (face areas sum to the mesh area, positive volume) or is refused in one line."""
     loaded, refused, unions = 0, {}, 0
