@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from .closure import Analysis, Verdict, analyze
+from .closure import Analysis, Verdict, analyze_explained
 from .contacts import MODELS, Cone, Contact, check_grasp, make_contact
 from .errors import InputError, clip, parse_json, shown
 from .quality import epsilon, least_friction
@@ -237,8 +237,8 @@ NOT_FINITE = "not a finite number (the computation overflowed)"
 
 def _analyse(entry: GraspEntry, cone: str | Cone, quality: bool,
              ) -> tuple[Analysis, float | None, float | None]:
-    a = analyze(entry.contacts, cone=cone, reference=entry.reference,
-                length_scale=entry.length_scale)
+    a = analyze_explained(entry.contacts, cone=cone, reference=entry.reference,
+                          length_scale=entry.length_scale)
     eps = mu_star = None
     if quality:
         if a.verdict is Verdict.CLOSURE:
