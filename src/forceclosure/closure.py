@@ -786,6 +786,21 @@ def _explained(contacts: list[Contact], cone: str | Cone, tol: float,
     return _Explanation(**{**explanation.__dict__, "reason": note})
 
 
+#: The compiled Theorem 1 module, once :func:`_ready_kernel` has found it may be used.
+_KERNEL: list = []
+
+
+def _ready_kernel():
+    """The compiled Theorem 1 module when its serial kernel may run (compiled, or to be
+    compiled now: :func:`forceclosure.kernels.use_compiled`), else None."""
+    from .kernels import theorem1, use_compiled
+
+    if not use_compiled(theorem1.closure_serial):
+        return None
+    _KERNEL[:] = [theorem1]
+    return theorem1
+
+
 def _compiled(contacts: list[Contact], cone: str | Cone, tol: float,
               ) -> tuple[Verdict, int, float | None] | None:
     """Theorem 1 for a grasp of point contacts by the compiled kernel, on this thread:
@@ -799,26 +814,26 @@ def _compiled(contacts: list[Contact], cone: str | Cone, tol: float,
         if len(c.points) != 1 or len(c.normals) != 1 or (c.frictional and c.mu > FRICTION_CAP):
             return None
     P = np.concatenate([c.points for c in contacts])  # fresh, writeable: the kernels' type
-    N = np.concatenate([c.normals for c in contacts])
-    big = float(np.abs(P).max())
+    big = max(-P.min(), P.max())
     if big != 0 and not 2.0**-64 <= big <= 2.0**64:
         return None
     if any(c.torsion is not None for c in contacts):
         _check_torsion(contacts)
-    from .kernels import theorem1 as kernel
-    from .kernels import use_compiled
-
+    kernel = _KERNEL[0] if _KERNEL else _ready_kernel()
+    if kernel is None:
+        return None  # a first answer now, by the reference path, not after compiling
+    N = np.concatenate([c.normals for c in contacts])
     exact = fixed is None
     edges, fit = (8, 0) if exact else (fixed.edges, int(fixed.fit == "circumscribed"))
-    mu = np.array([[c.mu for c in contacts]])
-    tors = np.array([[np.nan if c.torsion is None else c.torsion for c in contacts]])
+    friction = np.array([[c.mu for c in contacts],
+                         [math.nan if c.torsion is None else c.torsion for c in contacts]])
     model = np.array([_MODEL_CODE[c.model] for c in contacts])
-    maxm = kernel.columns_per_grasp(len(contacts), P.shape[1], 256 if exact else edges)
-    if not use_compiled(kernel.closure_serial):
-        return None  # a first answer now, by the reference path, not after compiling
     code, rank, margin = np.empty(1, np.int8), np.empty(1, np.int64), np.empty(1)
-    kernel.closure_serial(P[None], N[None], mu, tors, model, edges, fit, exact, float(tol),
-                          maxm, code, rank, margin, np.empty((1, 3 if P.shape[1] == 2 else 6)))
+    kernel.closure_serial(P[None], N[None], friction[:1], friction[1:], model, edges, fit, exact,
+                          float(tol),
+                          kernel.columns_per_grasp(len(contacts), P.shape[1],
+                                                   256 if exact else edges),
+                          code, rank, margin, np.empty((1, 3 if P.shape[1] == 2 else 6)))
     code, rank, margin = int(code[0]), rank[0], margin[0]
     if code == kernel.DEFER:
         return None
