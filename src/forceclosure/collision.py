@@ -127,8 +127,13 @@ def _poses(poses: Any) -> tuple[NDArray, NDArray, NDArray, NDArray]:
         raise InputError("poses must be a JawPose, a list of them, or an object with arrays "
                          "center, closing_axis, approach_axis, width (GraspLabels), got "
                          f"{type(poses).__name__}") from None
-    return arrays[0].reshape(-1, 3), arrays[1].reshape(-1, 3), arrays[2].reshape(-1, 3), \
-        arrays[3].reshape(-1)
+    center, closing, approach, width = (arrays[0].reshape(-1, 3), arrays[1].reshape(-1, 3),
+                                        arrays[2].reshape(-1, 3), arrays[3].reshape(-1))
+    if not (len(closing) == len(approach) == len(width) == len(center)):
+        raise InputError(f"poses: center, closing_axis, approach_axis and width must have "
+                         f"the same length, got {len(center)}, {len(closing)}, "
+                         f"{len(approach)}, {len(width)}")
+    return center, closing, approach, width
 
 
 def collides(obj: Any, poses: Any, gripper: ParallelJaw, clearance: float | None = None,
@@ -176,10 +181,6 @@ def collides(obj: Any, poses: Any, gripper: ParallelJaw, clearance: float | None
     single = isinstance(poses, JawPose)
     center, closing, approach, width = _poses(poses)
     n = len(center)
-    if not (len(closing) == len(approach) == len(width) == n):
-        raise InputError(f"poses: center, closing_axis, approach_axis and width must have "
-                         f"the same length, got {len(center)}, {len(closing)}, "
-                         f"{len(approach)}, {len(width)}")
     if hand is not None and not isinstance(hand, trimesh.Trimesh):
         raise InputError(f"hand must be a trimesh.Trimesh, got {type(hand).__name__}")
     _, mesh = surface_mesh(obj)
@@ -313,10 +314,6 @@ def choose_approach(obj: Any, poses: Any, gripper: ParallelJaw, approaches: int 
         raise InputError(f"approaches must be a whole number >= 1, got {approaches!r}")
     center, closing, approach, width = _poses(poses)
     n = len(center)
-    if not (len(closing) == len(approach) == len(width) == n):
-        raise InputError(f"poses: center, closing_axis, approach_axis and width must have "
-                         f"the same length, got {len(center)}, {len(closing)}, "
-                         f"{len(approach)}, {len(width)}")
     if n == 0:
         return np.zeros((0, 3)), np.zeros(0, dtype=bool)
     axes = approach_axes(closing, approach, approaches)

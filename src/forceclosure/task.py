@@ -136,6 +136,28 @@ def _max_scale(W: NDArray, normal_force: NDArray, owner: NDArray, k: int, w: NDA
     return max(0.0, float(res.x[-1])), res.x[:m]
 
 
+
+def _task(wrench: ArrayLike, f_max: float, reference: ArrayLike | None, d: int
+          ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The task's wrench and torque reference, checked (``d``: 2 planar, 3 spatial)."""
+    D = 3 if d == 2 else 6
+    try:
+        w = np.asarray(wrench, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise InputError(f"wrench must be {D} numbers") from None
+    if w.shape != (D,) or not np.all(np.isfinite(w)):
+        raise InputError(f"wrench must be {D} finite numbers (force, torque), got shape "
+                         f"{w.shape}")
+    if not np.any(w):
+        raise InputError("wrench is zero: any grasp resists it, there is nothing to test")
+    if isinstance(f_max, bool) or not isinstance(f_max, Real) or not math.isfinite(f_max) \
+            or f_max <= 0:
+        raise InputError(f"f_max must be a finite positive number, got {f_max!r}")
+    ref = np.zeros(d) if reference is None else np.asarray(reference, dtype=float).reshape(-1)
+    if ref.shape != (d,) or not np.all(np.isfinite(ref)):
+        raise InputError(f"reference must be {d} finite numbers")
+    return w, ref
+
 def resist_wrench(points: ArrayLike, normals: ArrayLike, wrench: ArrayLike, *,
                   mu: ArrayLike = 0.0, model: str | Sequence[str] = "soft",
                   torsion: ArrayLike | None = None, f_max: float = 1.0,
@@ -199,22 +221,7 @@ def resist_wrench(points: ArrayLike, normals: ArrayLike, wrench: ArrayLike, *,
                          ) from None
     grasps = _validate(P[None], N_[None], mu_, model, tors_)
     d = P.shape[1]
-    D = 3 if d == 2 else 6
-    try:
-        w = np.asarray(wrench, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
-        raise InputError(f"wrench must be {D} numbers") from None
-    if w.shape != (D,) or not np.all(np.isfinite(w)):
-        raise InputError(f"wrench must be {D} finite numbers (force, torque), got shape "
-                         f"{w.shape}")
-    if not np.any(w):
-        raise InputError("wrench is zero: any grasp resists it, there is nothing to test")
-    if isinstance(f_max, bool) or not isinstance(f_max, Real) or not math.isfinite(f_max) \
-            or f_max <= 0:
-        raise InputError(f"f_max must be a finite positive number, got {f_max!r}")
-    ref = np.zeros(d) if reference is None else np.asarray(reference, dtype=float).reshape(-1)
-    if ref.shape != (d,) or not np.all(np.isfinite(ref)):
-        raise InputError(f"reference must be {d} finite numbers")
+    w, ref = _task(wrench, f_max, reference, d)
     P, N_ = grasps.points[0], grasps.normals[0]
     scale = float(np.max(np.linalg.norm(P - ref, axis=1)))
     scale = scale if scale > 1e-12 * max(1.0, float(np.max(np.abs(P)))) else 1.0
@@ -311,22 +318,7 @@ def resist_wrench_batch(points: ArrayLike, normals: ArrayLike, wrench: ArrayLike
     grasps = _validate(points, normals, mu, model, torsion)
     P, N_ = grasps.points, grasps.normals
     n, k, d = P.shape
-    D = 3 if d == 2 else 6
-    try:
-        w = np.asarray(wrench, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
-        raise InputError(f"wrench must be {D} numbers") from None
-    if w.shape != (D,) or not np.all(np.isfinite(w)):
-        raise InputError(f"wrench must be {D} finite numbers (force, torque), got shape "
-                         f"{w.shape}")
-    if not np.any(w):
-        raise InputError("wrench is zero: any grasp resists it, there is nothing to test")
-    if isinstance(f_max, bool) or not isinstance(f_max, Real) or not math.isfinite(f_max) \
-            or f_max <= 0:
-        raise InputError(f"f_max must be a finite positive number, got {f_max!r}")
-    ref = np.zeros(d) if reference is None else np.asarray(reference, dtype=float).reshape(-1)
-    if ref.shape != (d,) or not np.all(np.isfinite(ref)):
-        raise InputError(f"reference must be {d} finite numbers")
+    w, ref = _task(wrench, f_max, reference, d)
     code = np.zeros(n, np.int8)
     spare, upper = np.zeros(n), np.zeros(n)
     for lo in range(0, n, BATCH):
