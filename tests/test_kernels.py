@@ -185,8 +185,9 @@ def test_single_grasps_agree_with_the_reference(agreement):
                      for i in range(k)]
             a = analyze(grasp, cone=cone)
             assert _CODES[a.verdict] == ref[g, 0] and a.rank == ref[g, 1], (name, g)
-            if a.margin is not None and np.isfinite(ref[g, 2]):
-                assert a.margin == pytest.approx(ref[g, 2], rel=1e-6, abs=1e-9), (name, g)
+            if a.margin is not None and np.isfinite(ref[g, 2]):  # as the batch's margins
+                assert abs(a.margin - ref[g, 2]) <= MARGIN_ATOL * max(1.0, abs(ref[g, 2])), \
+                    (name, g)
 
 
 def test_unresisted_twists_do_no_negative_work(agreement):
