@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pytest
 import shapely
-from hypothesis import given
+from hypothesis import example, given
 from hypothesis import strategies as st
 from matplotlib.font_manager import FontProperties
 from matplotlib.textpath import TextPath
@@ -161,6 +161,7 @@ json_values = st.recursive(
 
 
 @given(json_values)
+@example({"type": "\n"})  # a name with a line break is escaped in the one-line error
 def test_random_json_only_raises_input_error(data):
     try:
         polygon_from_json(data)

@@ -83,7 +83,7 @@ def polygon_from_json(data: Any, name: str = "polygon") -> Polygon:
             raise InputError(f"{name}: bad GeoJSON {kind}: {_first_line(e)}") from None
         return Polygon.from_shapely(geometry, name)
     if kind is not None:
-        raise InputError(f"{name}: GeoJSON type '{kind}' is not a polygon")
+        raise InputError(f"{name}: GeoJSON type {kind!r} is not a polygon")
     if "outer" not in data:
         raise InputError(f"{name}: missing field 'outer' (or a GeoJSON 'type')")
     holes = data.get("holes", [])
