@@ -135,10 +135,10 @@ def graspnet_array(labels: Any, gripper: ParallelJaw | None = None, score: str =
     a[:, 1] = labels.width
     a[:, 2] = gripper.finger_height
     a[:, 3] = gripper.depth
-    closing = np.asarray(labels.closing_axis, dtype=float)
-    approach = np.asarray(labels.approach_axis, dtype=float)
-    R = np.stack([approach, closing, np.cross(approach, closing)], axis=2)  # columns
-    a[:, 4:13] = R.reshape(n, 9)  # row-major
+    from .collision import jaw_frames
+
+    R = jaw_frames(labels.center, labels.closing_axis, labels.approach_axis)[:, :3, :3]
+    a[:, 4:13] = R.reshape(n, 9)  # row-major; columns (approach, closing, approach x closing)
     a[:, 13:16] = labels.center
     a[:, 16] = object_id
     return a
