@@ -304,12 +304,10 @@ def _demo_objects() -> None:
 
 
 def _rounded(values, size: float) -> list:
-    """Coordinates for people: to 1e-4 of the object's size, whatever its scale (``--json``
-    prints the exact values that were certified)."""
-    import numpy as np
+    """Coordinates for people (:func:`forceclosure.synthesis.regions.rounded`)."""
+    from .synthesis.regions import rounded
 
-    decimals = max(0, 4 - int(np.floor(np.log10(size)))) if size > 0 else 4
-    return np.round(np.asarray(values, dtype=float), decimals).tolist()
+    return rounded(values, size)
 
 
 def _cmd_objects(args: argparse.Namespace) -> int:
@@ -395,10 +393,7 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
 
         print(f"{obj.name}: by default {default_fingers_reason(obj.dim, args.contact)} "
               "(--fingers N to choose)")
-    if obj.dim == 3:
-        return _synthesize_spatial(args, obj, result)
-    found, mu = result.found, result.mu
-    frictionless = args.contact == "frictionless"
+    found, mu, method = result.found, result.mu, result.method
     corners = []
     if args.vertices:
         from .synthesis import vertex_grasps
@@ -406,35 +401,52 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
         corners = vertex_grasps(obj, mu, top=args.top, margin=args.margin)
     if args.json:
         record = {"object": obj.name, "fingers": args.fingers, "contact": args.contact,
-                  "mu": mu, "size": obj.size, "grasps": [r.to_dict() for r in found]}
+                  "mu": mu, "size": obj.size, "method": method,
+                  "construction": {"name": result.construction.name,
+                                   "paper": result.construction.paper,
+                                   "searched": result.construction.searched},
+                  "grasps": [r.to_dict() for r in found]}
         if args.vertices:
             record["vertex_grasps"] = [g.to_dict() for g in corners]
         json.dump(record, sys.stdout, indent=2)
         sys.stdout.write("\n")
     else:
-        friction = "frictionless" if frictionless else f"{args.contact} fingers, mu {mu:g}"
-        print(f"{obj.name}: {len(found)} best {args.fingers}-finger grasps ({friction}), "
-              "ranked by the shortest independent segment")
-        if not found:
-            print("  no choice of edges admits a force-closure grasp")
-        for rank, r in enumerate(found, start=1):
-            spans = "; ".join(f"edge {e}: {a} to {b}" for e, (a, b) in
-                              zip(r.edges, _rounded(r.points, obj.size), strict=True))
-            print(f"  {rank}. {spans}")
-            print(f"     shortest segment {r.min_length:.4g} ({r.min_length / obj.size:.1%} of "
-                  f"the object's size); certified: {r.certify().holds}")
+        _print_found(args, obj, result)
         if args.vertices:
             print(f"  with a soft finger on a convex vertex ({len(corners)} best):")
             for rank, g in enumerate(corners, start=1):
-                vx = _rounded(g.point, obj.size)
-                kind, k = g.other
-                where = (f"edge {k} from {_rounded(obj.edges[k].point(g.segment[0]), obj.size)}"
-                         f" to {_rounded(obj.edges[k].point(g.segment[1]), obj.size)} "
-                         f"({g.min_length:.4g} long)" if kind == "edge" else f"vertex {k}")
-                print(f"  {rank}. vertex {g.vertex} at {vx} with {where}; certified: "
-                      f"{g.certify().holds}")
+                vertex, where = g.describe()
+                print(f"  {rank}. {vertex} with {where}; certified: {g.certify().holds}")
     _save_views(args, found, corners)
     return 0
+
+
+def _print_found(args: argparse.Namespace, obj, result) -> None:
+    """The region sets found, best first, for people (``--json`` has every number)."""
+    found, c = result.found, result.construction
+    friction = ("frictionless" if args.contact == "frictionless"
+                else f"{args.contact} fingers, mu {result.mu:g}")
+    how = {"edges": "", "faces": f", regions on faces ({c.paper})",
+           "mesh": ", regions grown on the mesh around sampled prototypes"}[result.method]
+    ranked = "the shortest independent segment" if obj.dim == 2 else "the smallest region"
+    print(f"{obj.name}: {len(found)} best {args.fingers}-finger grasps ({friction}){how}, "
+          f"ranked by {ranked}")
+    if not found:
+        more = f" (of {args.samples:,} random grasps: try --samples)" if \
+            result.method == "mesh" else ""
+        print(f"  no force-closure grasp found; searched {c.searched}{more}")
+    for rank, r in enumerate(found, start=1):
+        print(f"  {rank}. {'; '.join(r.describe())}")
+        cert = r.certify()
+        if obj.dim == 2:
+            size = (f"shortest segment {r.min_size:.4g} ({r.relative_min_size:.1%} of the "
+                    "object's size)")
+        else:
+            size = (f"region areas {', '.join(f'{a:.4g}' for a in r.sizes)} (smallest "
+                    f"{r.relative_min_size:.2%} of size^2)")
+        notes = "".join(f"; {n}" for n in r.notes())
+        proof = f" ({cert.method})" if obj.dim == 3 else ""
+        print(f"     {size}{notes}; certified: {cert.holds}{proof}")
 
 
 def _check_picture(path: str | None, source: str) -> None:
@@ -446,53 +458,6 @@ def _check_picture(path: str | None, source: str) -> None:
 
         check_plot_path(path)
         check_output(path, inputs=[source])
-
-
-def _synthesize_spatial(args: argparse.Namespace, obj, result) -> int:
-    """Print regions on a polyhedron: the paper's constructions on faces, or grown on a mesh."""
-    from .synthesis.best import ON_FACES
-
-    found, mu, method = result.found, result.mu, result.method
-    frictionless = args.contact == "frictionless"
-    key = (args.fingers, args.contact)
-    if args.json:
-        record = {"object": obj.name, "fingers": args.fingers, "contact": args.contact,
-                  "mu": mu, "size": obj.size, "method": method,
-                  "grasps": [r.to_dict() for r in found]}
-        json.dump(record, sys.stdout, indent=2)
-        sys.stdout.write("\n")
-    else:
-        friction = "frictionless" if frictionless else f"{args.contact} fingers, mu {mu:g}"
-        how = (f"on faces ({ON_FACES[key]})" if method == "faces"
-               else "grown on the mesh around sampled prototypes")
-        print(f"{obj.name}: {len(found)} best {args.fingers}-finger grasps ({friction}), "
-              f"regions {how}, ranked by the smallest region")
-        if not found:
-            print("  no force-closure grasp found" + (
-                "" if method == "faces" else f" in {args.samples:,} random grasps "
-                "(try --samples)"))
-        for rank, r in enumerate(found, start=1):
-            faces = "; ".join(f"finger {k + 1} on {_faces_text(f)}"
-                              for k, f in enumerate(r.faces))
-            print(f"  {rank}. {faces}")
-            cert = r.certify()
-            extra = (f"; class {r.grasp_class.number}" if hasattr(r, "grasp_class") else "")
-            print(f"     region areas {', '.join(f'{a:.4g}' for a in r.areas)} (smallest "
-                  f"{r.min_area / obj.size ** 2:.2%} of size^2){extra}; certified: "
-                  f"{cert.holds} ({cert.method})")
-    _save_views(args, found)
-    return 0
-
-
-def _faces_text(faces: tuple[int, ...]) -> str:
-    """``face 3``, ``faces 3, 4`` or, for a region grown over many triangles, ``112 faces
-    (3 to 2810)`` (the full list is in ``--json``)."""
-    faces = sorted(set(faces))
-    if len(faces) == 1:
-        return f"face {faces[0]}"
-    if len(faces) <= 6:
-        return f"faces {', '.join(map(str, faces))}"
-    return f"{len(faces)} faces ({faces[0]} to {faces[-1]})"
 
 
 def _save_views(args: argparse.Namespace, found: list, corners: list = ()) -> None:

@@ -629,13 +629,15 @@ def row_of(record: dict[str, Any]) -> dict[str, Any]:
     if isinstance(grasps, list):  # synthesis
         row["grasps"] = len(grasps)
         if grasps:
-            best = grasps[0]
-            spatial = "min_area" in best
-            row["best_min_region"] = best["min_area" if spatial else "min_length"]
-            row["best_relative_min_region"] = best["relative_min_area" if spatial
-                                                   else "relative_min_length"]
-            row["best_region_sizes"] = best["areas" if spatial else "lengths"]
-            row["best_faces"] = json.dumps(best["faces" if spatial else "edges"])
+            best = grasps[0]  # a region set's record (RegionSet.to_dict)
+            if "min_size" not in best:  # kept from a run before records had these keys
+                kind = "area" if "min_area" in best else "length"
+                best = {**best, "min_size": best[f"min_{kind}"], "sizes": best[f"{kind}s"],
+                        "relative_min_size": best[f"relative_min_{kind}"]}
+            row["best_min_region"] = best["min_size"]
+            row["best_relative_min_region"] = best["relative_min_size"]
+            row["best_region_sizes"] = best["sizes"]
+            row["best_faces"] = json.dumps(best["faces"] if "faces" in best else best["edges"])
         row["all_certified"] = all(g["certificate"]["holds"] for g in grasps)
     return row
 

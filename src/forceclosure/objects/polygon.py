@@ -17,6 +17,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 from fractions import Fraction
+from functools import cached_property
 
 import numpy as np
 import shapely
@@ -309,6 +310,30 @@ class Polygon:
     def centroid(self) -> NDArray[np.float64]:
         """Centre of area."""
         return np.asarray(self.to_shapely().centroid.coords[0])
+
+    @cached_property
+    def convex_corners(self) -> tuple[tuple[int, int, int], ...]:
+        """The convex corners as ``(index, incoming edge, outgoing edge)``, indexed in edge
+        order (corner ``k`` is where edge ``incoming`` ends and ``outgoing`` starts).
+
+        Examples
+        --------
+        >>> Polygon.regular(3).convex_corners
+        ((0, 0, 1), (1, 1, 2), (2, 2, 0))
+        """
+        out: list[tuple[int, int, int]] = []
+        edges = self.edges
+        first: dict[int, int] = {}  # each ring's first edge: rings are stored in order
+        for e in edges:
+            first.setdefault(e.ring, e.index)
+        for e in edges:
+            k = e.index + 1
+            nxt = edges[k] if k < len(edges) and edges[k].ring == e.ring else \
+                edges[first[e.ring]]
+            turn = e.direction[0] * nxt.direction[1] - e.direction[1] * nxt.direction[0]
+            if turn > 0:  # material on the left: a left turn is a convex corner
+                out.append((len(out), e.index, nxt.index))
+        return tuple(out)
 
     @property
     def convex(self) -> bool:

@@ -20,7 +20,9 @@ import numpy as np
 
 from ..errors import InputError
 from ..objects import Polygon, Polyhedron
-from .regions import MARGIN, check_margin, narrowed, tie_rounded
+from .construction import Construction, Hand, construction_for
+from .regions import MARGIN, RegionSet, check_margin, narrowed
+from .search import search
 
 #: The paper's constructions on faces (§5.2, §5.3, §5.5), by (fingers, contact).
 ON_FACES = {(2, "soft"): "§5.2", (3, "hard"): "§5.3", (7, "frictionless"): "§5.5"}
@@ -44,13 +46,17 @@ class Synthesis:
     contact : str
     mu : float
         0 for frictionless fingers.
+    construction : Construction
+        The table's entry that built them (its ``paper`` section, and what was
+        ``searched``).
     """
 
-    found: list
+    found: list[RegionSet]
     method: str
     fingers: int
     contact: str
     mu: float
+    construction: Construction | None = None
 
 
 def default_fingers(dim: int, contact: str) -> int:
@@ -233,56 +239,7 @@ def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
         raise InputError(f"mu {mu:g}: its friction cone (atan(mu) = {math.atan(mu):.3g} rad) "
                          f"leaves nothing once narrowed by {why}")
     margin = max(margin, needed)
-    if obj.dim == 2:
-        return Synthesis(_on_edges(obj, fingers, contact == "frictionless", mu, top, margin,
-                                   construction), "edges", fingers, contact, mu)
-    return _on_polyhedron(obj, fingers, contact, mu, top, margin, construction, method,
-                          samples, seed)
-
-
-def _on_edges(polygon: Polygon, fingers: int, frictionless: bool, mu: float, top: int,
-              margin: float, construction: str) -> list:
-    from . import best_frictionless_regions, best_regions, best_three_finger_regions
-
-    if frictionless:
-        return best_frictionless_regions(polygon, top=top, margin=margin,
-                                         construction=construction)
-    if fingers == 3:
-        return best_three_finger_regions(polygon, mu, top=top, margin=margin)
-    return best_regions(polygon, mu, top=top, margin=margin, construction=construction)
-
-
-def _on_polyhedron(poly: Polyhedron, fingers: int, contact: str, mu: float, top: int,
-                   margin: float, construction: str, method: str, samples: int,
-                   seed: int) -> Synthesis:
-    from . import (
-        best_seven_frictionless_regions,
-        best_soft_pair_regions,
-        best_three_hard_regions,
-        prototype_grasps,
-        zone_regions,
-    )
-
-    key = (fingers, contact)
-    if method == "auto":
-        curved = np.mean([len(f.triangles) == 1 for f in poly.faces]) > 0.5
-        method = "faces" if key in ON_FACES and not curved else "mesh"
-    if method == "faces" and key == (2, "soft"):
-        found = best_soft_pair_regions(poly, mu, top=top, margin=margin,
-                                       construction=construction)
-    elif method == "faces" and key == (3, "hard"):
-        found = best_three_hard_regions(poly, mu, top=top, seed=seed, margin=margin)
-    elif method == "faces":
-        found = best_seven_frictionless_regions(poly, top=top, samples=samples, seed=seed,
-                                               margin=margin)
-    else:
-        found = []
-        for p in prototype_grasps(poly, fingers, contact, narrowed(mu, margin), count=top,
-                                  samples=samples, seed=seed):
-            try:
-                found.append(zone_regions(poly, p, contact, mu, grow=True, margin=margin))
-            except InputError:  # a prototype on the boundary of closure: skip it
-                continue
-        found.sort(key=lambda r: -tie_rounded(r.min_area / poly.size**2))
-    # every region set returned is proved; one whose proof fails is not returned
-    return Synthesis([r for r in found if r.certify().holds], method, fingers, contact, mu)
+    curved = obj.dim == 3 and np.mean([len(f.triangles) == 1 for f in obj.faces]) > 0.5
+    chosen = construction_for(obj.dim, fingers, contact, construction, method, curved)
+    found = search(chosen, obj, Hand(fingers, contact, mu, margin, samples, seed, top))
+    return Synthesis(found, chosen.method, fingers, contact, mu, chosen)

@@ -40,6 +40,8 @@ from scipy.optimize import linprog
 
 from ..errors import InputError
 from ..objects.polygon import Polygon
+from .construction import Construction, Hand, register
+from .edge_sites import edge_tuples, force_direction_prune
 from .regions import (
     MARGIN,
     Certificate,
@@ -246,13 +248,20 @@ def maximal_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, i
     return None
 
 
+def _builder(build):
+    def on(polygon: Polygon, site: NDArray, hand: Hand) -> FrictionlessRegions | None:
+        return build(polygon, tuple(int(e) for e in site), hand.margin)
+    return on
+
+
 def best_frictionless_regions(polygon: Polygon, top: int = 5, margin: float = MARGIN,
                               construction: str = "maximal") -> list[FrictionlessRegions]:
     """Independent regions for four frictionless fingers on every quadruple of edges.
 
     A quadruple is pruned unless its four pushing directions ``-n_i``
     positively span the plane (force-direction closure, Theorem 2: cheap and
-    necessary). The rest are ranked by their shortest segment.
+    necessary). The rest are ranked by their shortest segment
+    (:func:`~forceclosure.synthesis.search.search`).
 
     Examples
     --------
@@ -260,24 +269,14 @@ def best_frictionless_regions(polygon: Polygon, top: int = 5, margin: float = MA
     >>> [r.edges for r in best_frictionless_regions(bundled("hexagon"), top=2)]
     [(0, 1, 3, 4), (0, 2, 3, 5)]
     """
-    if not isinstance(top, int) or isinstance(top, bool) or top < 1:
-        raise InputError(f"'top' must be a positive integer, got {top!r}")
+    from .construction import construction_for
+    from .search import search
+
     if construction not in ("maximal", "nguyen"):
         raise InputError(f"construction must be 'maximal' or 'nguyen', got {construction!r}")
-    build = maximal_frictionless_regions if construction == "maximal" else \
-        nguyen_frictionless_regions
-    normals = np.array([e.normal for e in polygon.edges])
-    found = []
-    for quad in itertools.combinations(range(len(polygon.edges)), 4):
-        angles = np.sort(np.arctan2(-normals[list(quad), 1], -normals[list(quad), 0]))
-        gaps = np.diff(np.r_[angles, angles[0] + 2 * np.pi])
-        if gaps.max() >= np.pi - 1e-12:  # the directions fit in a half-plane
-            continue
-        regions = build(polygon, quad, margin)
-        if regions is not None:
-            found.append(regions)
-    found.sort(key=lambda r: (-round(r.min_length / polygon.size, 12), r.edges))
-    return found[:top]
+    check_margin(margin)
+    return search(construction_for(2, 4, "frictionless", construction), polygon,
+                  Hand(4, "frictionless", 0.0, margin, top=top))
 
 
 def _meeting_point(e1, e2):
@@ -374,3 +373,11 @@ def nguyen_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, in
 
 def _generators_of(directions):
     return [list(map(float, v)) for v in directions]
+
+
+for _name, _build, _paper in (("maximal", maximal_frictionless_regions, "§5.4"),
+                              ("nguyen", nguyen_frictionless_regions, "§5.4, Algorithm 2")):
+    register(Construction(
+        dim=2, fingers=4, contact="frictionless", name=_name, paper=_paper, method="edges",
+        sites=edge_tuples(4), prune=force_direction_prune, build=_builder(_build),
+        searched="every four edges whose normals positively span the plane"))

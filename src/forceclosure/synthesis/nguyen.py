@@ -14,8 +14,17 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..objects.polygon import Edge, Polygon
+from .construction import Construction, Hand, register
 from .patches import clip
-from .planar import ANGLE_MARGIN, IndependentRegions, Sector, _shrunk_pair
+from .planar import (
+    ANGLE_MARGIN,
+    IndependentRegions,
+    Sector,
+    _shrunk_pair,
+    counter_overlap_prune,
+    edge_pair_sites,
+    largest_segments_bound,
+)
 
 
 def _ray_hits(edge: Edge, direction: NDArray) -> tuple[NDArray, float]:
@@ -126,3 +135,17 @@ def _two_sided_cone(polygon: Polygon, i: int, j: int, e1: Edge, e2: Edge, sector
                                  (float(mu), float(mu_q)),
                                  (float(best[0]) + 0.0, float(best[1]) + 0.0), spreading)
     return regions if regions.certify().holds else None
+
+
+def _build_nguyen(polygon: Polygon, site: NDArray, hand: Hand) -> IndependentRegions | None:
+    i, j, way = (int(x) for x in site)
+    return nguyen_regions(polygon, i, j, hand.mu, margin=hand.margin, spreading=bool(way))
+
+
+NGUYEN = register(Construction(
+    dim=2, fingers=2, contact="hard", name="nguyen", paper="§5.1, Algorithm 1",
+    method="edges", sites=edge_pair_sites, prune=counter_overlap_prune,
+    bound=largest_segments_bound, build=_build_nguyen,
+    searched="every pair of edges, the fingers squeezing or pushing apart, with a two-sided "
+             "cone where the edges admit one (pairs too far apart for their lengths have "
+             "none: construction='maximal' covers them)"))

@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 from ..errors import InputError
 from ..objects.polygon import _signed_area
 from ..objects.polyhedron import PlanarFace, Polyhedron
-from .regions import Certificate
+from .regions import Certificate, RegionSet
 
 #: Relative tolerance (of the face's size) for calling a union of triangles convex.
 CONVEX_RTOL = 1e-9
@@ -180,7 +180,7 @@ def _ccw(ring: NDArray) -> NDArray[np.float64]:
 
 
 @dataclass(frozen=True, eq=False)
-class SpatialRegions:
+class SpatialRegions(RegionSet):
     """One region per finger on a polyhedron, such that every choice of one point per
     region is force-closure. Subclasses give :meth:`certify`, the proof.
 
@@ -213,12 +213,23 @@ class SpatialRegions:
         return tuple(sum(p.area for p in region) for region in self.regions)
 
     @property
+    def object(self) -> Polyhedron:
+        return self.polyhedron
+
+    @property
+    def sizes(self) -> tuple[float, ...]:
+        """Area of each finger's region (:attr:`areas`)."""
+        return self.areas
+
+    @property
     def min_area(self) -> float:
         """The smallest region: the placement error the grasp tolerates."""
         return min(self.areas)
 
-    def certify(self) -> Certificate:  # pragma: no cover - every subclass defines it
-        raise NotImplementedError
+    def describe(self) -> list[str]:
+        """``finger 1 on face 3``, ``on faces 3, 4`` or, for a region grown over many
+        triangles, ``on 112 faces (3 to 2810)`` (the full list is in :meth:`to_dict`)."""
+        return [f"finger {k + 1} on {_faces_text(f)}" for k, f in enumerate(self.faces)]
 
     def sample(self, count: int, seed: int = 0) -> tuple[NDArray[np.float64],
                                                           NDArray[np.float64]]:
@@ -238,15 +249,21 @@ class SpatialRegions:
 
     def to_dict(self) -> dict[str, object]:
         """The JSON record: each finger's faces and patches, areas, construction, certificate."""
-        cert = self.certify()
         size = self.polyhedron.size
         return {"faces": [sorted(set(f)) for f in self.faces],
                 "regions": [[p.to_dict() for p in region] for region in self.regions],
                 "areas": list(self.areas), "min_area": self.min_area,
                 "relative_min_area": self.min_area / size**2,
-                "construction": self.construction,
-                "certificate": {"holds": cert.holds, "method": cert.method,
-                                "detail": cert.detail}}
+                "construction": self.construction, **self._common()}
+
+
+def _faces_text(faces: tuple[int, ...]) -> str:
+    faces = sorted(set(faces))
+    if len(faces) == 1:
+        return f"face {faces[0]}"
+    if len(faces) <= 6:
+        return f"faces {', '.join(map(str, faces))}"
+    return f"{len(faces)} faces ({faces[0]} to {faces[-1]})"
 
 
 def sampling_check(regions: SpatialRegions, samples: int = 2000, seed: int = 0,

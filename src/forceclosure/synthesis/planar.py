@@ -36,6 +36,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..objects.polygon import Edge, Polygon
+from .construction import Construction, Hand, register
 from .patches import clip
 from .regions import (
     MARGIN,
@@ -477,31 +478,92 @@ def _certified(polygon: Polygon, i: int, j: int, z: float, u1: float, u2: float,
     return None
 
 
-def _candidate_pairs(normal: NDArray[np.float64],
-                     mu: float) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
-    """Edge pairs ``i < j`` whose cones can counter-overlap: ``-n_i`` and ``n_j`` less than
-    ``2 atan(mu)`` apart. Streamed over blocks of ``i``, so memory follows the pairs kept,
-    not all ``n (n - 1) / 2``; more than :data:`MAX_EDGE_PAIRS` pairs are refused."""
-    n = len(normal)
+def _normals(polygon: Polygon) -> NDArray[np.float64]:
+    return np.array([e.normal for e in polygon.edges])
+
+
+def edge_pair_sites(polygon: Polygon, hand: Hand):
+    """Step 1: every edge pair ``i < j`` in both of Corollary 3's orientations, rows
+    ``(i, j, spreading)`` in blocks of rows ``i`` (memory follows the pairs kept, not all
+    ``n (n - 1)``); only squeezing pairs on a convex polygon (no grasp on it spreads).
+    More than :data:`MAX_EDGE_PAIRS` pairs are refused."""
+    n = len(polygon.edges)
     total = n * (n - 1) // 2
     if total > MAX_EDGE_PAIRS:
         raise InputError(f"the polygon has {n} edges, {total} edge pairs to search: more than "
                          f"{MAX_EDGE_PAIRS}; simplify it (fewer vertices)")
-    limit = 2 * math.atan(mu)
-    kept_i, kept_j = [], []
+    ways = (0,) if _convex(polygon) else (0, 1)
     rows = max(1, CHUNK * CHUNK // max(n, 1))
     for lo in range(0, n, rows):
         i, j = np.nonzero(np.triu(np.ones((min(rows, n - lo), n), dtype=bool), lo + 1))
-        i = i + lo
-        m_i = -normal[i]
-        delta = np.arctan2(m_i[:, 0] * normal[j, 1] - m_i[:, 1] * normal[j, 0],
-                           np.einsum("pj,pj->p", m_i, normal[j]))
-        keep = np.abs(delta) < limit
-        kept_i.append(i[keep])
-        kept_j.append(j[keep])
-    if not kept_i:
-        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
-    return np.concatenate(kept_i).astype(np.int64), np.concatenate(kept_j).astype(np.int64)
+        k = len(ways)  # in order of (i, j, spreading), the order that breaks ties
+        yield np.stack([np.repeat(i + lo, k), np.repeat(j, k), np.tile(ways, len(i))],
+                       axis=1).astype(np.int64)
+
+
+def counter_overlap_prune(polygon: Polygon, sites: NDArray, hand: Hand) -> NDArray[np.bool_]:
+    """Step 2: the pair's cones, narrowed by the margin, can counter-overlap (``-n_i`` and
+    ``n_j`` less than ``2 atan(mu)`` apart); spreading, each edge also reaches outside the
+    other's line. Both are necessary."""
+    shrunk = narrowed(hand.mu, hand.margin)
+    if shrunk <= 0:
+        return np.zeros(len(sites), dtype=bool)
+    normal = _normals(polygon)
+    i, j, way = sites.T
+    m_i = -normal[i]
+    delta = np.arctan2(m_i[:, 0] * normal[j, 1] - m_i[:, 1] * normal[j, 0],
+                       np.einsum("pj,pj->p", m_i, normal[j]))
+    keep = np.abs(delta) < 2 * math.atan(shrunk)
+    spread = way == 1
+    if spread.any():
+        start = np.array([e.start for e in polygon.edges])
+        end = np.array([e.end for e in polygon.edges])
+        tol = 1e-12 * polygon.size
+
+        def outside(a, b):
+            return np.maximum(np.einsum("pk,pk->p", start[b] - start[a], normal[a]),
+                              np.einsum("pk,pk->p", end[b] - start[a], normal[a])) > -tol
+
+        keep[spread] &= outside(i[spread], j[spread]) & outside(j[spread], i[spread])
+    return keep
+
+
+def _solve(polygon: Polygon, sites: NDArray, mu: float) -> tuple[NDArray, NDArray, NDArray]:
+    """:func:`max_min_segments` on every site, in blocks of :data:`CHUNK`."""
+    edges = polygon.edges
+    start, direction, normal, length = (np.array([getattr(e, k) for e in edges])
+                                        for k in ("start", "direction", "normal", "length"))
+    n = len(sites)
+    z, u1, u2 = np.full(n, -np.inf), np.zeros(n), np.zeros(n)
+    for lo in range(0, n, CHUNK):
+        sl = slice(lo, lo + CHUNK)
+        i, j, way = sites[sl].T
+        A, b = _affine_arrays(start[i], direction[i], normal[i], start[j], direction[j],
+                              normal[j], mu, mu)
+        sign = np.where(way == 1, -1.0, 1.0)
+        z[sl], u1[sl], u2[sl] = max_min_segments(sign[:, None, None] * A, sign[:, None] * b,
+                                                 length[i], length[j])
+    return z, u1, u2
+
+
+def largest_segments_bound(polygon: Polygon, sites: NDArray, hand: Hand) -> NDArray:
+    """Step 3: the largest shorter segment of each pair over the object's size, solved for
+    all pairs at once (exact: the regions built are these, trimmed at most by 2e-9)."""
+    return _solve(polygon, sites, narrowed(hand.mu, hand.margin))[0] / polygon.size
+
+
+def _build_maximal(polygon: Polygon, site: NDArray, hand: Hand) -> IndependentRegions | None:
+    z, u1, u2 = _solve(polygon, site[None], narrowed(hand.mu, hand.margin))
+    i, j, way = (int(x) for x in site)
+    return _certified(polygon, i, j, z[0], u1[0], u2[0], (hand.mu, hand.mu), bool(way))
+
+
+MAXIMAL = register(Construction(
+    dim=2, fingers=2, contact="hard", name="maximal", paper="§5.1, Corollary 3",
+    method="edges", sites=edge_pair_sites, prune=counter_overlap_prune,
+    bound=largest_segments_bound, build=_build_maximal,
+    searched="every pair of edges, the fingers squeezing or pushing apart (complete: "
+             "Lemma 1 gives every two-finger grasp)"))
 
 
 def _convex(polygon: Polygon) -> bool:
@@ -522,11 +584,12 @@ def best_regions(polygon: Polygon, mu: float, top: int = 5, margin: float = ANGL
     the two normals. The rest are solved together by
     :func:`max_min_segments`, in both of Corollary 3's orientations (the
     fingers squeezing, or pushing apart from inside a slot or a hole; only the
-    first on a convex polygon), or, with ``construction="nguyen"``, given
-    Nguyen's regions where maximal ones exist. They are ranked together by
-    their shorter segment (the placement error the grasp tolerates; ties by
-    edge indices, squeezing first), and the ``top`` ones are returned, each
-    certified.
+    first on a convex polygon), and built in decreasing order of their
+    largest regions (maximal ones, or, with ``construction="nguyen"``,
+    Nguyen's two-sided cones), ranked by their shorter segment (the placement
+    error the grasp tolerates; ties by edge indices, squeezing first): the
+    ``top`` ones are returned, each certified
+    (:func:`~forceclosure.synthesis.search.search`).
 
     Examples
     --------
@@ -537,58 +600,11 @@ def best_regions(polygon: Polygon, mu: float, top: int = 5, margin: float = ANGL
     >>> [(r.edges, r.spreading) for r in best_regions(bundled("frame"), mu=0.4, top=4)]
     [((0, 2), False), ((1, 3), False), ((4, 6), True), ((5, 7), True)]
     """
-    if not isinstance(top, int) or isinstance(top, bool) or top < 1:
-        raise InputError(f"'top' must be a positive integer, got {top!r}")
+    from .construction import construction_for
+    from .search import search
+
     _check_mu(mu, mu, margin)
-    shrunk = narrowed(mu, margin)
-    edges = polygon.edges
-    if shrunk <= 0:
-        return []
-    start, direction, normal, length = (np.array([getattr(e, k) for e in edges])
-                                        for k in ("start", "direction", "normal", "length"))
-    i, j = _candidate_pairs(normal, shrunk)  # the same test for both orientations
-    pairs = [(i, j, False)]
-    if not _convex(polygon):  # fingers pushing apart: each edge must reach outside the other's
-        end = start + direction * length[:, None]  # line (a necessary condition, cheap)
-        tol = 1e-12 * polygon.size
-
-        def outside(a, b):
-            return np.maximum(np.einsum("pk,pk->p", start[b] - start[a], normal[a]),
-                              np.einsum("pk,pk->p", end[b] - start[a], normal[a])) > -tol
-
-        keep = outside(i, j) & outside(j, i)
-        pairs.append((i[keep], j[keep], True))
-    solved = []
-    for pi, pj, way in pairs:
-        z, u1, u2 = (np.full(len(pi), -np.inf), np.zeros(len(pi)), np.zeros(len(pi)))
-        sign = -1.0 if way else 1.0
-        for lo in range(0, len(pi), CHUNK):
-            sl = slice(lo, lo + CHUNK)
-            A, b = _affine_arrays(start[pi[sl]], direction[pi[sl]], normal[pi[sl]],
-                                  start[pj[sl]], direction[pj[sl]], normal[pj[sl]], shrunk,
-                                  shrunk)
-            z[sl], u1[sl], u2[sl] = max_min_segments(sign * A, sign * b, length[pi[sl]],
-                                                     length[pj[sl]])
-        solved.append((pi, pj, np.full(len(pi), way), z, u1, u2))
-    i, j, spread, z, u1, u2 = (np.concatenate(c) for c in zip(*solved, strict=True))
-    if construction == "nguyen":  # the paper's construction on the same candidate pairs
-        from .nguyen import nguyen_regions
-
-        built = [nguyen_regions(polygon, int(a), int(b), mu, margin=margin, spreading=bool(w))
-                 for a, b, w, zab in zip(i, j, spread, z, strict=True) if zab > 0]
-        built = [r for r in built if r is not None]
-        built.sort(key=lambda r: (-round(r.min_length / polygon.size, 12), r.edges,
-                                  r.spreading))
-        return built[:top]
-    if construction != "maximal":
+    if construction not in ("maximal", "nguyen"):
         raise InputError(f"construction must be 'maximal' or 'nguyen', got {construction!r}")
-    order = np.lexsort((spread, j, i, -np.round(z / polygon.size, 12)))
-    found = []
-    for k in order:
-        if len(found) == top or not z[k] > 0:
-            break
-        regions = _certified(polygon, int(i[k]), int(j[k]), z[k], u1[k], u2[k], (mu, mu),
-                             bool(spread[k]))
-        if regions is not None:
-            found.append(regions)
-    return found
+    return search(construction_for(2, 2, "hard", construction), polygon,
+                  Hand(2, "hard", mu, margin, top=top))

@@ -161,8 +161,61 @@ def proved_once(certify):
     return once
 
 
+class RegionSet:
+    """What every construction returns: one region per finger (a segment of an edge, a
+    patch of one or more faces, or a vertex), such that every choice of one point per
+    region is force-closure, and the proof of it.
+
+    Subclasses give ``sizes`` (a length per finger on a polygon, an area on a
+    polyhedron), :meth:`describe`, :meth:`certify` and :meth:`to_dict`; the
+    rest is common, so that printers, dataset rows and pictures read any
+    region set alike.
+    """
+
+    @property
+    def object(self):  # pragma: no cover - every subclass defines it
+        """The polygon or polyhedron the regions are on."""
+        raise NotImplementedError
+
+    @property
+    def sizes(self) -> tuple[float, ...]:  # pragma: no cover - every subclass defines it
+        """Each finger's region: its length on a polygon, its area on a polyhedron."""
+        raise NotImplementedError
+
+    @property
+    def min_size(self) -> float:
+        """The smallest region: the finger-placement error the grasp tolerates."""
+        return min(self.sizes)
+
+    @property
+    def relative_min_size(self) -> float:
+        """:attr:`min_size` over the object's size (its bounding-box diagonal) to the power
+        of the regions' dimension: what the search ranks by, the same for a scaled object."""
+        obj = self.object
+        return self.min_size / obj.size ** (obj.dim - 1)
+
+    def describe(self) -> list[str]:  # pragma: no cover - every subclass defines it
+        """Each finger's region in words, for people (coordinates :func:`rounded`)."""
+        raise NotImplementedError
+
+    def notes(self) -> list[str]:
+        """Facts a construction adds about its regions, in words (none by default)."""
+        return []
+
+    def certify(self) -> Certificate:  # pragma: no cover - every subclass defines it
+        raise NotImplementedError
+
+    def _common(self) -> dict[str, object]:
+        """The keys every region set's JSON record has (``to_dict`` adds its own)."""
+        cert = self.certify()
+        return {"sizes": list(self.sizes), "min_size": self.min_size,
+                "relative_min_size": self.relative_min_size,
+                "certificate": {"holds": cert.holds, "method": cert.method,
+                                "detail": cert.detail}}
+
+
 @dataclass(frozen=True, eq=False)
-class Regions:
+class Regions(RegionSet):
     """One segment per finger, such that every choice of one point per segment is
     force-closure. Subclasses give :meth:`certify`, the proof.
 
@@ -182,14 +235,25 @@ class Regions:
     construction: str
 
     @property
+    def object(self) -> Polygon:
+        return self.polygon
+
+    @property
     def lengths(self) -> tuple[float, ...]:
         """Lengths of the segments."""
         return tuple(v - u for u, v in self.segments)
+
+    sizes = lengths
 
     @property
     def min_length(self) -> float:
         """The finger-placement error the grasp tolerates."""
         return min(self.lengths)
+
+    def describe(self) -> list[str]:
+        """``edge 3: [x, y] to [x, y]`` for each finger (:func:`rounded`)."""
+        return [f"edge {e}: {a} to {b}" for e, (a, b) in
+                zip(self.edges, rounded(self.points, self.polygon.size), strict=True)]
 
     @property
     def points(self) -> NDArray[np.float64]:
@@ -215,16 +279,24 @@ class Regions:
                 rays += [(a, a + ray), (b, b + ray)]
         return np.array(rays)
 
-    def certify(self) -> Certificate:  # pragma: no cover - every subclass defines it
-        raise NotImplementedError
-
     def to_dict(self) -> dict[str, object]:
-        """The JSON record: edges, segments, points, lengths, construction, certificate."""
-        cert = self.certify()
+        """The JSON record: edges, segments, points, lengths, construction, certificate, and
+        the keys every region set has (``sizes``, ``min_size``, ``relative_min_size``)."""
         return {"edges": list(self.edges), "segments": [list(s) for s in self.segments],
                 "points": self.points.tolist(), "lengths": list(self.lengths),
                 "min_length": self.min_length,
                 "relative_min_length": self.min_length / self.polygon.size,
-                "construction": self.construction,
-                "certificate": {"holds": cert.holds, "method": cert.method,
-                                "detail": cert.detail}}
+                "construction": self.construction, **self._common()}
+
+
+def rounded(values, size: float) -> list:
+    """Coordinates for people: to 1e-4 of the object's size, whatever its scale (JSON
+    records keep the exact values that were certified).
+
+    Examples
+    --------
+    >>> rounded([0.123456, 12.3], 10.0)
+    [0.123, 12.3]
+    """
+    decimals = max(0, 4 - int(np.floor(np.log10(size)))) if size > 0 else 4
+    return np.round(np.asarray(values, dtype=float), decimals).tolist()

@@ -25,6 +25,7 @@ the batch analysis of random grasps.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -34,8 +35,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 from ..objects.polyhedron import Polyhedron
+from .construction import Construction, Hand, register
 from .patches import FacePatch
-from .regions import MARGIN, Certificate, check_margin, proved_once, tie_rounded
+from .regions import MARGIN, Certificate, check_margin, proved_once
 from .zones import Prototype, ZoneRegions, prototype_grasps, zone_regions
 
 #: Corners kept per region, so that a minor is checked at ``MAX_CORNERS ** 6`` tuples.
@@ -278,7 +280,8 @@ def seven_frictionless_regions(polyhedron: Polyhedron, prototype: Prototype | Ar
         raise InputError(f"seven frictionless fingers need seven points (7, 3), got shape "
                          f"{P.shape}")
     r = zone_regions(polyhedron, prototype, "frictionless", 0.0, grow=False,
-                     construction="search zones on faces, minors certified (§5.5)")
+                     construction="search zones on faces, minors certified (§5.5)",
+                     result=SevenRegions)
     faces = [polyhedron.faces[region[0].face] for region in r.regions]
     patches = [_fewer_corners(region[0], face, MAX_CORNERS)
                for region, face in zip(r.regions, faces, strict=True)]
@@ -306,8 +309,7 @@ def seven_frictionless_regions(polyhedron: Polyhedron, prototype: Prototype | Ar
                 mid = (low + high) / 2
                 low, high = (mid, high) if holds(mid) else (low, mid)
         scale = max(low, SMALLEST)
-    return SevenRegions(**{**{f: getattr(r, f) for f in r.__dataclass_fields__},
-                           "regions": at(scale), "margin": margin})
+    return dataclasses.replace(r, regions=at(scale), margin=margin)
 
 
 def best_seven_frictionless_regions(polyhedron: Polyhedron, top: int = 3,
@@ -326,23 +328,36 @@ def best_seven_frictionless_regions(polyhedron: Polyhedron, top: int = 3,
     >>> len(found), found[0].certify().holds
     (1, True)
     """
+    from .construction import construction_for
+    from .search import search
+
     if top < 1:
         raise InputError(f"top must be at least 1, got {top}")
-    candidates = prototype_grasps(polyhedron, 7, "frictionless", 0.0, count=20 * top,
-                                  samples=samples, seed=seed)
-    found, seen = [], set()
-    for p in candidates:
-        faces = tuple(sorted(p.faces))
-        if faces in seen:
-            continue
-        seen.add(faces)
-        try:
-            r = seven_frictionless_regions(polyhedron, p, margin)
-        except InputError:
-            continue
-        if r.certify().holds:
-            found.append(r)
-        if len(found) >= 3 * top:
-            break
-    size = polyhedron.size
-    return sorted(found, key=lambda r: -tie_rounded(r.min_area / size**2))[:top]
+    return search(construction_for(3, 7, "frictionless"), polyhedron,
+                  Hand(7, "frictionless", 0.0, margin, samples, seed, top))
+
+
+def _prototype_sites(polyhedron: Polyhedron, hand: Hand):
+    """Step 1: the best ``20 top`` of ``samples`` random grasps by epsilon, one per set of
+    faces."""
+    seen: set[tuple[int, ...]] = set()
+    sites = []
+    for p in prototype_grasps(polyhedron, 7, "frictionless", 0.0, count=20 * hand.top,
+                              samples=hand.samples, seed=hand.seed):
+        if (faces := tuple(sorted(p.faces))) not in seen:
+            seen.add(faces)
+            sites.append(p)
+    yield sites
+
+
+def _build(polyhedron: Polyhedron, prototype: Prototype, hand: Hand) -> SevenRegions | None:
+    try:
+        return seven_frictionless_regions(polyhedron, prototype, hand.margin)
+    except InputError:  # a prototype on the boundary of closure
+        return None
+
+
+register(Construction(
+    dim=3, fingers=7, contact="frictionless", name="maximal", paper="§5.5", method="faces",
+    sites=_prototype_sites, build=_build, enough=3,
+    searched="around the best sampled seven-finger grasps by epsilon, one per set of faces"))

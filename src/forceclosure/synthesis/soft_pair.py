@@ -44,8 +44,9 @@ from scipy.optimize import linprog, minimize
 from ..errors import InputError
 from ..objects.polygon import _signed_area
 from ..objects.polyhedron import PlanarFace, Polyhedron
+from .construction import Construction, Hand, register
 from .patches import FacePatch, SpatialRegions, clip, convex_pieces
-from .regions import MARGIN, Certificate, first_proved, narrowed, proved_once, tie_rounded
+from .regions import MARGIN, Certificate, narrowed, proved_once
 
 #: Default margin (radians) taken off each friction cone's half-angle.
 ANGLE_MARGIN = MARGIN  # the one margin (regions.check_margin)
@@ -384,33 +385,62 @@ def best_soft_pair_regions(polyhedron: Polyhedron, mu: float, top: int = 5,
     >>> [sorted(r.faces[0] + r.faces[1]) for r in found]   # the three pairs of opposite faces
     [[0, 1], [2, 4], [3, 5]]
     """
+    from .construction import construction_for
+    from .search import search
+
     _check_mu(mu, margin)
     if top < 1:
         raise InputError(f"top must be at least 1, got {top}")
-    faces = polyhedron.faces
-    normals = np.array([f.normal for f in faces])
-    alpha = math.atan(mu) - margin
-    cos_gap = np.clip(-normals @ normals.T, -1.0, 1.0)  # cos angle(-n_i, n_j)
-    i_idx, j_idx = np.nonzero(np.triu(np.arccos(cos_gap) < 2 * alpha, k=1))
-    if not len(i_idx):
-        return []
-    inradius = np.array([_inradius(f) for f in faces])
-    bound = np.minimum(inradius[i_idx], inradius[j_idx])
-    order = np.argsort([-tie_rounded(b / polyhedron.size) for b in bound], kind="stable")
-    found: list[SoftPairRegions] = []
-    # the largest region inside a disk of radius r: a regular polygon around it, or the disk
+    chosen = (construction_for(3, 2, "soft", construction) if sides == SIDES
+              else _soft_pair(construction, sides))
+    return search(chosen, polyhedron, Hand(2, "soft", mu, margin, top=top))
+
+
+def face_pair_sites(polyhedron: Polyhedron, hand: Hand):
+    """Step 1: every pair of faces ``i < j``, as rows."""
+    i, j = np.triu_indices(len(polyhedron.faces), k=1)
+    yield np.stack([i, j], axis=1).astype(np.int64)
+
+
+def counter_overlapping_prune(polyhedron: Polyhedron, sites: NDArray,
+                              hand: Hand) -> NDArray[np.bool_]:
+    """Step 2: the two cones, narrowed by the margin, can counter-overlap: ``-n_i`` and
+    ``n_j`` less than ``2 alpha`` apart (necessary for :func:`counter_overlapping_cone`)."""
+    normals = np.array([f.normal for f in polyhedron.faces])
+    alpha = math.atan(hand.mu) - hand.margin
+    cos_gap = np.clip(-np.einsum("pk,pk->p", normals[sites[:, 0]], normals[sites[:, 1]]),
+                      -1.0, 1.0)  # cos angle(-n_i, n_j)
+    return np.arccos(cos_gap) < 2 * alpha
+
+
+def _inscribed_bound(factor: float):
+    """Step 3: the largest region inside a disk of radius ``r`` (the smaller face's
+    inscribed disk) is ``factor r²``: a regular polygon's, or the disk's."""
+    def bound(polyhedron: Polyhedron, sites: NDArray, hand: Hand) -> NDArray:
+        inradius = {int(f): _inradius(polyhedron.faces[f]) for f in np.unique(sites)}
+        r = np.array([min(inradius[int(a)], inradius[int(b)]) for a, b in sites])
+        return factor * r**2 / polyhedron.size**2
+    return bound
+
+
+def _soft_pair(construction: str, sides: int = SIDES) -> Construction:
+    """The search steps of :func:`soft_pair_regions` with ``construction`` and ``sides``."""
+    def build(polyhedron: Polyhedron, site: NDArray, hand: Hand) -> SoftPairRegions | None:
+        return soft_pair_regions(polyhedron, int(site[0]), int(site[1]), hand.mu,
+                                 margin=hand.margin, construction=construction, sides=sides,
+                                 certified=False)
+
     factor = sides * math.tan(math.pi / sides) if construction == "maximal" else math.pi
-    for k in order:
-        if len(found) >= top:
-            kth = sorted((r.min_area for r in found), reverse=True)[top - 1]
-            if factor * bound[k] ** 2 <= kth:
-                break
-        r = soft_pair_regions(polyhedron, int(i_idx[k]), int(j_idx[k]), mu, margin=margin,
-                              construction=construction, sides=sides, certified=False)
-        if r is not None:
-            found.append(r)
-    found.sort(key=lambda r: -tie_rounded(r.min_area / polyhedron.size**2))
-    return first_proved(found, top)
+    return Construction(
+        dim=3, fingers=2, contact="soft", name=construction,
+        paper="§5.2" + (", two-sided cone" if construction == "nguyen" else ""),
+        method="faces", sites=face_pair_sites, prune=counter_overlapping_prune,
+        bound=_inscribed_bound(factor), build=build,
+        searched="every pair of faces whose friction cones can counter-overlap")
+
+
+for _name in ("maximal", "nguyen"):
+    register(_soft_pair(_name))
 
 
 def _inradius(face: PlanarFace) -> float:

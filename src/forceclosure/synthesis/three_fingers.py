@@ -31,6 +31,8 @@ from scipy.optimize import linprog
 
 from ..errors import InputError
 from ..objects.polygon import Polygon
+from .construction import Construction, Hand, register
+from .edge_sites import edge_tuples, force_direction_prune
 from .regions import (
     MARGIN,
     Certificate,
@@ -177,12 +179,19 @@ def best_three_finger_regions(polygon: Polygon, mu: float, top: int = 5,
 
     Triples whose cones fail condition (b) are pruned before any linear program.
     """
-    if not isinstance(top, int) or isinstance(top, bool) or top < 1:
-        raise InputError(f"'top' must be a positive integer, got {top!r}")
-    found = []
-    for triple in itertools.combinations(range(len(polygon.edges)), 3):
-        regions = three_finger_regions(polygon, triple, mu, margin)
-        if regions is not None:
-            found.append(regions)
-    found.sort(key=lambda r: (-round(r.min_length / polygon.size, 12), r.edges))
-    return found[:top]
+    from .construction import construction_for
+    from .search import search
+
+    return search(construction_for(2, 3, "hard"), polygon, Hand(3, "hard", mu, margin, top=top))
+
+
+def _build(polygon: Polygon, site, hand: Hand) -> ThreeFingerRegions | None:
+    return three_finger_regions(polygon, tuple(int(e) for e in site), hand.mu, hand.margin)
+
+
+register(Construction(
+    dim=2, fingers=3, contact="hard", name="maximal", paper="§5.4 (three fingers)",
+    method="edges", sites=edge_tuples(3), prune=force_direction_prune, build=_build,
+    searched="every three edges whose friction cones positively span the plane, for "
+             "regions with a common centre of equilibrium (a sufficient condition: other "
+             "three-finger grasps are not searched)"))

@@ -35,6 +35,7 @@ from numpy.typing import ArrayLike
 from ..closure import Verdict, vector_closure
 from ..errors import InputError
 from ..objects.polyhedron import Polyhedron
+from .construction import Construction, Hand, register
 from .regions import MARGIN, check_margin, narrowed, tie_rounded
 from .soft_pair import _check_faces, _check_mu
 from .zones import (
@@ -126,6 +127,9 @@ class ThreeHardRegions(ZoneRegions):
         normals = [self.polyhedron.faces[r[0].face].normal for r in self.regions]
         return classify_three(normals, self.mu)
 
+    def notes(self) -> list[str]:
+        return [f"class {self.grasp_class.number}"]
+
     def to_dict(self) -> dict[str, object]:
         record = super().to_dict()
         c = self.grasp_class
@@ -180,9 +184,9 @@ def three_hard_regions(polyhedron: Polyhedron, faces: tuple[int, int, int], mu: 
 
 def _around(polyhedron: Polyhedron, prototype: Prototype, mu: float,
             margin: float) -> ThreeHardRegions:
-    r = zone_regions(polyhedron, prototype, "hard", mu, grow=False,
-                     construction="search zones on faces (§5.3)", margin=margin)
-    return ThreeHardRegions(**{f: getattr(r, f) for f in r.__dataclass_fields__})
+    return zone_regions(polyhedron, prototype, "hard", mu, grow=False,
+                        construction="search zones on faces (§5.3)", margin=margin,
+                        result=ThreeHardRegions)
 
 
 def best_three_hard_regions(polyhedron: Polyhedron, mu: float, top: int = 5,
@@ -203,32 +207,50 @@ def best_three_hard_regions(polyhedron: Polyhedron, mu: float, top: int = 5,
     >>> all(r.certify().holds for r in found), len(found)
     (True, 2)
     """
-    from ..batch import epsilon_batch
+    from .construction import construction_for
+    from .search import search
 
     _check_mu(mu, 0.0)
     if top < 1:
         raise InputError(f"top must be at least 1, got {top}")
-    # ties (equal faces of a symmetric object) go to the lower index, whatever the rounding
-    size = polyhedron.size
-    order = sorted(range(len(polyhedron.faces)),
-                   key=lambda f: (-tie_rounded(polyhedron.faces[f].area / size**2), f))
-    chosen = order[:max_faces]
-    # the triples three_hard_regions would not screen out, and the grasps it would sample on
-    # each, analysed in one batch (each grasp's epsilon is its own, whatever the batch)
-    live = [triple for triple in itertools.combinations_with_replacement(chosen, 3)
-            if triple[0] != triple[2]  # not all three on one face
-            and force_direction_closure_of_faces([polyhedron.faces[f].normal for f in triple],
-                                                 mu)]
-    if not live:
-        return []
-    drawn = [prototype_samples(polyhedron, 3, samples, seed, triple) for triple in live]
-    P = np.concatenate([p for p, _ in drawn])
-    F = np.concatenate([f for _, f in drawn])
-    normals = np.array([f.normal for f in polyhedron.faces])
-    eps = epsilon_batch(P, normals[F], mu=narrowed(mu, check_margin(margin)), model="hard")
-    found = []
-    for (P, F), e in zip(drawn, np.split(eps, len(live)), strict=True):
-        best = best_prototypes(P, F, e, 1)
-        if best:
-            found.append(_around(polyhedron, best[0], mu, margin))
-    return sorted(found, key=lambda r: -tie_rounded(r.min_area / size**2))[:top]
+    construction = (construction_for(3, 3, "hard") if (max_faces, samples) == (12, 500)
+                    else _three_hard(max_faces, samples))
+    return search(construction, polyhedron, Hand(3, "hard", mu, check_margin(margin),
+                                                 seed=seed, top=top))
+
+
+def _three_hard(max_faces: int = 12, samples: int = 500) -> Construction:
+    """The search steps of :func:`best_three_hard_regions`."""
+    def sites(polyhedron: Polyhedron, hand: Hand):
+        """Step 1: triples of the ``max_faces`` largest faces (two fingers may share one,
+        not all three); ties (equal faces of a symmetric object) to the lower index."""
+        size = polyhedron.size
+        order = sorted(range(len(polyhedron.faces)),
+                       key=lambda f: (-tie_rounded(polyhedron.faces[f].area / size**2), f))
+        yield [t for t in itertools.combinations_with_replacement(order[:max_faces], 3)
+               if t[0] != t[2]]
+
+    def prune(polyhedron: Polyhedron, sites, hand: Hand) -> list[bool]:
+        """Step 2: force-direction closure of the three faces' friction cones."""
+        return [force_direction_closure_of_faces([polyhedron.faces[f].normal for f in t],
+                                                 hand.mu) for t in sites]
+
+    def build(polyhedron: Polyhedron, triple, hand: Hand) -> ThreeHardRegions | None:
+        """Step 4: the best of ``samples`` grasps on the triple by epsilon (each grasp's
+        epsilon is its own), and its search zones on the faces."""
+        from ..batch import epsilon_batch
+
+        P, F = prototype_samples(polyhedron, 3, samples, hand.seed, triple)
+        normals = np.array([f.normal for f in polyhedron.faces])
+        eps = epsilon_batch(P, normals[F], mu=narrowed(hand.mu, hand.margin), model="hard")
+        best = best_prototypes(P, F, eps, 1)
+        return _around(polyhedron, best[0], hand.mu, hand.margin) if best else None
+
+    return Construction(
+        dim=3, fingers=3, contact="hard", name="maximal", paper="§5.3", method="faces",
+        sites=sites, prune=prune, build=build,
+        searched=f"every triple of the {max_faces} largest faces whose friction cones have "
+                 f"force-direction closure, around the best of {samples} grasps on each")
+
+
+register(_three_hard())

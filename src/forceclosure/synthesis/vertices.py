@@ -28,32 +28,23 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..objects.polygon import Polygon
+from .construction import Construction, Hand, register
 from .regions import (
     MARGIN,
     Certificate,
+    RegionSet,
     check_margin,
     exact_inward,
     exact_point,
-    first_proved,
     narrowed,
+    rounded,
 )
 
 
 def convex_vertices(polygon: Polygon) -> list[tuple[int, int, int]]:
     """The convex corners as ``(index, incoming edge, outgoing edge)``, indexed in
-    edge order (vertex ``k`` is where edge ``incoming`` ends and ``outgoing`` starts)."""
-    out = []
-    edges = polygon.edges
-    first = {}  # each ring's first edge: rings are stored one after another, in order
-    for e in edges:
-        first.setdefault(e.ring, e.index)
-    for e in edges:
-        k = e.index + 1
-        nxt = edges[k] if k < len(edges) and edges[k].ring == e.ring else edges[first[e.ring]]
-        turn = e.direction[0] * nxt.direction[1] - e.direction[1] * nxt.direction[0]
-        if turn > 0:  # material on the left: a left turn is a convex corner
-            out.append((len(out), e.index, nxt.index))
-    return out
+    edge order (:attr:`Polygon.convex_corners`, kept on the polygon)."""
+    return list(polygon.convex_corners)
 
 
 def _generators(normals, mu) -> list:
@@ -90,8 +81,12 @@ def _inside(cone, w, strict_margin=0) -> bool:
 
 
 @dataclass(frozen=True, eq=False)
-class VertexGrasp:
+class VertexGrasp(RegionSet):
     """A soft finger on a convex vertex and a finger on an edge (a segment) or a vertex.
+
+    Its :attr:`sizes` are 0 for a vertex and the segment's length for an edge;
+    :attr:`min_size` is the segment's (0 for two vertices): a finger finds a
+    vertex by itself, the placement error that counts is along the edge.
 
     Attributes
     ----------
@@ -121,7 +116,6 @@ class VertexGrasp:
 
     def to_dict(self) -> dict[str, object]:
         """The JSON record: the vertex, the other site, its region, the certificate."""
-        cert = self.certify()
         kind, k = self.other
         record: dict[str, object] = {"vertex": self.vertex, "vertex_point": self.point.tolist(),
                                      kind: k, "mu": self.mu}
@@ -132,14 +126,38 @@ class VertexGrasp:
                           length=self.min_length)
         else:
             record["other_point"] = self.polygon.edges[self.corners[1][0]].end.tolist()
-        record["certificate"] = {"holds": cert.holds, "method": cert.method,
-                                 "detail": cert.detail}
-        return record
+        return {**record, **self._common()}
+
+    @property
+    def object(self) -> Polygon:
+        return self.polygon
 
     @property
     def min_length(self) -> float:
         """The length of the region on the edge (0 for two vertices)."""
         return 0.0 if self.segment is None else self.segment[1] - self.segment[0]
+
+    @property
+    def sizes(self) -> tuple[float, float]:
+        """0 for the vertex, and the segment's length on the edge (0 for a vertex)."""
+        return (0.0, self.min_length)
+
+    @property
+    def min_size(self) -> float:
+        return self.min_length
+
+    def describe(self) -> list[str]:
+        """``vertex 2 at [x, y]``, then ``edge 0 from [..] to [..] (0.897 long)`` or
+        ``vertex 3``."""
+        size = self.polygon.size
+        kind, k = self.other
+        if kind == "edge":
+            e = self.polygon.edges[k]
+            ends = [rounded(e.point(t), size) for t in self.segment]
+            where = f"edge {k} from {ends[0]} to {ends[1]} ({self.min_length:.4g} long)"
+        else:
+            where = f"vertex {k}"
+        return [f"vertex {self.vertex} at {rounded(self.point, size)}", where]
 
     def certify(self) -> Certificate:
         """Corollary 3, exactly in rationals, at the region's ends (linear in between)."""
@@ -194,33 +212,51 @@ def vertex_grasps(polygon: Polygon, mu: float, top: int = 5,
         raise InputError(f"'top' must be a positive integer, got {top!r}")
     if not (isinstance(mu, int | float) and np.isfinite(mu) and mu > 0):
         raise InputError(f"friction coefficient must be a positive number, got {mu!r}")
-    shrunk = narrowed(mu, check_margin(margin))
-    if shrunk <= 0:
-        return []
-    edges = polygon.edges
+    from .construction import construction_for
+    from .search import search
+
+    return search(construction_for(2, 2, "hard", "vertices"), polygon,
+                  Hand(2, "soft", float(mu), check_margin(margin), top=top))
+
+
+def vertex_sites(polygon: Polygon, hand: Hand):
+    """Step 1: each convex vertex with every edge not adjacent to it, then with every later
+    convex vertex: rows ``(corner, kind, k)`` (``kind`` ``"edge"`` or ``"vertex"``)."""
     corners = convex_vertices(polygon)
-    found = []
-    for v, a, b in corners:
-        p = edges[a].end
-        cone_p = _extremes(_generators([edges[a].normal, edges[b].normal], shrunk))
-        for e in edges:
-            if e.index in (a, b):
-                continue
-            cone_q = _extremes(_generators([e.normal], shrunk))
-            segment = _interval(p, e, cone_p, cone_q)
-            if segment is not None:
-                found.append(VertexGrasp(polygon, v, ("edge", e.index), segment, float(mu),
-                                         ((a, b),)))
-        for w, a2, b2 in corners:
-            if w > v:
-                cone_q = _extremes(_generators([edges[a2].normal, edges[b2].normal], shrunk))
-                d = edges[a2].end - p
-                if (cone_p is None or _inside(cone_p, d)) and \
-                        (cone_q is None or _inside(cone_q, -d)):
-                    found.append(VertexGrasp(polygon, v, ("vertex", w), None, float(mu),
-                                             ((a, b), (a2, b2))))
-    found.sort(key=lambda g: (-round(g.min_length / polygon.size, 12), g.vertex, g.other))
-    return first_proved(found, top)
+    sites = []
+    for c, (_, a, b) in enumerate(corners):
+        sites += [(c, "edge", e.index) for e in polygon.edges if e.index not in (a, b)]
+        sites += [(c, "vertex", d) for d in range(c + 1, len(corners))]
+    yield sites
+
+
+def _build_vertex(polygon: Polygon, site, hand: Hand) -> VertexGrasp | None:
+    shrunk = narrowed(hand.mu, hand.margin)
+    if shrunk <= 0:
+        return None
+    edges, corners = polygon.edges, convex_vertices(polygon)
+    c, kind, k = site
+    v, a, b = corners[c]
+    p = edges[a].end
+    cone_p = _extremes(_generators([edges[a].normal, edges[b].normal], shrunk))
+    if kind == "edge":
+        segment = _interval(p, edges[k], cone_p, _extremes(_generators([edges[k].normal],
+                                                                        shrunk)))
+        return None if segment is None else VertexGrasp(polygon, v, ("edge", k), segment,
+                                                        hand.mu, ((a, b),))
+    w, a2, b2 = corners[k]
+    cone_q = _extremes(_generators([edges[a2].normal, edges[b2].normal], shrunk))
+    d = edges[a2].end - p
+    if (cone_p is None or _inside(cone_p, d)) and (cone_q is None or _inside(cone_q, -d)):
+        return VertexGrasp(polygon, v, ("vertex", w), None, hand.mu, ((a, b), (a2, b2)))
+    return None
+
+
+register(Construction(
+    dim=2, fingers=2, contact="hard", name="vertices", paper="Corollary 3 at a vertex",
+    method="edges", sites=vertex_sites, build=_build_vertex,
+    searched="a soft finger on every convex vertex, with every edge not adjacent to it and "
+             "every other convex vertex"))
 
 
 def _interval(p: NDArray, edge, cone_p, cone_q) -> tuple[float, float] | None:

@@ -486,7 +486,8 @@ class Prototype:
 def zone_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike, model: str = "hard",
                  mu: float = 0.5, grow: bool = True, edges: int = EDGES,
                  max_patches: int = 5000, construction: str = "search zones",
-                 margin: float = MARGIN) -> ZoneRegions:
+                 margin: float = MARGIN, result: type[ZoneRegions] | None = None
+                 ) -> ZoneRegions:
     """Independent regions around a force-closure prototype grasp on a polyhedron or mesh.
 
     Parameters
@@ -511,6 +512,8 @@ def zone_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike, model
         half-angle; a frictionless finger holds for every force within it of
         the normal (:func:`finger_generators`); in the construction and in the
         proof (:func:`~forceclosure.synthesis.regions.check_margin`).
+    result : type, optional
+        The :class:`ZoneRegions` subclass to return (a construction's own).
 
     Examples
     --------
@@ -598,8 +601,8 @@ def zone_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike, model
                 frontier += [(g, None) for g in sorted(graph.get(f_index, ())) if g not in seen]
         regions.append(tuple(patches))
         choices.append(tuple(picks))
-    return ZoneRegions(polyhedron, model, mu, tuple(regions), construction, P, zones,
-                       tuple(choices), edges, margin)
+    return (result or ZoneRegions)(polyhedron, model, mu, tuple(regions), construction, P,
+                                   zones, tuple(choices), edges, margin)
 
 
 def _containing(pieces: list[NDArray], uv: NDArray) -> int:

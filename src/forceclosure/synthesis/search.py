@@ -1,0 +1,112 @@
+"""One search for every construction: candidate sites, pruning, branch and bound, ranking.
+
+Region sets are ranked by one rule: the larger smallest region relative to
+the object (:attr:`~forceclosure.synthesis.regions.RegionSet.relative_min_size`,
+a length on polygons, an area over size² on polyhedra) first, to eight
+significant digits (:func:`~forceclosure.synthesis.regions.tie_rounded`),
+ties by the order of the sites. Only certified region sets are returned.
+
+Examples
+--------
+>>> from forceclosure.objects import bundled
+>>> from forceclosure.synthesis.construction import Hand, construction_for
+>>> found = search(construction_for(2, 2, "hard"), bundled("hexagon"), Hand(2, "hard", 0.3, top=3))
+>>> [r.edges for r in found]
+[(0, 3), (1, 4), (2, 5)]
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..errors import InputError
+from .construction import Construction, Hand
+from .regions import RegionSet, tie_rounded
+
+__all__ = ["candidate_sites", "search"]
+
+
+def candidate_sites(construction: Construction, obj: Any, hand: Hand, prune: bool = True):
+    """Steps 1 and 2: the construction's sites, block by block, each block pruned.
+
+    Returns an array of rows when the sites are index tuples, else a list.
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> from forceclosure.synthesis.construction import Hand, construction_for
+    >>> square, c, hand = bundled("square"), construction_for(2, 2, "hard"), Hand(2, "hard", 0.3)
+    >>> len(candidate_sites(c, square, hand, prune=False)), candidate_sites(c, square, hand)
+    (6, array([[0, 2, 0],
+           [1, 3, 0]]))
+    """
+    kept = []
+    for block in construction.sites(obj, hand):
+        if prune and construction.prune is not None and len(block):
+            keep = np.asarray(construction.prune(obj, block, hand), dtype=bool)
+            block = block[keep] if isinstance(block, np.ndarray) else [
+                s for s, k in zip(block, keep, strict=True) if k]
+        kept.append(block)
+    if kept and all(isinstance(b, np.ndarray) for b in kept):
+        return np.concatenate(kept)
+    return [s for block in kept for s in block]
+
+
+def search(construction: Construction, obj: Any, hand: Hand) -> list[RegionSet]:
+    """The ``hand.top`` best certified region sets a construction builds on ``obj``.
+
+    Runs the construction's steps: its sites, pruned by its necessary
+    condition; in decreasing order of its bound when it has one (branch and
+    bound: the search stops when the bound falls below the ``top``-th region
+    set proved so far, or to zero); each site built, and ranked by the one
+    rule (the module's docstring). A construction with a bound, or with
+    ``enough``, has each region set proved as it is built; otherwise they are
+    proved in rank order until ``top`` hold.
+
+    Parameters
+    ----------
+    construction : Construction
+    obj : Polygon or Polyhedron
+    hand : Hand
+        With the search's settings (``top``, ``samples``, ``seed``).
+
+    Returns
+    -------
+    list of RegionSet
+        Best first; fewer than ``top`` when fewer exist (on the sites searched:
+        ``construction.searched``).
+    """
+    top = hand.top
+    if not isinstance(top, int | np.integer) or isinstance(top, bool) or top < 1:
+        raise InputError(f"'top' must be a positive integer, got {top!r}")
+    sites = candidate_sites(construction, obj, hand)
+    bound = None
+    if construction.bound is not None and len(sites):
+        bound = np.array([tie_rounded(b) for b in construction.bound(obj, sites, hand)])
+    order = range(len(sites)) if bound is None else np.argsort(-bound, kind="stable")
+    prove_now = bound is not None or construction.enough is not None
+    built: list[tuple[float, int, RegionSet]] = []
+    for k in order:
+        if bound is not None:
+            if not bound[k] > 0:
+                break
+            if len(built) >= top and bound[k] < -sorted(b[0] for b in built)[top - 1]:
+                break  # the top-th size proved so far beats every site left
+        if construction.enough is not None and len(built) >= construction.enough * top:
+            break
+        regions = construction.build(obj, sites[k], hand)
+        if regions is None or (prove_now and not regions.certify().holds):
+            continue
+        built.append((-tie_rounded(regions.relative_min_size), int(k), regions))
+    built.sort(key=lambda b: b[:2])
+    if prove_now:
+        return [r for _, _, r in built[:top]]
+    proved = []
+    for _, _, regions in built:
+        if len(proved) == top:
+            break
+        if regions.certify().holds:
+            proved.append(regions)
+    return proved
