@@ -473,16 +473,21 @@ def best_three_finger_regions(polygon: Polygon, mu: float, top: int = 5,
     triples = np.array(list(itertools.combinations(range(n), 3)), dtype=np.int64).reshape(-1, 3)
     normal = np.array([e.normal for e in polygon.edges], float)
     balance = _can_balance(normal[triples], shrunk)
-    prototypes = _prototypes(polygon, triples[balance], shrunk)
     # a triple's shortest segment is at most its shortest edge: visit the triples by that
-    # bound, and stop once ``top`` found ones beat every bound left (the ranking is unchanged)
+    # bound, and stop once ``top`` found ones beat every bound left (the ranking is unchanged);
+    # the prototypes are analysed a block of triples at a time, in that order
     size = polygon.size
     bound = np.round(np.array([e.length for e in polygon.edges])[triples].min(axis=1) / size,
                      12)
+    order = sorted(np.flatnonzero(balance), key=lambda k: (-bound[k], tuple(triples[k])))
     found: list[ThreeFingerRegions] = []
-    for k in sorted(np.flatnonzero(balance), key=lambda k: (-bound[k], tuple(triples[k]))):
+    prototypes: dict[tuple[int, ...], NDArray[np.float64]] = {}
+    block = max(1, BATCH // GRID ** 3)
+    for at, k in enumerate(order):
         if len(found) >= top and round(found[top - 1].min_length / size, 12) > bound[k]:
             break
+        if at % block == 0:
+            prototypes = _prototypes(polygon, triples[order[at:at + block]], shrunk)
         edges = tuple(int(x) for x in triples[k])
         regions = _best_of(polygon, edges, mu, shrunk, pairs, prototypes.get(edges))
         if regions is not None:
