@@ -164,6 +164,23 @@ def test_old_triples_still_found(name):
 
 
 def test_what_was_searched_is_said():
-    assert f"{GRID} x {GRID} x {GRID}" in SEARCHED
+    assert f"{GRID} x {GRID} x {GRID}" in SEARCHED and "does not prove" in SEARCHED
     for family in ("common centre", "prototype", "Corollary 3"):
         assert family in SEARCHED
+
+
+def test_prototype_whose_lines_meet_at_a_finger():
+    """A finger under the frame's hole at x = -1 and one on the hole's left side, also at
+    x = -1: the largest-margin equilibrium pushes the bottom finger straight up, through the
+    side finger, so its lines meet at a finger and no sector can hold them. Another
+    equilibrium of the same prototype (a step in the null space of its wrenches) gives
+    regions, which Theorem 1 confirms."""
+    from forceclosure.synthesis.regions import MARGIN, narrowed
+    from forceclosure.synthesis.three_fingers import _around
+
+    frame, mu = bundled("frame"), 0.3
+    points = np.array([[-1.0, -2.0], [-1.0, -0.5], [1.0, -5 / 6]])  # on edges 0, 4, 6
+    r = _around(frame, (0, 4, 6), mu, narrowed(mu, MARGIN), points)
+    assert r is not None and r.sectors is not None
+    assert min(np.linalg.norm(np.asarray(r.centre) - points, axis=1)) > 0.02 * frame.size
+    _assert_every_choice_closes(frame, r, mu, np.random.default_rng(2), random=100)

@@ -29,7 +29,8 @@ But when the cones are wide, (b) fails on whole cones.
 **Around a prototype.** So every triple is also sampled: fingers on a grid
 of :data:`GRID` points per edge are tested by Theorem 1 (the compiled batch
 analysis, cones narrowed by the margin). For the best force-closure
-prototype of the triple, the forces of its largest-margin equilibrium give
+prototype of the triple (the next best, up to :data:`TRIES`, should it give
+no regions), the forces of its largest-margin equilibrium give
 directions ``phi_i``, the point ``X`` where their lines meet, and signs
 ``s_i``; ``D_i`` is the widest sector about ``phi_i`` inside the cone that
 keeps (b), and the same linear program gives the regions, proved by the
@@ -57,6 +58,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
+import scipy.linalg
 from numpy.typing import NDArray
 from scipy.optimize import linprog
 
@@ -82,22 +84,28 @@ __all__ = ["GRID", "SEARCHED", "ThreeFingerRegions", "best_three_finger_regions"
 
 #: ``X`` is kept this fraction of the object's size away from each contact, along its force.
 DEPTH = 1e-3
-#: Prototype fingers per edge: at ``(k + 1/2) / GRID`` of its length, ``k = 0 .. GRID - 1``.
+#: Prototype fingers per edge: at ``(k + OFFSET) / GRID`` of its length, ``k = 0 .. GRID - 1``.
 GRID = 6
+#: Where in its cell of the grid each prototype finger sits (the middle).
+OFFSET = 0.5
+#: Prototypes tried per triple, best Theorem 1 margin first, until one gives regions.
+TRIES = 8
+#: Lines of force meeting closer than this fraction of the object's size to a finger are moved.
+CLEAR = 0.02
 #: Grasps analysed by one call of the batch analysis (bounds the memory used).
 BATCH = 65_536
 
 #: What :func:`best_three_finger_regions` searched when it returns nothing (for the CLI).
 SEARCHED = (
-    "searched every triple of edges whose narrowed friction cones can balance (force-direction "
-    "closure), by three certified constructions: (1) lines of force meeting at a common centre "
-    "with whole friction cones (a linear program); (2) the same around the best force-closure "
-    f"prototype among {GRID} x {GRID} x {GRID} fingers at evenly spaced points of the three "
-    "edges (Theorem 1, cones narrowed by the margin); (3) a pair of edges with two-finger "
-    "independent regions (Corollary 3, squeezing or pushing apart) plus a third finger anywhere "
-    "on a third edge. Nothing found proves no grasp only for the grid's prototypes: a triple "
-    "whose force-closure grasps all lie between the grid points, or within the margin of "
-    "marginal, is missed")
+    "searched every triple of edges whose friction cones, narrowed by the margin, can balance "
+    "(force-direction closure), by three certified constructions: (1) lines of force meeting at "
+    "a common centre, with the whole cones (a linear program); (2) the same around the "
+    f"force-closure prototypes with the largest Theorem 1 margins (up to {TRIES} per triple) "
+    f"among {GRID} x {GRID} x {GRID} fingers at evenly spaced points of the three edges; (3) a "
+    "pair of edges with two-finger independent regions (Corollary 3, squeezing or pushing "
+    "apart, an exact linear program) plus a third finger anywhere on a third edge. Finding "
+    "nothing does not prove that no three-finger grasp exists: grasps between the grid's "
+    "points, or closer than the margin to losing closure, are not ruled out")
 
 
 def _cross(a, b):
@@ -180,6 +188,8 @@ class ThreeFingerRegions(Regions):
         F = Fraction
         if self.centre is None:
             return Certificate(False, method, "no centre")
+        if not all(s in (1, -1) for s in self.signs):
+            return Certificate(False, method, f"signs must be +1 or -1, got {self.signs}")
         X = [F(x) for x in self.centre]
         sectors = []
         for k, (e, seg, s) in enumerate(zip((self.polygon.edges[k] for k in self.edges),
@@ -302,15 +312,16 @@ def _can_balance(normals: NDArray[np.float64], shrunk: float) -> NDArray[np.bool
 
 def _prototypes(polygon: Polygon, triples: NDArray[np.int64],
                 shrunk: float) -> dict[tuple[int, ...], NDArray[np.float64]]:
-    """For each triple of edges, the ``(3, 2)`` contact points of its force-closure grasp
-    with the largest Theorem 1 margin among :data:`GRID` evenly spaced points per edge
-    (compiled batch analysis, cones narrowed); triples with none are left out."""
+    """For each triple of edges, the ``(m, 3, 2)`` contact points of its (up to
+    :data:`TRIES`) force-closure grasps with the largest Theorem 1 margins among :data:`GRID`
+    evenly spaced points per edge (compiled batch analysis, cones narrowed), best first;
+    triples with none are left out."""
     from ..batch import analyze_batch
 
     edges = polygon.edges
     start, direction, normal, length = (np.array([getattr(e, k) for e in edges], float)
                                         for k in ("start", "direction", "normal", "length"))
-    t = (np.arange(GRID) + 0.5) / GRID
+    t = (np.arange(GRID) + OFFSET) / GRID
     combos = t[np.array(list(itertools.product(range(GRID), repeat=3)))]  # (K, 3)
     per = max(1, BATCH // len(combos))
     best = {}
@@ -321,10 +332,26 @@ def _prototypes(polygon: Polygon, triples: NDArray[np.int64],
         N = np.broadcast_to(normal[tr][:, None], P.shape)
         res = analyze_batch(P.reshape(-1, 3, 2), N.reshape(-1, 3, 2), mu=shrunk)
         margin = np.where(res.force_closure, res.margin, -np.inf).reshape(len(tr), -1)
-        k = np.argmax(margin, axis=1)
-        for b in np.flatnonzero(np.isfinite(margin[np.arange(len(tr)), k])):
-            best[tuple(int(x) for x in tr[b])] = P[b, k[b]]
+        ranked = np.argsort(-margin, axis=1, kind="stable")[:, :TRIES]
+        for b in range(len(tr)):
+            keep = ranked[b][np.isfinite(margin[b, ranked[b]])]
+            if len(keep):
+                best[tuple(int(x) for x in tr[b])] = P[b, keep]
     return best
+
+
+def _meeting_point(weights: NDArray[np.float64], G: NDArray[np.float64],
+                   points: NDArray[np.float64]):
+    """The three forces of an equilibrium (weights of the generators ``G``), the point where
+    their lines meet, and its least distance from a finger; None for parallel forces."""
+    force = (weights[:, None] * G).reshape(3, 2, 2).sum(axis=1)
+    unit = force / np.linalg.norm(force, axis=1, keepdims=True)
+    i, j = max(itertools.combinations(range(3), 2), key=lambda ij: abs(_cross(*unit[list(ij)])))
+    if abs(_cross(unit[i], unit[j])) < 1e-6:  # parallel forces: no finite centre
+        return None
+    a, _ = np.linalg.solve(np.column_stack([force[i], -force[j]]), points[j] - points[i])
+    X = points[i] + a * force[i]
+    return force, X, float(np.linalg.norm(X - points, axis=1).min())
 
 
 def _around(polygon: Polygon, edges: tuple[int, ...], mu: float, shrunk: float,
@@ -346,16 +373,30 @@ def _around(polygon: Polygon, edges: tuple[int, ...], mu: float, shrunk: float,
                   bounds=[(0, None)] * 6 + [(None, None)], method="highs")
     if res.status != 0 or not res.x[6] > 0:
         return None
-    force = ((res.x[:6] + res.x[6])[:, None] * G).reshape(3, 2, 2).sum(axis=1)
-    unit = force / np.linalg.norm(force, axis=1, keepdims=True)
-    i, j = max(itertools.combinations(range(3), 2), key=lambda ij: abs(_cross(*unit[list(ij)])))
-    if abs(_cross(unit[i], unit[j])) < 1e-6:  # parallel forces: no finite centre
-        return None
-    a, _ = np.linalg.solve(np.column_stack([force[i], -force[j]]), points[j] - points[i])
-    X = points[i] + a * force[i]
+    weights = res.x[:6] + res.x[6]
+    first = _meeting_point(weights, G, points)
+    meetings = [first]
+    if first is None or first[2] < CLEAR * polygon.size:
+        # the lines meet on or near a finger (grid points aligned with a corner, say): other
+        # equilibria, a step along each direction of W's null space that keeps every weight
+        # above half the least, may meet clear of the fingers; the farthest is tried too
+        step = 0.5 * weights.min()
+        tries = [_meeting_point(weights + sign * step * v / np.abs(v).max(), G, points)
+                 for v in scipy.linalg.null_space(W).T for sign in (1, -1)]
+        meetings.append(max((f for f in tries if f is not None), key=lambda f: f[2],
+                            default=None))
+    built = [_regions_for(polygon, edges, mu, shrunk, points, *f[:2]) for f in meetings
+             if f is not None and f[2] > 1e-9 * polygon.size]
+    return max((r for r in built if r is not None), key=lambda r: r.min_length, default=None)
+
+
+def _regions_for(polygon: Polygon, edges: tuple[int, ...], mu: float, shrunk: float,
+                 points: NDArray[np.float64], force: NDArray[np.float64],
+                 X: NDArray[np.float64]) -> ThreeFingerRegions | None:
+    """The linear program's regions for sectors about an equilibrium's forces meeting at
+    ``X``, each the widest inside its cone that keeps (b)."""
+    es = [polygon.edges[k] for k in edges]
     ahead = np.einsum("ij,ij->i", X - points, force)
-    if np.any(np.linalg.norm(X - points, axis=1) < 1e-9 * polygon.size):
-        return None
     signs = tuple(1 if x > 0 else -1 for x in ahead)
     phi = np.arctan2(force[:, 1], force[:, 0])
     slack = [math.atan(shrunk) - abs(math.remainder(float(p) - math.atan2(-e.normal[1],
@@ -395,12 +436,15 @@ def _with_free_finger(polygon: Polygon, edges: tuple[int, ...], mu: float,
 
 
 def _best_of(polygon: Polygon, edges: tuple[int, ...], mu: float, shrunk: float,
-             pairs: dict, prototype: NDArray[np.float64] | None) -> ThreeFingerRegions | None:
+             pairs: dict, prototypes: NDArray[np.float64] | None) -> ThreeFingerRegions | None:
     """The largest (longest shortest segment) of the three families on one triple; on a tie
-    the common centre with whole cones, then around the prototype, then a pair."""
+    the common centre with whole cones, then around a prototype, then a pair."""
     found = [_whole_cones(polygon, edges, mu, shrunk)]
-    if prototype is not None:
-        found.append(_around(polygon, edges, mu, shrunk, prototype))
+    for points in () if prototypes is None else prototypes:  # the first that gives regions
+        around = _around(polygon, edges, mu, shrunk, points)
+        if around is not None:
+            found.append(around)
+            break
     for a, b in itertools.combinations(sorted(edges), 2):
         if (a, b) in pairs:
             found.append(_with_free_finger(polygon, edges, mu, pairs[a, b]))
@@ -435,9 +479,9 @@ def three_finger_regions(polygon: Polygon, edges: tuple[int, int, int], mu: floa
         if r is not None:
             pairs[a, b] = r
     normals = np.array([[polygon.edges[k].normal for k in edges]], float)
-    prototype = (_prototypes(polygon, np.array([edges]), shrunk).get(edges)
-                 if _can_balance(normals, shrunk)[0] else None)
-    return _best_of(polygon, edges, mu, shrunk, pairs, prototype)
+    prototypes = (_prototypes(polygon, np.array([edges]), shrunk).get(edges)
+                  if _can_balance(normals, shrunk)[0] else None)
+    return _best_of(polygon, edges, mu, shrunk, pairs, prototypes)
 
 
 def best_three_finger_regions(polygon: Polygon, mu: float, top: int = 5,
