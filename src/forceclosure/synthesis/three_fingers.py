@@ -6,7 +6,7 @@ equilibrium, with at least two distinct contacts, proves force closure. Three
 nonzero forces in equilibrium lie on lines that meet at one point ``X`` (or
 are parallel). Three families of independent regions are built and proved:
 
-**Common centre** (:func:`three_finger_regions` first tries this, as before).
+**Common centre** (the original construction; preferred on a tie).
 The grasp at ``p1, p2, p3`` is force-closure if, for some point ``X`` and
 signs ``s_i`` (``+1``: ``X`` ahead of the finger, ``-1``: behind it):
 
@@ -32,11 +32,14 @@ analysis, cones narrowed by the margin). For the best force-closure
 prototype of the triple (the next best, up to :data:`TRIES`, should it give
 no regions), the forces of its largest-margin equilibrium give
 directions ``phi_i``, the point ``X`` where their lines meet, and signs
-``s_i``; ``D_i`` is the widest sector about ``phi_i`` inside the cone that
-keeps (b), and the same linear program gives the regions, proved by the
-same exact check. Around any force-closure grasp such regions exist (the
-conditions are strict), so a triple is missed only when every grid point
-of it fails or the grasps there are too close to marginal.
+``s_i``; should ``X`` fall on or near a finger, other equilibria of the
+prototype (steps in the null space of its wrench matrix) are tried as well.
+``D_i`` is the widest sector about ``phi_i`` inside the cone that keeps (b),
+and the same linear program gives the regions, proved by the same exact
+check. Around a force-closure grasp whose lines of force meet away from
+the fingers such regions exist (the conditions are strict), so a triple is
+missed when no grid point of it is force-closure with the narrowed cones,
+or (on none of the bundled polygons) when its prototypes give no sectors.
 
 **A force-closure pair plus a free finger.** If two of the three edges
 admit two-finger independent regions (Corollary 3,
