@@ -28,6 +28,8 @@ from .errors import InputError, clip, printable
 from .files import read_text
 from .tolerance import TOLERANCE
 
+__all__ = ["ANY_POSITIVE", "DEFAULT_F_MAX", "build_parser", "main"]
+
 #: A least friction below this is reported as "any positive friction": the bisection's
 #: smallest steps are within the verdict's tolerance band, where the test cannot tell a
 #: grasp that closes with any friction from one that needs a trace of it.

@@ -22,6 +22,9 @@ from ..errors import InputError
 from ..objects import Polygon, Polyhedron
 from .regions import MARGIN, check_margin, narrowed, tie_rounded
 
+__all__ = ["CONTACTS", "ON_FACES", "SIZES", "Synthesis", "check_hand", "default_fingers",
+           "default_fingers_reason", "synthesize"]
+
 #: The paper's constructions on faces (§5.2, §5.3, §5.5), by (fingers, contact).
 ON_FACES = {(2, "soft"): "§5.2", (3, "hard"): "§5.3", (7, "frictionless"): "§5.5"}
 CONTACTS = ("hard", "soft", "frictionless")
@@ -242,7 +245,9 @@ def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
 
 def _on_edges(polygon: Polygon, fingers: int, frictionless: bool, mu: float, top: int,
               margin: float, construction: str) -> list:
-    from . import best_frictionless_regions, best_regions, best_three_finger_regions
+    from .frictionless import best_frictionless_regions
+    from .planar import best_regions
+    from .three_fingers import best_three_finger_regions
 
     if frictionless:
         return best_frictionless_regions(polygon, top=top, margin=margin,
@@ -255,13 +260,10 @@ def _on_edges(polygon: Polygon, fingers: int, frictionless: bool, mu: float, top
 def _on_polyhedron(poly: Polyhedron, fingers: int, contact: str, mu: float, top: int,
                    margin: float, construction: str, method: str, samples: int,
                    seed: int) -> Synthesis:
-    from . import (
-        best_seven_frictionless_regions,
-        best_soft_pair_regions,
-        best_three_hard_regions,
-        prototype_grasps,
-        zone_regions,
-    )
+    from .seven import best_seven_frictionless_regions
+    from .soft_pair import best_soft_pair_regions
+    from .three_hard import best_three_hard_regions
+    from .zones import prototype_grasps, zone_regions
 
     key = (fingers, contact)
     if method == "auto":

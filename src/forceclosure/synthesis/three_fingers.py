@@ -43,6 +43,8 @@ from .regions import (
 )
 from .vertices import _extremes, _generators
 
+__all__ = ["DEPTH", "ThreeFingerRegions", "best_three_finger_regions", "three_finger_regions"]
+
 #: ``X`` is kept this fraction of the object's size inside the material beyond each contact.
 DEPTH = 1e-3
 

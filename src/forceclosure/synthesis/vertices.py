@@ -38,6 +38,8 @@ from .regions import (
     narrowed,
 )
 
+__all__ = ["VertexGrasp", "convex_vertices", "vertex_grasps"]
+
 
 def convex_vertices(polygon: Polygon) -> list[tuple[int, int, int]]:
     """The convex corners as ``(index, incoming edge, outgoing edge)``, indexed in
