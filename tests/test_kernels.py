@@ -20,7 +20,8 @@ from hypothesis import strategies as st
 
 from exact import planar_hard_wrenches, positively_spans, spatial_pyramid4_wrenches
 from forceclosure import Cone, InputError, point_contact
-from forceclosure.batch import _CODES, analyze_batch, least_friction_batch
+from forceclosure.batch import analyze_batch, least_friction_batch
+from forceclosure.batch_analysis import _CODES
 from forceclosure.closure import decide
 from forceclosure.quality import least_friction_reference
 from forceclosure.two_finger import two_finger_closure
@@ -108,7 +109,7 @@ def _families(n_total: int, seed: int = 7):
 
 def _reference_chunk(args):
     P, N, mu, model, torsion, cone = args
-    from forceclosure.batch import _validate
+    from forceclosure.batch_analysis import _validate
 
     grasps = _validate(P, N, mu, model, torsion)
     rows = []

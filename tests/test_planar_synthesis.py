@@ -187,6 +187,36 @@ def test_synthesize_refusals(argv, message, capsys):
     assert message in err and len(err.splitlines()) == 1
 
 
+@pytest.mark.parametrize("kwargs,argv,api,cli", [
+    ({"fingers": 2, "contact": "hard"}, ["--fingers", "2", "--contact", "hard"],
+     "fingers=2, contact='hard': a spatial grasp needs at least 3 hard fingers",
+     "--fingers 2 --contact hard: a spatial grasp needs at least 3 hard fingers"),
+    ({"fingers": 4, "method": "faces"}, ["--fingers", "4", "--method", "faces"],
+     "method='faces': the paper constructs", "--method faces: the paper constructs"),
+    ({"fingers": 3, "construction": "nguyen"}, ["--fingers", "3", "--construction", "nguyen"],
+     "construction='nguyen': in space", "--construction nguyen: in space"),
+    ({"mu": -1.0}, ["--mu", "-1"], "mu must be a positive number, got -1",
+     "--mu must be a positive number, got -1"),
+    ({"contact": "soft", "top": 0}, ["--contact", "soft", "--top", "0"],
+     "top must be at least 1, got 0", "--top must be at least 1, got 0"),
+])
+def test_refusals_name_parameters_to_callers_and_flags_on_the_command_line(kwargs, argv, api,
+                                                                            cli, capsys):
+    """The same refusal, worded for who asked: the API names its parameters, the command line
+    its flags (one table in cli.py maps the one to the other)."""
+    from forceclosure import synthesize
+    from forceclosure.cli import main
+
+    with pytest.raises(InputError) as raised:
+        synthesize(bundled("cube"), **kwargs)
+    said = str(raised.value)
+    assert "--" not in said and said.startswith(api), said
+    code = main(["synthesize", "cube", *argv])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1
+    assert err.startswith("forceclosure: error: " + cli), err
+
+
 @pytest.mark.parametrize("polygon", [*OBJECTS, glyph("B")], ids=lambda p: p.name)
 def test_nguyen_regions_hold_and_never_beat_the_maximal_ones(polygon):
     from forceclosure.synthesis import nguyen_regions

@@ -7,6 +7,13 @@ Examples
 ...          point_contact([1, 0], [1, 0], "hard", mu=0.3)]
 >>> analyze(grasp).verdict.value
 'closure'
+
+The reverse problem, where to put the fingers (§5), has one front door:
+
+>>> from forceclosure import bundled, synthesize
+>>> found = synthesize(bundled("square"), fingers=2, contact="hard", mu=0.3, top=1)
+>>> found.method, found.found[0].certify().holds
+('edges', True)
 """
 
 from __future__ import annotations
@@ -39,6 +46,12 @@ _HOME = {
     **dict.fromkeys(["collides"], "collision"),
     **dict.fromkeys(["graspnet_array", "save_acronym", "save_graspnet"], "export"),
     **dict.fromkeys(["plot_grasps"], "grasp_plot"),
+    **dict.fromkeys(["Synthesis", "synthesize"], "synthesis.best"),
+    **dict.fromkeys(["Certificate", "Regions", "best_frictionless_regions", "best_regions",
+                     "best_seven_frictionless_regions", "best_soft_pair_regions",
+                     "best_three_finger_regions", "best_three_hard_regions"], "synthesis"),
+    **dict.fromkeys(["Polygon", "Polyhedron", "bundled", "glyph", "prism"], "objects"),
+    **dict.fromkeys(["load_object"], "objects.io"),
 }
 
 
@@ -84,13 +97,27 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, eagerly
     from .labels import GraspLabels, grasp_labels, label_grasps
     from .metrics import GraspMetrics, grasp_matrix, grasp_metrics
     from .motion import Motion, motion_of
+    from .objects import Polygon, Polyhedron, bundled, glyph, prism
+    from .objects.io import load_object
     from .robust import Noise, Robustness, robust_labels
     from .simulators import contacts_from_mujoco, contacts_from_pybullet
+    from .synthesis import (
+        Certificate,
+        Regions,
+        best_frictionless_regions,
+        best_regions,
+        best_seven_frictionless_regions,
+        best_soft_pair_regions,
+        best_three_finger_regions,
+        best_three_hard_regions,
+    )
+    from .synthesis.best import Synthesis, synthesize
     from .task import TaskWrench, gravity_wrench, resist_wrench
 
 __all__ = [
     "TOLERANCE",
     "Analysis",
+    "Certificate",
     "Cone",
     "Contact",
     "ForceClosureError",
@@ -101,13 +128,24 @@ __all__ = [
     "Motion",
     "Noise",
     "ParallelJaw",
+    "Polygon",
+    "Polyhedron",
+    "Regions",
     "Robustness",
+    "Synthesis",
     "TaskWrench",
     "VectorClosure",
     "Verdict",
     "WrenchSet",
     "__version__",
     "analyze",
+    "best_frictionless_regions",
+    "best_regions",
+    "best_seven_frictionless_regions",
+    "best_soft_pair_regions",
+    "best_three_finger_regions",
+    "best_three_hard_regions",
+    "bundled",
     "collides",
     "contacts_from_mujoco",
     "contacts_from_pybullet",
@@ -116,21 +154,25 @@ __all__ = [
     "face_contact",
     "force_direction_closure",
     "generating_wrenches",
+    "glyph",
     "grasp_labels",
     "grasp_matrix",
     "grasp_metrics",
     "graspnet_array",
     "gravity_wrench",
     "label_grasps",
+    "load_object",
     "motion_of",
     "plot_grasps",
     "point_contact",
     "pose_from_contacts",
+    "prism",
     "resist_wrench",
     "robust_labels",
     "sample_antipodal",
     "save_acronym",
     "save_graspnet",
+    "synthesize",
     "torque_closure",
     "vector_closure",
     "vertex_contact",

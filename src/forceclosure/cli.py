@@ -18,6 +18,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import signal
 import sys
 from importlib import resources
@@ -28,10 +29,59 @@ from .errors import InputError, clip, printable
 from .files import read_text
 from .tolerance import TOLERANCE
 
+__all__ = ["ANY_POSITIVE", "DEFAULT_F_MAX", "FLAGS", "SWITCHES", "as_flags", "build_parser",
+           "main"]
+
 #: A least friction below this is reported as "any positive friction": the bisection's
 #: smallest steps are within the verdict's tolerance band, where the test cannot tell a
 #: grasp that closes with any friction from one that needs a trace of it.
 ANY_POSITIVE = 100 * TOLERANCE
+
+#: The library's errors name its parameters (``fingers=2, contact='hard': ...``, ``mu must
+#: be ...``); the command line says them as its flags. The one table from the one to the
+#: other, applied by :func:`as_flags` to every input error :func:`main` prints.
+FLAGS = {"fingers": "--fingers", "contact": "--contact", "mu": "--mu", "top": "--top",
+         "method": "--method", "construction": "--construction", "margin": "--margin",
+         "samples": "--samples", "seed": "--seed"}
+#: Parameters that a ``--no-...`` flag turns off: ``least_friction=False`` is
+#: ``--no-least-friction``.
+SWITCHES = {"least_friction": "--no-least-friction", "epsilon": "--no-epsilon"}
+
+_NAMES = "|".join(FLAGS)
+_ASSIGNED = re.compile(rf"(?<![-\w.])({_NAMES})=('[^']*'|[^\s,:;()']+)(, (?=(?:{_NAMES})=))?")
+_SWITCHED = re.compile(rf"(?<![-\w.])({'|'.join(SWITCHES)})=False\b")
+_SUBJECT = re.compile(rf"({_NAMES}) must ")
+
+
+def as_flags(message: str) -> str:
+    """A library error message as the command line says it: parameters as flags.
+
+    Examples
+    --------
+    >>> as_flags("fingers=2, contact='hard': a spatial grasp needs at least 3 hard fingers")
+    '--fingers 2 --contact hard: a spatial grasp needs at least 3 hard fingers'
+    >>> as_flags("mu must be a positive number, got -1")
+    '--mu must be a positive number, got -1'
+    >>> as_flags("method='faces': not 4 soft; use method='mesh'")
+    '--method faces: not 4 soft; use --method mesh'
+    >>> as_flags("the least friction was not computed (least_friction=False)")
+    'the least friction was not computed (--no-least-friction)'
+    >>> as_flags("--mu must be finite")   # a message already in flags is left as it is
+    '--mu must be finite'
+    """
+    def flag(match: re.Match[str]) -> str:
+        value = match.group(2)
+        if len(value) >= 2 and value[0] == value[-1] == "'":
+            value = value[1:-1]
+        return f"{FLAGS[match.group(1)]} {value}" + (" " if match.group(3) else "")
+
+    message = _ASSIGNED.sub(flag, message)
+    message = _SWITCHED.sub(lambda m: SWITCHES[m.group(1)], message)
+    subject = _SUBJECT.match(message)
+    if subject:
+        message = FLAGS[subject.group(1)] + message[len(subject.group(1)):]
+    return message
+
 
 # numpy, scipy and the library's own modules are imported where a command needs them, so
 # that `forceclosure --help` answers at once
@@ -1248,7 +1298,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return args.run(args)
     except InputError as e:
-        _error(str(e))
+        _error(as_flags(str(e)))
         return 2
     except KeyboardInterrupt:
         print("forceclosure: interrupted", file=sys.stderr)

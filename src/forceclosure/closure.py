@@ -54,6 +54,11 @@ from .errors import InputError
 from .motion import Motion, motion_of, shift_twist
 from .tolerance import TOLERANCE
 
+__all__ = ["EXACT_CONE_EDGES", "FRICTION_CAP", "TOLERANCE", "TORSION_MAX", "Analysis",
+           "VectorClosure", "Verdict", "analyze", "analyze_explained", "check_rtol",
+           "check_tolerance", "decide", "force_direction_closure", "torque_closure",
+           "vector_closure"]
+
 #: Friction above this proves closure only as this much does (friction is
 #: monotone: a grasp closed with less is closed with more), and refutes it
 #: only as the closed half-space does (the limit of any friction). Between

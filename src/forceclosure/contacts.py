@@ -43,6 +43,11 @@ from numpy.typing import ArrayLike, NDArray
 
 from .errors import InputError
 
+__all__ = ["MAX_COORDINATE", "MAX_EDGES", "MODELS", "Cone", "Contact", "Fit", "Model", "WrenchSet",
+           "binary_unit", "check_grasp", "edge_contact", "face_contact", "frame",
+           "generating_wrenches", "half_space_wrenches", "make_contact", "own_frame",
+           "point_contact", "primitive_wrenches", "tangent_basis", "unit_rows", "vertex_contact"]
+
 MODELS = ("frictionless", "hard", "soft")
 Model = Literal["frictionless", "hard", "soft"]
 Fit = Literal["inscribed", "circumscribed"]

@@ -21,6 +21,8 @@ from .closure import TOLERANCE
 from .contacts import Contact, check_grasp, frame
 from .errors import InputError
 
+__all__ = ["EQUILIBRIUM_RTOL", "EquilibriumCertificate", "nonmarginal_equilibrium"]
+
 #: Relative size of the net force and torque accepted as equilibrium.
 EQUILIBRIUM_RTOL = 1e-9
 

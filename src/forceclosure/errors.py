@@ -11,6 +11,9 @@ import json
 import re
 from typing import Any
 
+__all__ = ["SHOWN", "ForceClosureError", "InputError", "OutputError", "clip", "first_line",
+           "parse_json", "printable", "shown"]
+
 #: How much of an offending value an error line shows.
 SHOWN = 200
 

@@ -120,7 +120,7 @@ def graspnet_array(labels: Any, gripper: ParallelJaw | None = None, score: str =
         mu_star = np.asarray(labels.least_friction, dtype=float)
         if np.any(np.isnan(mu_star[ok])):
             raise InputError("the GraspNet friction score needs the least friction, which was "
-                             "not computed (--no-least-friction): use the epsilon score")
+                             "not computed (least_friction=False): use the epsilon score")
         if float(labels.meta.get("mu", 0.0)) >= 2.1:
             raise InputError(f"mu {labels.meta['mu']} >= 2.1: the friction score 1.1 - mu* "
                              "could reach the rejected grasps' -1; use the epsilon score")
@@ -129,7 +129,7 @@ def graspnet_array(labels: Any, gripper: ParallelJaw | None = None, score: str =
         values = np.asarray(labels.epsilon, dtype=float)
         if np.any(np.isnan(values[ok])):
             raise InputError("the GraspNet epsilon score needs the epsilon, which was not "
-                             "computed (--no-epsilon): use the friction score")
+                             "computed (epsilon=False): use the friction score")
     a = np.empty((n, 17))
     a[:, 0] = np.where(ok, values, REJECTED)
     a[:, 1] = labels.width

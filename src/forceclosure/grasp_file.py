@@ -31,6 +31,10 @@ from .contacts import MODELS, Cone, Contact, check_grasp, make_contact
 from .errors import InputError, clip, parse_json, shown
 from .quality import epsilon, least_friction
 
+__all__ = ["CONTACT_KEYS", "FILE_KEYS", "GRASP_KEYS", "MAX_COORDINATE", "NOT_COMPUTED",
+           "NOT_FINITE", "GraspEntry", "GraspFile", "parse_cone", "parse_contact",
+           "parse_grasp_file", "result_record"]
+
 CONTACT_KEYS = {"point", "points", "normal", "normals", "model", "mu", "torsion"}
 GRASP_KEYS = {"name", "contacts", "reference", "length_scale"}
 FILE_KEYS = {"cone", "grasps", "contacts", "name", "reference", "length_scale", "$schema"}

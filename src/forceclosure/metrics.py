@@ -114,7 +114,7 @@ def grasp_matrix(points: ArrayLike, normals: ArrayLike,
     >>> G.shape, int(np.linalg.matrix_rank(G[0]))
     ((1, 6, 6), 5)
     """
-    from .batch import _validate
+    from .batch_analysis import _validate
 
     grasps = _validate(points, normals, 0.0, model, None)
     P, N = grasps.points, grasps.normals
@@ -170,7 +170,7 @@ def grasp_metrics(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
     >>> m.sigma_min.round(6).tolist(), m.isotropy.round(6).tolist(), bool(m.volume[0] > 0)
     ([1.414214], [1.0], True)
     """
-    from .batch import _validate
+    from .batch_analysis import _validate
 
     grasps = _validate(points, normals, mu, model, torsion)
     cone = Cone(edges, "inscribed")

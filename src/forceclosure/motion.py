@@ -17,6 +17,8 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+__all__ = ["Motion", "motion_of", "shift_twist"]
+
 
 def _fmt(values: ArrayLike) -> str:
     v = np.atleast_1d(np.asarray(values, dtype=float))

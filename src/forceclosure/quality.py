@@ -18,7 +18,8 @@ reference point and length scale.
   finger, for which the grasp is force-closure (frictionless contacts taken
   as hard fingers). Planar two-finger grasps and spatial soft pairs (exact
   cones) are in closed form (:mod:`forceclosure.two_finger`); others bisect
-  on the cone angle, a monotone question.
+  on the cone angle, a monotone question. It is computed in
+  :mod:`forceclosure.friction`, and its names are here too.
 """
 
 from __future__ import annotations
@@ -37,16 +38,14 @@ from .closure import (
     FRICTION_CAP,
     TOLERANCE,
     Verdict,
-    check_rtol,
-    check_tolerance,
     decide,
 )
 from .contacts import Cone, Contact, check_grasp, generating_wrenches
 from .errors import InputError
-from .two_finger import two_finger_closure
+from .friction import MU_MAX, least_friction, least_friction_reference
 
-#: Largest friction coefficient tried; beyond it cones are numerically half-spaces.
-MU_MAX = 1e4
+__all__ = ["LINF_MAX_POINTS", "MU_MAX", "Epsilon", "epsilon", "least_friction",
+           "least_friction_reference"]
 
 #: Largest number of points whose hull the L-infinity epsilon will build.
 LINF_MAX_POINTS = 200_000
@@ -134,96 +133,3 @@ def epsilon(contacts: Sequence[Contact], norm: Literal["L1", "Linf"] = "L1", *, 
                     points = points[ConvexHull(points).vertices]
         value = _hull_radius(points)
     return Epsilon(value, norm, result.reference, result.length_scale, label)
-
-
-def _closes(contacts: list[Contact], mu: float, cone: str | Cone, tol: float) -> bool:
-    grasp = [c.with_friction(mu) for c in contacts]
-    return decide(grasp, cone, tol)[0].verdict is Verdict.CLOSURE
-
-
-def least_friction(contacts: Sequence[Contact], *, cone: str | Cone = "exact",
-                   tol: float = TOLERANCE, rtol: float = 1e-6) -> float:
-    """The least friction coefficient, equal at all fingers, that closes the grasp.
-
-    Parameters
-    ----------
-    contacts : sequence of Contact
-        Their own ``mu`` is ignored; frictionless contacts count as hard
-        fingers, soft fingers stay soft.
-    cone : "exact" or Cone
-        As in :func:`forceclosure.analyze`.
-    rtol : float
-        Relative precision of the bisection on the cone half-angle.
-
-    Returns
-    -------
-    float
-        0 when the grasp is force-closure without friction; ``inf`` when no
-        friction up to :data:`MU_MAX` closes it. The grasp is force-closure for any larger value.
-
-    Examples
-    --------
-    >>> from forceclosure import point_contact
-    >>> grasp = [point_contact([-1, 0], [-1, 0], "hard"),
-    ...          point_contact([1, 0.2], [1, 0], "hard")]
-    >>> round(least_friction(grasp), 6)   # tan of the angle of PQ: 0.2 / 2
-    0.1
-    """
-    contacts = check_grasp(contacts)
-    tol = check_tolerance(tol)
-    rtol = check_rtol(rtol)
-    from .kernels import pairs, theorem1, use_compiled
-
-    if all(len(c.points) == 1 and len(c.normals) == 1 for c in contacts) and use_compiled(
-            pairs.pair_kernel, theorem1.least_friction_kernel):
-        # point contacts: one compiled bisection (closed forms for pairs), the reference
-        # below only where the kernel defers (or before the kernels are compiled)
-        from .batch import least_friction_batch
-
-        models = ["hard" if c.model == "frictionless" else c.model for c in contacts]
-        torsion = [[np.nan if c.torsion is None else c.torsion for c in contacts]]
-        return float(least_friction_batch(
-            [[c.point for c in contacts]], [[c.normal for c in contacts]], model=models,
-            torsion=torsion, cone=cone, tol=tol, rtol=rtol)[0])
-    return least_friction_reference(contacts, cone=cone, tol=tol, rtol=rtol)
-
-
-def least_friction_reference(contacts: Sequence[Contact], *, cone: str | Cone = "exact",
-                             tol: float = TOLERANCE, rtol: float = 1e-6) -> float:
-    """:func:`least_friction` by bisection over full analyses (:func:`forceclosure.analyze`'s
-    path): for any contacts, and the reference the compiled kernel is checked against.
-
-    Examples
-    --------
-    >>> from forceclosure import point_contact
-    >>> grasp = [point_contact([-1, 0], [-1, 0], "hard"),
-    ...          point_contact([1, 0.2], [1, 0], "hard")]
-    >>> round(least_friction_reference(grasp), 6)
-    0.1
-    """
-    contacts = check_grasp(contacts)
-    tol = check_tolerance(tol)
-    rtol = check_rtol(rtol)
-    pair = (len(contacts) == 2 and all(len(c.points) == 1 and len(c.normals) == 1
-                                       for c in contacts)
-            and all(c.model != "soft" or c.torsion is None for c in contacts))
-    if pair and (contacts[0].dim == 2
-                 or (cone == "exact" and all(c.model == "soft" for c in contacts))):
-        # Corollary 3 in the plane, and its exact spatial form for soft pairs, in closed form
-        a, b = contacts
-        least = float(two_finger_closure(a.point, a.normal, b.point, b.normal, 1.0,
-                                         engine="reference").least_friction)
-        return math.inf if least > MU_MAX else least
-    if _closes(list(contacts), 0.0, cone, tol):
-        return 0.0
-    hi = math.atan(MU_MAX)
-    if not _closes(list(contacts), MU_MAX, cone, tol):
-        return math.inf
-    lo = 0.0
-    while hi - lo > rtol * hi:
-        mid = 0.5 * (lo + hi)
-        if _closes(list(contacts), math.tan(mid), cone, tol):
-            hi = mid
-        else:
-            lo = mid
-    return math.tan(hi)

@@ -33,19 +33,19 @@ Everything here is vectorised over any number of pairs.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .batch_analysis import Engine, analyze_batch
 from .closure import TOLERANCE, Verdict, analyze, check_tolerance
 from .contacts import MAX_COORDINATE, point_contact, unit_rows
 from .errors import InputError
 
+__all__ = ["PairClosure", "pair_codes", "pair_least_friction", "two_finger_closure"]
+
 _VERDICTS = np.array([Verdict.NONE.value, Verdict.MARGINAL.value, Verdict.CLOSURE.value])
 _CODES = {Verdict.NONE: 0, Verdict.MARGINAL: 1, Verdict.CLOSURE: 2}
-
-Engine = Literal["compiled", "reference"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -221,8 +221,6 @@ def pair_codes(points: ArrayLike, normals: ArrayLike, mu: ArrayLike, model: str 
     >>> pair_codes(P, N, 0.5).tolist(), pair_codes(P, N, 0.5, "hard").tolist()
     ([2], [0])
     """
-    from .batch import analyze_batch
-
     points = np.asarray(points, dtype=float)
     normals = np.asarray(normals, dtype=float)
     if points.ndim != 3 or points.shape[1] != 2:
@@ -291,8 +289,6 @@ def _compiled(p, n_p, q, n_q, mu_p, mu_q, model, tol, shape):
         return code, least
     undecided = np.flatnonzero(code == kernel.UNDECIDED)
     if len(undecided):  # spatial soft pairs beyond Corollary 3: Theorem 1, compiled
-        from .batch import analyze_batch
-
         P = np.stack([flat[0][undecided], flat[2][undecided]], axis=1)
         N = np.stack([flat[1][undecided], flat[3][undecided]], axis=1)
         mu = np.stack([np.broadcast_to(m, (n,))[undecided] for m in mus], axis=1)

@@ -25,6 +25,9 @@ from .objects import Polyhedron
 from .synthesis.patches import SpatialRegions
 from .synthesis.regions import Regions
 
+__all__ = ["COLOURS", "CONE_SIDES", "check_html_path", "grasps_figure", "planar_figure",
+           "spatial_figure", "write_grasps_html", "write_html"]
+
 #: matplotlib's tab10, so the page and the PNG colour the fingers alike.
 COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2",
            "#7f7f7f", "#bcbd22", "#17becf")

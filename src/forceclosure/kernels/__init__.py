@@ -13,6 +13,9 @@ import os
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+__all__ = ["COMPILE_AFTER", "announce_compiling", "cached", "compiling_announced", "kernel_array",
+           "use_compiled"]
+
 _log = logging.getLogger("forceclosure")
 _announced = False
 

@@ -28,6 +28,8 @@ import math
 import numba as nb
 import numpy as np
 
+__all__ = ["CHECK", "COPLANAR", "FLAT", "hull_radius"]
+
 #: A point this close to a facet's hyperplane does not see the facet.
 COPLANAR = 1e-11
 #: Largest distance of a point outside an accepted hull's facet (relative to the points' size).

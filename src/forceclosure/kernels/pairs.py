@@ -24,6 +24,8 @@ import math
 import numba as nb
 import numpy as np
 
+__all__ = ["CLOSURE", "MARGINAL", "NONE", "NON_FINITE", "UNDECIDED", "ZERO_NORMAL", "pair_kernel"]
+
 #: Pair codes, as in :mod:`forceclosure.two_finger`.
 NONE, MARGINAL, CLOSURE = 0, 1, 2
 #: A pair whose code is not final: spatial soft fingers whose closed form is

@@ -17,6 +17,8 @@ import numpy as np
 from .hull import hull_radius
 from .theorem1 import BLOCK, CLOSURE, DEFER, EXACT_EDGES, _decide, _frame, _work, wrenches
 
+__all__ = ["epsilon_kernel"]
+
 
 @nb.njit(parallel=True, cache=True, nogil=True)
 def epsilon_kernel(points, normals, mu, tors, model, edges, tol, maxm,

@@ -17,6 +17,8 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
+__all__ = ["INFEASIBLE", "OPTIMAL", "STALLED", "UNBOUNDED", "solve_tableau", "tableau"]
+
 OPTIMAL, INFEASIBLE, UNBOUNDED, STALLED = 0, 1, 2, 3
 
 _PIVOT = 1e-10  # smallest pivot element accepted

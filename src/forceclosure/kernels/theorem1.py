@@ -39,6 +39,10 @@ import numpy as np
 
 from .simplex import INFEASIBLE, OPTIMAL, solve_tableau, tableau
 
+__all__ = ["BAND", "BLOCK", "BRACKET", "CLOSURE", "DEFER", "EXACT_EDGES", "FRICTIONLESS", "GUARD",
+           "HARD", "MARGINAL", "NONE", "ROUNDOFF", "SOFT", "Work", "closure_kernel",
+           "closure_serial", "columns_per_grasp", "grasp", "least_friction_kernel", "wrenches"]
+
 NONE, MARGINAL, CLOSURE, DEFER = 0, 1, 2, 3
 #: The friction the least-friction bisection tries first as its upper end.
 BRACKET = 10.0

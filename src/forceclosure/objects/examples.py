@@ -16,6 +16,8 @@ from ..errors import InputError
 from .polygon import Polygon
 from .polyhedron import Polyhedron
 
+__all__ = ["POLYGONS", "POLYHEDRA", "bundled", "glyph", "prism"]
+
 
 def _star(points: int = 5, outer: float = 1.0, inner: float = 0.45) -> np.ndarray:
     theta = np.pi / 2 + np.pi * np.arange(2 * points) / points

@@ -25,6 +25,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 
+__all__ = ["RTOL", "Edge", "Polygon"]
+
 #: Relative tolerance (of the polygon's size) for repeated vertices and zero area.
 RTOL = 1e-9
 

@@ -49,6 +49,9 @@ from .orient import (
 from .outer import outer_surface
 from .polygon import Polygon, _signed_area
 
+__all__ = ["COORDINATE_LIMIT", "FACE_ANGLE", "FLAT_RTOL", "MERGE_RTOL", "OPEN_HINT", "PlanarFace",
+           "Polyhedron"]
+
 #: Relative tolerance (of the object's size) for merging vertices.
 MERGE_RTOL = 1e-9
 #: Coordinates beyond this magnitude, or objects smaller across than its inverse, are

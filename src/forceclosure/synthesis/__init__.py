@@ -1,5 +1,10 @@
-"""The reverse problem: where to put the fingers (Nguyen 1988, §4, §5)."""
+"""The reverse problem: where to put the fingers (Nguyen 1988, §4, §5).
 
+:func:`synthesize` picks the paper's construction for a hand on an object
+and returns the best region sets; the constructions are also here one by one.
+"""
+
+from .best import Synthesis, synthesize
 from .frictionless import (
     FrictionlessRegions,
     best_frictionless_regions,
@@ -60,6 +65,7 @@ __all__ = [
     "SevenRegions",
     "SoftPairRegions",
     "SpatialRegions",
+    "Synthesis",
     "ThreeFingerRegions",
     "ThreeHardRegions",
     "VertexGrasp",
@@ -86,6 +92,7 @@ __all__ = [
     "search_zones",
     "seven_frictionless_regions",
     "soft_pair_regions",
+    "synthesize",
     "three_finger_regions",
     "three_hard_regions",
     "vertex_grasps",

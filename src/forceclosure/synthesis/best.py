@@ -24,6 +24,9 @@ from .construction import Construction, Hand, construction_for
 from .regions import MARGIN, RegionSet, check_margin, narrowed
 from .search import search
 
+__all__ = ["CONTACTS", "ON_FACES", "SIZES", "Synthesis", "check_hand", "default_fingers",
+           "default_fingers_reason", "synthesize"]
+
 #: The paper's constructions on faces (§5.2, §5.3, §5.5), by (fingers, contact).
 ON_FACES = {(2, "soft"): "§5.2", (3, "hard"): "§5.3", (7, "frictionless"): "§5.5"}
 CONTACTS = ("hard", "soft", "frictionless")
@@ -108,47 +111,50 @@ def check_hand(dim: int, fingers: int | None, contact: str = "hard", mu: float =
     >>> check_hand(3, 2, "hard")
     Traceback (most recent call last):
     ...
-    forceclosure.errors.InputError: --fingers 2 --contact hard: a spatial grasp needs at \
+    forceclosure.errors.InputError: fingers=2, contact='hard': a spatial grasp needs at \
 least 3 hard fingers (two cannot resist rotation about the line between them)
+
+    The messages name this function's parameters; ``forceclosure synthesize`` says them as its
+    flags (``--fingers 2 --contact hard: ...``).
     """
     if contact not in CONTACTS:
-        raise InputError(f"--contact must be one of {', '.join(CONTACTS)}, got {contact!r}")
+        raise InputError(f"contact must be one of {', '.join(CONTACTS)}, got {contact!r}")
     if fingers is None:
         fingers = default_fingers(dim, contact)
     frictionless = contact == "frictionless"
     if not frictionless and not (mu > 0 and np.isfinite(mu)):
-        raise InputError(f"--mu must be a positive number, got {mu:g}")
+        raise InputError(f"mu must be a positive number, got {mu:g}")
     if construction not in ("maximal", "nguyen"):
-        raise InputError(f"--construction must be maximal or nguyen, got {construction!r}")
+        raise InputError(f"construction must be maximal or nguyen, got {construction!r}")
     if method not in ("auto", "faces", "mesh"):
-        raise InputError(f"--method must be auto, faces or mesh, got {method!r}")
+        raise InputError(f"method must be auto, faces or mesh, got {method!r}")
     if dim == 2:
         if (fingers, frictionless) not in ((2, False), (3, False), (4, True)):
-            raise InputError(f"--fingers {fingers} --contact "
-                             f"{'frictionless' if frictionless else 'hard'}: implemented so "
+            raise InputError(f"fingers={fingers}, contact="
+                             f"{'frictionless' if frictionless else 'hard'!r}: implemented so "
                              "far are two or three fingers with friction (hard or soft) and "
                              "four frictionless fingers (the plane needs four without "
                              "friction)")
         if construction == "nguyen" and fingers == 3:
-            raise InputError("--construction nguyen: the paper constructs two- and "
+            raise InputError("construction='nguyen': the paper constructs two- and "
                              "four-finger regions; three fingers use a common centre of "
                              "equilibrium")
         return fingers
     if top < 1:
-        raise InputError(f"--top must be at least 1, got {top}")
+        raise InputError(f"top must be at least 1, got {top}")
     minimum = {"soft": 2, "hard": 3, "frictionless": 7}[contact]
     if fingers < minimum:
         why = {"soft": "", "hard": " (two cannot resist rotation about the line between "
                "them)", "frictionless": " (Lakshminarayana 1978)"}[contact]
-        raise InputError(f"--fingers {fingers} --contact {contact}: a spatial grasp needs at "
+        raise InputError(f"fingers={fingers}, contact={contact!r}: a spatial grasp needs at "
                          f"least {minimum} {contact} fingers{why}")
     key = (fingers, contact)
     if method == "faces" and key not in ON_FACES:
-        raise InputError(f"--method faces: the paper constructs two soft, three hard or seven "
+        raise InputError(f"method='faces': the paper constructs two soft, three hard or seven "
                          f"frictionless fingers on faces, not {fingers} {contact}; use "
-                         "--method mesh")
+                         "method='mesh'")
     if construction == "nguyen" and key != (2, "soft"):
-        raise InputError("--construction nguyen: in space the paper's two-sided cone is for "
+        raise InputError("construction='nguyen': in space the paper's two-sided cone is for "
                          "two soft fingers (§5.2)")
     return fingers
 

@@ -53,6 +53,9 @@ from .regions import (
 )
 from .vertices import _extremes
 
+__all__ = ["STRICT", "FrictionlessRegions", "best_frictionless_regions", "cofactors",
+           "maximal_frictionless_regions", "nguyen_frictionless_regions"]
+
 #: The cofactors are kept this fraction of the polygon's size away from zero.
 STRICT = 1e-6
 

@@ -15,16 +15,11 @@ from numpy.typing import NDArray
 
 from ..objects.polygon import Edge, Polygon
 from .construction import Construction, Hand, register
+from .edge_pair import ANGLE_MARGIN, IndependentRegions, Sector, shrunk_pair
 from .patches import clip
-from .planar import (
-    ANGLE_MARGIN,
-    IndependentRegions,
-    Sector,
-    _shrunk_pair,
-    counter_overlap_prune,
-    edge_pair_sites,
-    largest_segments_bound,
-)
+from .planar import counter_overlap_prune, edge_pair_sites, largest_segments_bound
+
+__all__ = ["NGUYEN", "nguyen_regions"]
 
 
 def _ray_hits(edge: Edge, direction: NDArray) -> tuple[NDArray, float]:
@@ -73,7 +68,7 @@ def nguyen_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | No
     >>> round(r.min_length, 3), r.spreading, r.certify().holds
     (0.598, True, True)
     """
-    e1, e2, _, sector = _shrunk_pair(polygon, i, j, mu, mu_q, margin)
+    e1, e2, _, sector = shrunk_pair(polygon, i, j, mu, mu_q, margin)
     if sector is None:
         return None
     mu_q = mu if mu_q is None else mu_q

@@ -24,6 +24,9 @@ from ..objects.polygon import _signed_area
 from ..objects.polyhedron import PlanarFace, Polyhedron
 from .regions import Certificate, RegionSet
 
+__all__ = ["CONVEX_RTOL", "FacePatch", "SpatialRegions", "clip", "convex_pieces", "sampling_check",
+           "uniform_in_triangles"]
+
 #: Relative tolerance (of the face's size) for calling a union of triangles convex.
 CONVEX_RTOL = 1e-9
 

@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from fractions import Fraction
 
 import numpy as np
 from numpy.typing import NDArray
@@ -37,20 +36,22 @@ from numpy.typing import NDArray
 from ..errors import InputError
 from ..objects.polygon import Edge, Polygon
 from .construction import Construction, Hand, register
-from .patches import clip
-from .regions import (
-    MARGIN,
-    Certificate,
-    Regions,
-    check_edges,
-    check_margin,
-    exact_inward,
-    exact_point,
-    narrowed,
+from .edge_pair import (
+    ANGLE_MARGIN,
+    IndependentRegions,
+    Sector,
+    check_mu,
+    counter_overlapping_sector,
+    edge_pair,
+    shrunk_pair,
 )
+from .patches import clip
+from .regions import narrowed
 
-#: Default angular margin (radians) kept between region grasps and the cone boundary.
-ANGLE_MARGIN = MARGIN  # the one margin (regions.check_margin)
+__all__ = ["ANGLE_MARGIN", "CHUNK", "MAX_EDGE_PAIRS", "IndependentRegions", "PairGrasps", "Sector",
+           "best_regions", "counter_overlapping_sector", "max_min_segments", "maximal_regions",
+           "pair_grasps"]
+
 #: Edge pairs solved at once by :func:`max_min_segments` (bounds the memory used).
 CHUNK = 2_048
 
@@ -73,49 +74,6 @@ def _functionals(m_p, mu_p, m_q, mu_q) -> NDArray[np.float64]:
                      -mu_q * m_q + perp_q, -mu_q * m_q - perp_q], axis=-2)
 
 
-@dataclass(frozen=True)
-class Sector:
-    """The counter-overlapping sector ``C_p ∩ -C_q`` (Lemma 1): directions of ``q - p``.
-
-    ``low`` and ``high`` are its bounding angles (radians, ``low < high``);
-    ``width = high - low``.
-    """
-
-    low: float
-    high: float
-
-    @property
-    def width(self) -> float:
-        """Opening angle of the sector."""
-        return self.high - self.low
-
-    @property
-    def bisector(self) -> NDArray[np.float64]:
-        """Unit direction halfway between the bounds."""
-        mid = 0.5 * (self.low + self.high)
-        return np.array([math.cos(mid), math.sin(mid)])
-
-
-def counter_overlapping_sector(n_p, mu_p: float, n_q, mu_q: float) -> Sector | None:
-    """``C_p ∩ -C_q`` for outward normals ``n_p``, ``n_q`` (Lemma 1), or None if empty.
-
-    Examples
-    --------
-    >>> s = counter_overlapping_sector([-1, 0], 0.5, [1, 0], 0.5)
-    >>> round(math.degrees(s.width), 4)   # two cones of 26.57 degrees, head on
-    53.1301
-    """
-    m_p = -np.asarray(n_p, float) / np.linalg.norm(n_p)
-    theta_p = math.atan2(m_p[1], m_p[0])
-    n_q = np.asarray(n_q, float) / np.linalg.norm(n_q)
-    delta = math.remainder(math.atan2(n_q[1], n_q[0]) - theta_p, 2 * math.pi)
-    a_p, a_q = math.atan(mu_p), math.atan(mu_q)
-    low, high = max(-a_p, delta - a_q), min(a_p, delta + a_q)
-    if low >= high:
-        return None
-    return Sector(theta_p + low, theta_p + high)
-
-
 def _affine_arrays(start1, dir1, normal1, start2, dir2, normal2, mu_p, mu_q):
     """``(A, b)`` with Corollary 3 <=> ``A @ (t1, t2) + b > 0``, for ``(..., 2)`` edge data."""
     ell = _functionals(-normal1, mu_p, -normal2, mu_q)  # (..., 4, 2)
@@ -130,30 +88,6 @@ def _affine(e1: Edge, e2: Edge, mu_p: float, mu_q: float) -> tuple[NDArray, NDAr
     """``(A, b)`` with the conditions ``A @ (t1, t2) + b > 0`` (one row per functional)."""
     return _affine_arrays(e1.start, e1.direction, e1.normal, e2.start, e2.direction,
                           e2.normal, mu_p, mu_q)
-
-
-def _edges(polygon: Polygon, i: int, j: int) -> tuple[Edge, Edge]:
-    i, j = check_edges(polygon, (i, j), 2)
-    return polygon.edges[i], polygon.edges[j]
-
-
-def _check_mu(mu_p: float, mu_q: float, margin: float = ANGLE_MARGIN) -> None:
-    for mu in (mu_p, mu_q):
-        if not (isinstance(mu, int | float) and math.isfinite(mu) and mu >= 0):
-            raise InputError(f"friction coefficient must be a finite number >= 0, got {mu!r}")
-    check_margin(margin)
-
-
-def _shrunk_pair(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | None,
-                 margin: float) -> tuple[Edge, Edge, list[float], Sector | None]:
-    """The two edges, the friction shrunk by ``margin`` radians, and the sector it leaves."""
-    mu_q = mu if mu_q is None else mu_q
-    _check_mu(mu, mu_q, margin)
-    e1, e2 = _edges(polygon, i, j)
-    shrink = [narrowed(m, margin) for m in (mu, mu_q)]
-    sector = (counter_overlapping_sector(e1.normal, shrink[0], e2.normal, shrink[1])
-              if min(shrink) > 0 else None)
-    return e1, e2, shrink, sector
 
 
 @dataclass(frozen=True, eq=False)
@@ -238,8 +172,8 @@ def pair_grasps(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | None 
     (True, [False, True])
     """
     mu_q = mu if mu_q is None else mu_q
-    _check_mu(mu, mu_q)
-    e1, e2 = _edges(polygon, i, j)
+    check_mu(mu, mu_q)
+    e1, e2 = edge_pair(polygon, i, j)
     sector = counter_overlapping_sector(e1.normal, mu, e2.normal, mu_q)
     A, b = _affine(e1, e2, mu, mu_q)
     if sector is None:
@@ -276,77 +210,6 @@ def _piece(e1: Edge, e2: Edge, edges: tuple[int, int], sector: Sector, A: NDArra
 def _area(poly: NDArray[np.float64]) -> float:
     x, y = poly[:, 0], poly[:, 1]
     return 0.5 * abs(float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)))
-
-
-@dataclass(frozen=True, eq=False)
-class IndependentRegions(Regions):
-    """Two segments, one per edge, such that *every* pair of points is force-closure.
-
-    Attributes (beyond :class:`Regions`)
-    ------------------------------------
-    mu : (float, float)
-        The friction at each finger.
-    apex : (float, float) or None
-        The vertex of Nguyen's two-sided cone, if it made them.
-    spreading : bool
-        The fingers push apart from inside a slot or a hole (Corollary 3's ``QP``
-        case: ``p - q`` in the cone at ``p``) rather than squeeze (``PQ``).
-    """
-
-    mu: tuple[float, float] = (0.0, 0.0)
-    apex: tuple[float, float] | None = None  # Nguyen's two-sided cone vertex, if it made them
-    spreading: bool = False
-
-    def friction(self) -> tuple[float, ...]:
-        """The friction coefficient at each finger."""
-        return tuple(self.mu)
-
-    def to_dict(self) -> dict[str, object]:
-        """The JSON record (see :meth:`Regions.to_dict`), with ``mu``, ``spreading`` (and
-        ``apex``)."""
-        record = {**super().to_dict(), "mu": list(self.mu), "spreading": self.spreading}
-        if self.apex is not None:
-            record["apex"] = list(self.apex)
-        return record
-
-    def certify(self) -> Certificate:
-        """Prove, in exact rational arithmetic, that every pair of points is force-closure.
-
-        The four Corollary 3 conditions are linear in ``w = q - p``, and ``w``
-        is affine in the two edge parameters. So they hold on the whole box
-        ``s1 x s2`` iff they hold at its four corners. The corners are
-        checked with ``fractions.Fraction`` at the very floating-point points
-        that are printed and returned, with each edge's normal taken exactly
-        from its two vertices: no rounding enters. Squeezing regions are
-        checked with ``w = q - p``, spreading ones with ``w = p - q``
-        (Corollary 3's two cases).
-        """
-        e1, e2 = (self.polygon.edges[k] for k in self.edges)
-        F = Fraction
-        m_p, m_q = exact_inward(e1), exact_inward(e2)
-        # narrowed by the outline's spread: then the cone holds for every normal the real
-        # outline has along the edge
-        mu_p, mu_q = (F(narrowed(m, self.polygon.spread)) for m in self.mu)
-
-        def inside(m: list[Fraction], mu: Fraction, w: list[Fraction]) -> bool:
-            dot = m[0] * w[0] + m[1] * w[1]
-            cross = m[0] * w[1] - m[1] * w[0]
-            return mu * dot - cross > 0 and mu * dot + cross > 0
-
-        for t1 in self.segments[0]:
-            for t2 in self.segments[1]:
-                p, q = exact_point(e1, t1), exact_point(e2, t2)
-                w = [q[0] - p[0], q[1] - p[1]]
-                if self.spreading:
-                    w = [-w[0], -w[1]]
-                if not (inside(m_p, mu_p, w) and inside(m_q, mu_q, [-w[0], -w[1]])):
-                    return Certificate(False, "corner check (exact rationals)",
-                                       f"the grasp at t = ({t1:.6g}, {t2:.6g}) is not "
-                                       "strictly inside both friction cones")
-        how = ", the fingers pushing apart (QP)" if self.spreading else ""
-        return Certificate(True, "corner check (exact rationals)",
-                           f"Corollary 3 holds strictly at the four corners of s1 x s2{how}, "
-                           "hence (linear conditions) at every pair of points")
 
 
 def _constraint_triples() -> NDArray[np.int64]:
@@ -441,7 +304,7 @@ def maximal_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | N
     >>> round(r.min_length, 3), r.spreading, r.certify().holds
     (0.598, True, True)
     """
-    e1, e2, shrink, sector = _shrunk_pair(polygon, i, j, mu, mu_q, margin)
+    e1, e2, shrink, sector = shrunk_pair(polygon, i, j, mu, mu_q, margin)
     if sector is None:
         return None
     mu_q = mu if mu_q is None else mu_q
@@ -603,7 +466,7 @@ def best_regions(polygon: Polygon, mu: float, top: int = 5, margin: float = ANGL
     from .construction import construction_for
     from .search import search
 
-    _check_mu(mu, mu, margin)
+    check_mu(mu, mu, margin)
     if construction not in ("maximal", "nguyen"):
         raise InputError(f"construction must be 'maximal' or 'nguyen', got {construction!r}")
     return search(construction_for(2, 2, "hard", construction), polygon,

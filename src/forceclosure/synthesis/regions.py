@@ -13,6 +13,9 @@ from numpy.typing import NDArray
 from ..errors import InputError
 from ..objects.polygon import Edge, Polygon
 
+__all__ = ["MARGIN", "Certificate", "Regions", "check_edges", "check_margin", "exact_inward",
+           "exact_point", "first_proved", "narrowed", "proved_once", "tie_rounded"]
+
 _COUNT = {2: "two", 3: "three", 4: "four"}
 
 #: The default margin, in radians: every grasp in the regions stays force-closure when each

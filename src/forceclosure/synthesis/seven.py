@@ -40,6 +40,10 @@ from .patches import FacePatch
 from .regions import MARGIN, Certificate, check_margin, proved_once
 from .zones import Prototype, ZoneRegions, prototype_grasps, zone_regions
 
+__all__ = ["BISECTIONS", "FILTER", "MAX_CORNERS", "SMALLEST", "SevenRegions",
+           "best_seven_frictionless_regions", "cofactor_signs", "minors_hold",
+           "seven_frictionless_regions"]
+
 #: Corners kept per region, so that a minor is checked at ``MAX_CORNERS ** 6`` tuples.
 MAX_CORNERS = 6
 #: The smallest shrinking of the regions tried, and the bisection steps above it.

@@ -48,6 +48,9 @@ from .construction import Construction, Hand, register
 from .patches import FacePatch, SpatialRegions, clip, convex_pieces
 from .regions import MARGIN, Certificate, narrowed, proved_once
 
+__all__ = ["ANGLE_MARGIN", "PYRAMID_EDGES", "SIDES", "CircularCone", "SoftPairRegions",
+           "best_soft_pair_regions", "counter_overlapping_cone", "soft_pair_regions"]
+
 #: Default margin (radians) taken off each friction cone's half-angle.
 ANGLE_MARGIN = MARGIN  # the one margin (regions.check_margin)
 #: Sides of the regular polygons that the maximal construction fits.

@@ -84,7 +84,7 @@ from .regions import (
 )
 from .vertices import _extremes, _generators
 
-__all__ = ["GRID", "SEARCHED", "ThreeFingerRegions", "best_three_finger_regions",
+__all__ = ["DEPTH", "GRID", "SEARCHED", "ThreeFingerRegions", "best_three_finger_regions",
            "three_finger_regions"]
 
 #: ``X`` is kept this fraction of the object's size away from each contact, along its force.

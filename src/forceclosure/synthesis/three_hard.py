@@ -48,6 +48,10 @@ from .zones import (
     zone_regions,
 )
 
+__all__ = ["CLASSES", "GraspClass", "ThreeHardRegions", "best_three_hard_regions",
+           "classify_three", "counter_overlap", "force_direction_closure_of_faces",
+           "three_hard_regions"]
+
 #: The paper's names for the four classes (Fig. 9), by number of counter-overlapping pairs.
 CLASSES = {
     0: "no counter-overlapping pair: the three cones together hold the object",

@@ -40,6 +40,8 @@ from .regions import (
     rounded,
 )
 
+__all__ = ["VertexGrasp", "convex_vertices", "vertex_grasps"]
+
 
 def convex_vertices(polygon: Polygon) -> list[tuple[int, int, int]]:
     """The convex corners as ``(index, incoming edge, outgoing edge)``, indexed in

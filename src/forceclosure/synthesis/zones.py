@@ -43,6 +43,10 @@ from ..objects.polyhedron import PlanarFace, Polyhedron
 from .patches import FacePatch, SpatialRegions, clip, convex_pieces, uniform_in_triangles
 from .regions import MARGIN, Certificate, check_margin, narrowed, proved_once
 
+__all__ = ["AFFINE_BATCH", "EDGES", "MODELS", "ZONE_MARGIN", "Prototype", "SearchZones",
+           "ZoneRegions", "best_prototypes", "finger_generators", "prototype_grasps",
+           "prototype_samples", "search_zones", "surface_samples", "zone_regions"]
+
 #: Edges of the inscribed friction pyramid (an inner approximation: regions stay valid
 #: for the true circular cones).
 EDGES = 8

@@ -1,0 +1,188 @@
+"""The package's layering (docs: DESIGN §5): no import cycles, a geometry layer that imports
+nothing above it, and a declared public surface (``__all__``) in every public module.
+
+The import graph is read from the source with :mod:`ast`, counting every ``import`` and
+``from ... import`` wherever it stands (module level, inside functions, under
+``TYPE_CHECKING``): a function-level import hides a cycle from the interpreter at import time,
+not from the reader. The checker is first run on small packages written here whose cycles are
+known, so that a checker which sees nothing cannot pass.
+"""
+
+from __future__ import annotations
+
+import ast
+import importlib
+from pathlib import Path
+
+import pytest
+
+SRC = Path(__file__).resolve().parents[1] / "src"
+PACKAGE = "forceclosure"
+
+
+def module_files(root: Path, package: str) -> dict[str, Path]:
+    """Every module of ``package`` under ``root``, by dotted name."""
+    found = {}
+    for path in sorted((root / package).rglob("*.py")):
+        parts = list(path.relative_to(root).with_suffix("").parts)
+        if parts[-1] == "__init__":
+            parts.pop()
+        found[".".join(parts)] = path
+    return found
+
+
+def import_graph(root: Path, package: str) -> dict[str, dict[str, list[int]]]:
+    """``{module: {imported module of the package: [line, ...]}}``.
+
+    ``from a import b`` counts as importing ``a.b`` when that is a module, else ``a`` (whose
+    ``__init__`` defines ``b``).
+    """
+    modules = module_files(root, package)
+
+    def owner(name: str) -> str | None:
+        while name and name not in modules:
+            name = name.rpartition(".")[0]
+        return name or None
+
+    graph: dict[str, dict[str, list[int]]] = {}
+    for name, path in modules.items():
+        here = name if path.name == "__init__.py" else name.rpartition(".")[0]
+        edges: dict[str, list[int]] = {}
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"), str(path))):
+            targets: list[str] = []
+            if isinstance(node, ast.Import):
+                targets = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                if node.level:
+                    base = here.split(".")
+                    base = base[: len(base) - (node.level - 1)]
+                    start = ".".join(base + ([node.module] if node.module else []))
+                else:
+                    start = node.module or ""
+                targets = [f"{start}.{a.name}" if f"{start}.{a.name}" in modules else start
+                           for a in node.names]
+            for target in targets:
+                if target == package or target.startswith(package + "."):
+                    found = owner(target)
+                    if found is not None and found != name:
+                        edges.setdefault(found, []).append(node.lineno)
+        graph[name] = edges
+    return graph
+
+
+def cycles(graph: dict[str, dict[str, list[int]]]) -> list[list[str]]:
+    """The strongly connected components of more than one module (Tarjan, iterative)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    found: list[list[str]] = []
+    for root in sorted(graph):
+        if root in index:
+            continue
+        work = [(root, iter(sorted(graph[root])))]
+        index[root] = low[root] = len(index)
+        stack.append(root)
+        on_stack.add(root)
+        while work:
+            v, children = work[-1]
+            for w in children:
+                if w not in index:
+                    index[w] = low[w] = len(index)
+                    stack.append(w)
+                    on_stack.add(w)
+                    work.append((w, iter(sorted(graph[w]))))
+                    break
+                if w in on_stack:
+                    low[v] = min(low[v], index[w])
+            else:
+                work.pop()
+                if work:
+                    low[work[-1][0]] = min(low[work[-1][0]], low[v])
+                if low[v] == index[v]:
+                    component = []
+                    while True:
+                        w = stack.pop()
+                        on_stack.discard(w)
+                        component.append(w)
+                        if w == v:
+                            break
+                    if len(component) > 1:
+                        found.append(sorted(component))
+    return found
+
+
+def describe(graph: dict[str, dict[str, list[int]]], component: list[str]) -> str:
+    return "; ".join(f"{a} -> {b} (line {graph[a][b][0]})"
+                     for a in component for b in component if b in graph[a])
+
+
+def write_package(root: Path, files: dict[str, str]) -> Path:
+    for name, text in files.items():
+        path = root / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text)
+    return root
+
+
+def test_the_checker_finds_cycles_it_is_shown(tmp_path):
+    """Three cycles written on purpose, of three kinds: top-level imports two modules deep, a
+    function-level import, and a submodule importing a name from its own package's
+    ``__init__``, which imports that submodule; and a chain that is no cycle."""
+    root = write_package(tmp_path, {
+        "pkg/__init__.py": "",
+        "pkg/a.py": "from .b import x\n",
+        "pkg/b.py": "from pkg.c import y\nx = 1\n",
+        "pkg/c.py": "def f():\n    from . import a\ny = 2\n",
+        "pkg/sub/__init__.py": "from .leaf import z\n",
+        "pkg/sub/leaf.py": "def g():\n    from . import helper\nz = 3\n",
+        "pkg/sub/deep/__init__.py": "",
+        "pkg/sub/deep/low.py": "from ...errors import E\n",
+        "pkg/errors.py": "E = 0\n",
+        "pkg/top.py": "from .sub.deep import low\nimport pkg.errors\n",
+    })
+    graph = import_graph(root, "pkg")
+    assert graph["pkg.sub.deep.low"] == {"pkg.errors": [1]}
+    assert graph["pkg.top"] == {"pkg.sub.deep.low": [1], "pkg.errors": [2]}
+    assert sorted(cycles(graph)) == [["pkg.a", "pkg.b", "pkg.c"], ["pkg.sub", "pkg.sub.leaf"]]
+
+
+def test_no_import_cycles():
+    graph = import_graph(SRC, PACKAGE)
+    assert len(graph) > 50 and "forceclosure.synthesis.planar" in graph
+    # the edges the analysis is known to need are seen (so the graph is not empty by accident)
+    assert "forceclosure.synthesis.planar" in graph["forceclosure.synthesis.nguyen"]
+    assert "forceclosure.batch_analysis" in graph["forceclosure.two_finger"]
+    found = cycles(graph)
+    assert not found, "import cycles: " + " | ".join(describe(graph, c) for c in found)
+
+
+def test_geometry_imports_nothing_above_it():
+    """A geometry layer (clipping, frames, cones, sampling) imports nothing of the package
+    but errors and tolerances, once it exists."""
+    graph = import_graph(SRC, PACKAGE)
+    allowed = {"forceclosure.errors", "forceclosure.tolerance"}
+    layer = [m for m in graph if m == "forceclosure.geometry"
+             or m.startswith("forceclosure.geometry.")]
+    if not (SRC / PACKAGE / "geometry").is_dir():
+        assert not layer
+        return
+    for module in layer:
+        above = {m for m in graph[module] if m not in allowed and m not in layer}
+        assert not above, f"{module} imports {sorted(above)}"
+
+
+def public_modules() -> list[str]:
+    return sorted(name for name, path in module_files(SRC, PACKAGE).items()
+                  if path.name == "__init__.py"
+                  or not (path.name.startswith("_") or path.name == "__main__.py"))
+
+
+@pytest.mark.parametrize("name", public_modules())
+def test_every_public_module_declares_all(name):
+    module = importlib.import_module(name)
+    assert isinstance(getattr(module, "__all__", None), list | tuple), f"{name} has no __all__"
+    names = list(module.__all__)
+    assert len(names) == len(set(names)), f"{name}.__all__ repeats a name"
+    missing = [n for n in names if not hasattr(module, n)]
+    assert not missing, f"{name}.__all__ names what it does not have: {missing}"
