@@ -35,8 +35,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError
+from ..geometry.clip import clip
+from ..geometry.cones import counter_overlap
 from ..objects.polygon import Edge, Polygon
-from .patches import clip
 from .regions import (
     MARGIN,
     Certificate,
@@ -97,6 +98,11 @@ class Sector:
 
 def counter_overlapping_sector(n_p, mu_p: float, n_q, mu_q: float) -> Sector | None:
     """``C_p ∩ -C_q`` for outward normals ``n_p``, ``n_q`` (Lemma 1), or None if empty.
+
+    The exact sector, with its bounding angles; whether it is empty is the
+    test of :func:`forceclosure.geometry.cones.counter_overlap` (the one used
+    to screen pairs), computed here from the same angles so that the sector's
+    bounds and its emptiness never disagree.
 
     Examples
     --------
@@ -487,16 +493,12 @@ def _candidate_pairs(normal: NDArray[np.float64],
     if total > MAX_EDGE_PAIRS:
         raise InputError(f"the polygon has {n} edges, {total} edge pairs to search: more than "
                          f"{MAX_EDGE_PAIRS}; simplify it (fewer vertices)")
-    limit = 2 * math.atan(mu)
     kept_i, kept_j = [], []
     rows = max(1, CHUNK * CHUNK // max(n, 1))
     for lo in range(0, n, rows):
         i, j = np.nonzero(np.triu(np.ones((min(rows, n - lo), n), dtype=bool), lo + 1))
         i = i + lo
-        m_i = -normal[i]
-        delta = np.arctan2(m_i[:, 0] * normal[j, 1] - m_i[:, 1] * normal[j, 0],
-                           np.einsum("pj,pj->p", m_i, normal[j]))
-        keep = np.abs(delta) < limit
+        keep = counter_overlap(normal[i], normal[j], mu)
         kept_i.append(i[keep])
         kept_j.append(j[keep])
     if not kept_i:
