@@ -9,7 +9,12 @@ builder of a cone's generating forces, :func:`friction_forces` (exact in the
 plane, a ``k``-edge pyramid in space), whose edge angles :func:`fill_rim` and
 radius :func:`pyramid_divisor` are plain arithmetic that the compiled kernels
 (:mod:`forceclosure.kernels.theorem1`) compile from this same source, so that
-both paths build bit-for-bit the same wrenches.
+both paths build bit-for-bit the same wrenches (tests/test_wrench_builders.py).
+
+numba keys a cached kernel by its own file only: after editing :func:`fill_rim`
+or :func:`pyramid_divisor`, touch ``kernels/theorem1.py`` (or clear numba's
+cache) and run ``forceclosure warmup``, or the kernels keep the old code (and
+the bit-for-bit test fails, as it should).
 """
 
 from __future__ import annotations

@@ -133,14 +133,9 @@ class ThreeHardRegions(ZoneRegions):
 
 def force_direction_closure_of_faces(normals: ArrayLike, mu: float, edges: int = EDGES) -> bool:
     """Theorem 2 for hard fingers on faces: do the friction pyramids together push the
-    object in every direction? Depends on the normals only."""
-    from ..contacts import tangent_basis
-
-    N = np.asarray(normals, dtype=float)
-    t1, t2 = tangent_basis(N)
-    theta = 2 * np.pi * np.arange(edges) / edges
-    F = (-N[:, None, :] + mu * (np.cos(theta)[None, :, None] * t1[:, None, :]
-                                + np.sin(theta)[None, :, None] * t2[:, None, :]))
+    object in every direction? Depends on the normals only (inscribed pyramids,
+    :func:`forceclosure.geometry.cones.friction_forces`)."""
+    F = cones.friction_forces(np.asarray(normals, dtype=float), mu, edges)
     return vector_closure(F.reshape(-1, 3).T).verdict is Verdict.CLOSURE
 
 
