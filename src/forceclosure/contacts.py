@@ -42,6 +42,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .errors import InputError
+from .geometry.cones import friction_forces, pyramid_divisor, pyramid_radius, tangent_basis
 
 __all__ = ["MAX_COORDINATE", "MAX_EDGES", "MODELS", "Cone", "Contact", "Fit", "Model", "WrenchSet",
            "binary_unit", "check_grasp", "edge_contact", "face_contact", "frame",
@@ -90,7 +91,7 @@ class Cone:
 
     def radius(self, mu: float) -> float:
         """Distance of the pyramid's edges from the cone axis at unit normal force."""
-        return mu if self.fit == "inscribed" else mu / math.cos(math.pi / self.edges)
+        return pyramid_radius(mu, self.edges, self.fit == "circumscribed")
 
     def __str__(self) -> str:
         return f"{self.edges}-edge {self.fit} pyramid"
@@ -392,22 +393,6 @@ def frame(contacts: Sequence[Contact], reference: ArrayLike | None = None,
     return ref, scale
 
 
-def tangent_basis(normals: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Two unit tangents ``t1, t2`` with ``(t1, t2, n)`` right-handed, for ``(..., 3)`` normals.
-
-    ``t1`` is built from the coordinate axis least aligned with ``n``, so an
-    axis-aligned normal gets axis-aligned tangents (exact in floating point).
-    """
-    n = np.asarray(normals, dtype=float)
-    axis = np.argmin(np.abs(n), axis=-1)
-    e = np.zeros_like(n)
-    np.put_along_axis(e, axis[..., None], 1.0, axis=-1)
-    t1 = np.cross(e, n)
-    t1 /= np.linalg.norm(t1, axis=-1, keepdims=True)
-    t2 = np.cross(n, t1)
-    return t1, t2
-
-
 def _cross(r: NDArray[np.float64], f: NDArray[np.float64]) -> NDArray[np.float64]:
     """Planar (scalar, shape ``(..., 1)``) or spatial moment ``r x f``."""
     if r.shape[-1] == 2:
@@ -444,21 +429,16 @@ def primitive_wrenches(points: NDArray[np.float64], normals: NDArray[np.float64]
         number of generators of this model; torques are divided by ``scale``.
     """
     n_grasps, d = points.shape
-    inward = -normals
-    mu_ = mu[:, None, None]
-    # Force directions (N, g, d) with unit normal component, at offsets along the surface.
+    # Force directions (N, g, d) with unit normal component (geometry.cones, the one builder
+    # of friction cones, whose rim and radius the compiled kernels share).
     if model == "frictionless":
-        forces = inward[:, None, :]
+        forces = friction_forces(normals, None)
     elif d == 2:
-        tangent = np.stack([-normals[:, 1], normals[:, 0]], axis=-1)
-        forces = inward[:, None, :] + mu_ * np.stack([tangent, -tangent], axis=1)
+        forces = friction_forces(normals, mu)
     else:
-        t1, t2 = tangent_basis(normals)
-        theta = 2 * np.pi * np.arange(cone.edges) / cone.edges
-        rim = (np.cos(theta)[None, :, None] * t1[:, None, :]
-               + np.sin(theta)[None, :, None] * t2[:, None, :])
-        radius = mu_ if cone.fit == "inscribed" else mu_ / math.cos(math.pi / cone.edges)
-        forces = inward[:, None, :] + radius * rim
+        forces = friction_forces(normals, mu / pyramid_divisor(cone.edges,
+                                                               cone.fit == "circumscribed"),
+                                 cone.edges)
     arm = (points - reference)[:, None, :]
     lever = scale[:, None, None]
     moments = _cross(np.broadcast_to(arm, forces.shape), forces) / lever

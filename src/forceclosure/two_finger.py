@@ -41,6 +41,7 @@ from .batch_analysis import Engine, analyze_batch
 from .closure import TOLERANCE, Verdict, analyze, check_tolerance
 from .contacts import MAX_COORDINATE, point_contact, unit_rows
 from .errors import InputError
+from .geometry.cones import angle_between as _angle
 
 __all__ = ["PairClosure", "pair_codes", "pair_least_friction", "two_finger_closure"]
 
@@ -95,16 +96,6 @@ class PairClosure:
         """Angle between ``P - Q`` and ``-n_Q``."""
         p, _, q, n_q = self._pairs
         return _angle(p - q, -n_q)
-
-
-def _angle(u: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Angle between vectors along the last axis, stable near 0 and pi."""
-    dot = np.sum(u * v, axis=-1)
-    if u.shape[-1] == 2:
-        cross = np.abs(u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0])
-    else:
-        cross = np.linalg.norm(np.cross(u, v), axis=-1)
-    return np.arctan2(cross, dot)
 
 
 def _array(value: ArrayLike, name: str) -> NDArray[np.float64]:

@@ -37,6 +37,7 @@ from collections import namedtuple
 import numba as nb
 import numpy as np
 
+from ..geometry import cones
 from .simplex import INFEASIBLE, OPTIMAL, solve_tableau, tableau
 
 __all__ = ["BAND", "BLOCK", "BRACKET", "CLOSURE", "DEFER", "EXACT_EDGES", "FRICTIONLESS", "GUARD",
@@ -68,6 +69,12 @@ Work = namedtuple("Work", "W two U W2 norms G V lam c x y tab basis weights r si
 def columns_per_grasp(k: int, dim: int, edges: int) -> int:
     """Most generating wrenches ``k`` contacts can have with ``edges``-edge pyramids."""
     return k * (4 if dim == 2 else max(2 * edges, edges + 2))
+
+
+#: The friction pyramid's edge angles and radius, compiled from the one source the
+#: reference (``contacts.primitive_wrenches``) runs uncompiled: both build the same bits.
+_fill_rim = nb.njit(cache=True, nogil=True)(cones.fill_rim)
+_divisor = nb.njit(cache=True, nogil=True)(cones.pyramid_divisor)
 
 
 @nb.njit(cache=True, nogil=True)
@@ -162,18 +169,18 @@ def _column(W, col, f, arm, scale, d, spin):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, nogil=True)
-def wrenches(P, N, mu, tors, model, edges, radius_factor, ref, scale, W, two, rim):
+def wrenches(P, N, mu, tors, model, edges, radius_divisor, ref, scale, W, two, rim):
     # pragma: no cover - compiled
     """Generating wrenches of one grasp (as ``contacts.primitive_wrenches``); returns ``m``.
 
-    ``rim`` caches the cosines and sines of the pyramid's edge angles; its
-    last column says for how many edges.
+    The pyramid's edges are at ``mu / radius_divisor`` (``geometry.cones.
+    pyramid_divisor``). ``rim`` caches the cosines and sines of the pyramid's
+    edge angles (``geometry.cones.fill_rim``); its last column says for how
+    many edges. The columns equal the reference's bit for bit
+    (tests/test_wrench_builders.py).
     """
     if rim[0, -1] != edges:
-        for r in range(edges):
-            theta = 2.0 * np.pi * r / edges
-            rim[0, r] = math.cos(theta)
-            rim[1, r] = math.sin(theta)
+        _fill_rim(rim, edges)
         rim[0, -1] = edges
     k, d = P.shape
     col = 0
@@ -224,7 +231,7 @@ def wrenches(P, N, mu, tors, model, edges, radius_factor, ref, scale, W, two, ri
         t[1, 0] = n[1] * t[0, 2] - n[2] * t[0, 1]
         t[1, 1] = n[2] * t[0, 0] - n[0] * t[0, 2]
         t[1, 2] = n[0] * t[0, 1] - n[1] * t[0, 0]
-        radius = mu[i] * radius_factor
+        radius = mu[i] / radius_divisor
         for side in range(2 if coupled else 1):
             sgn = 1.0 - 2.0 * side
             for j in range(3):
@@ -606,12 +613,12 @@ def _modulo_two_sided(W, two, m, tol, work, twist):  # pragma: no cover - compil
 
 
 @nb.njit(cache=True, nogil=True)
-def _decide(P, N, mu, tors, model, edges, factor, ref, scale, tol, work, twist):
+def _decide(P, N, mu, tors, model, edges, divisor, ref, scale, tol, work, twist):
     # pragma: no cover - compiled
     """Theorem 1 for one grasp with one pyramid: (code, rank, margin)."""
     d = P.shape[1]
     D = 3 if d == 2 else 6
-    m = wrenches(P, N, mu, tors, model, edges, factor, ref, scale, work.W, work.two, work.rim)
+    m = wrenches(P, N, mu, tors, model, edges, divisor, ref, scale, work.W, work.two, work.rim)
     has_two = False
     for col in range(m):
         has_two = has_two or work.two[col]
@@ -667,8 +674,8 @@ def grasp(P, N, mu, tors, model, edges, fit, exact, tol, work, ref, y):
     y[:] = 0.0
     if not (exact and friction):
         use = 8 if exact else edges  # closure.decide: Cone() when there is nothing to bracket
-        factor = 1.0 / math.cos(math.pi / use) if (fit == 1 and not exact) else 1.0
-        c, r, mg = _decide(P, N, mu, tors, model, use, factor, ref, scale, tol, work, y)
+        divisor = _divisor(use, fit == 1 and not exact)
+        c, r, mg = _decide(P, N, mu, tors, model, use, divisor, ref, scale, tol, work, y)
         return c, r, mg, scale
     kept = np.empty_like(y)
     c, r, mg = DEFER, 0, np.nan
@@ -678,8 +685,8 @@ def grasp(P, N, mu, tors, model, edges, fit, exact, tol, work, ref, y):
             return c, r, mg, scale
         inner_r, inner_mg = r, mg
         kept[:] = y
-        c, r, mg = _decide(P, N, mu, tors, model, e, 1.0 / math.cos(math.pi / e), ref, scale,
-                           tol, work, y)
+        c, r, mg = _decide(P, N, mu, tors, model, e, _divisor(e, True), ref, scale, tol, work,
+                           y)
         if c in (NONE, DEFER):
             return c, r, mg, scale
         y[:] = kept

@@ -70,6 +70,11 @@ class Sector:
 def counter_overlapping_sector(n_p, mu_p: float, n_q, mu_q: float) -> Sector | None:
     """``C_p ∩ -C_q`` for outward normals ``n_p``, ``n_q`` (Lemma 1), or None if empty.
 
+    The exact sector, with its bounding angles; whether it is empty is the
+    test of :func:`forceclosure.geometry.cones.counter_overlap` (the one used
+    to screen pairs), computed here from the same angles so that the sector's
+    bounds and its emptiness never disagree.
+
     Examples
     --------
     >>> s = counter_overlapping_sector([-1, 0], 0.5, [1, 0], 0.5)

@@ -20,6 +20,7 @@ import shapely
 from numpy.typing import NDArray
 
 from ..errors import InputError
+from ..geometry.clip import clip  # noqa: F401  (re-exported: synthesis.patches.clip)
 from ..objects.polygon import _signed_area
 from ..objects.polyhedron import PlanarFace, Polyhedron
 from .regions import Certificate, RegionSet
@@ -93,26 +94,6 @@ def uniform_in_triangles(a: NDArray, b: NDArray, c: NDArray, count: int,
     r1[flip], r2[flip] = 1 - r1[flip], 1 - r2[flip]
     points = a[pick] + r1[:, None] * (b - a)[pick] + r2[:, None] * (c - a)[pick]
     return points, pick
-
-
-def clip(ring: NDArray, a: NDArray, b: NDArray) -> NDArray[np.float64]:
-    """The convex polygon ``ring`` cut by the half-planes ``a . y >= b`` (Sutherland–Hodgman,
-    only with the half-planes that some vertex violates); ``(0, 2)`` when nothing is left."""
-    values = ring @ a.T - b  # (k, h)
-    for h in np.flatnonzero((values < 0).any(axis=0)):
-        if len(ring) == 0:
-            break
-        s = ring @ a[h] - b[h]
-        out = []
-        for i in range(len(ring)):
-            j = (i + 1) % len(ring)
-            if s[i] >= 0:
-                out.append(ring[i])
-            if (s[i] >= 0) != (s[j] >= 0):
-                t = s[i] / (s[i] - s[j])
-                out.append(ring[i] + t * (ring[j] - ring[i]))
-        ring = np.array(out).reshape(-1, 2)
-    return ring
 
 
 def _corners(ring: NDArray, tol: float) -> NDArray[np.float64]:

@@ -34,6 +34,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError
+from ..geometry.clip import clip
+from ..geometry.cones import counter_overlap
 from ..objects.polygon import Edge, Polygon
 from .construction import Construction, Hand, register
 from .edge_pair import (
@@ -45,7 +47,6 @@ from .edge_pair import (
     edge_pair,
     shrunk_pair,
 )
-from .patches import clip
 from .regions import narrowed
 
 __all__ = ["ANGLE_MARGIN", "CHUNK", "MAX_EDGE_PAIRS", "IndependentRegions", "PairGrasps", "Sector",
@@ -373,10 +374,7 @@ def counter_overlap_prune(polygon: Polygon, sites: NDArray, hand: Hand) -> NDArr
         return np.zeros(len(sites), dtype=bool)
     normal = _normals(polygon)
     i, j, way = sites.T
-    m_i = -normal[i]
-    delta = np.arctan2(m_i[:, 0] * normal[j, 1] - m_i[:, 1] * normal[j, 0],
-                       np.einsum("pj,pj->p", m_i, normal[j]))
-    keep = np.abs(delta) < 2 * math.atan(shrunk)
+    keep = counter_overlap(normal[i], normal[j], shrunk)
     spread = way == 1
     if spread.any():
         start = np.array([e.start for e in polygon.edges])

@@ -42,10 +42,12 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import linprog, minimize
 
 from ..errors import InputError
+from ..geometry.clip import clip
+from ..geometry.cones import counter_overlap, counter_overlap_angle, friction_forces
 from ..objects.polygon import _signed_area
 from ..objects.polyhedron import PlanarFace, Polyhedron
 from .construction import Construction, Hand, register
-from .patches import FacePatch, SpatialRegions, clip, convex_pieces
+from .patches import FacePatch, SpatialRegions, convex_pieces
 from .regions import MARGIN, Certificate, narrowed, proved_once
 
 __all__ = ["ANGLE_MARGIN", "PYRAMID_EDGES", "SIDES", "CircularCone", "SoftPairRegions",
@@ -77,10 +79,6 @@ def _unit(v: ArrayLike) -> NDArray[np.float64]:
     return v / np.linalg.norm(v)
 
 
-def _angle(a: NDArray, b: NDArray) -> float:
-    return float(math.atan2(np.linalg.norm(np.cross(a, b)), float(a @ b)))
-
-
 def counter_overlapping_cone(n1: ArrayLike, mu1: float, n2: ArrayLike,
                              mu2: float | None = None) -> CircularCone | None:
     """The largest circular cone inside ``C1 ∩ -C2`` (§5.2), or None if they do not overlap.
@@ -90,7 +88,9 @@ def counter_overlapping_cone(n1: ArrayLike, mu1: float, n2: ArrayLike,
     ``theta`` the angle between the axes, the largest cone inside both has
     half-angle ``(alpha1 + alpha2 - theta) / 2`` (or the smaller cone, if one
     contains the other), and its axis lies on the arc between theirs. None
-    means the two soft fingers lack force-direction closure (Theorem 2).
+    means the two soft fingers lack force-direction closure (Theorem 2): the
+    cones do not counter-overlap (:func:`forceclosure.geometry.cones.
+    counter_overlap`, the one test of that; this function adds the cone).
 
     Examples
     --------
@@ -101,11 +101,11 @@ def counter_overlapping_cone(n1: ArrayLike, mu1: float, n2: ArrayLike,
     True
     """
     mu2 = mu1 if mu2 is None else mu2
+    if not counter_overlap(n1, n2, mu1, mu2):
+        return None
     a, b = -_unit(n1), _unit(n2)
     a1, a2 = math.atan(mu1), math.atan(mu2)
-    theta = _angle(a, b)
-    if theta >= a1 + a2:
-        return None
+    theta = float(counter_overlap_angle(n1, n2))
     if theta + min(a1, a2) <= max(a1, a2):  # one cone holds the other
         return CircularCone(a if a1 <= a2 else b, min(a1, a2))
     beta = (a1 + a2 - theta) / 2
@@ -117,13 +117,9 @@ def counter_overlapping_cone(n1: ArrayLike, mu1: float, n2: ArrayLike,
 
 def _pyramid_facets(axis: NDArray, half_angle: float, edges: int) -> NDArray[np.float64]:
     """Inward unit normals ``h`` of the pyramid inscribed in a circular cone:
-    ``{x : h . x >= 0 for every h}``."""
-    e1 = np.cross(axis, [1.0, 0, 0] if abs(axis[0]) < 0.9 else [0, 1.0, 0])
-    e1 /= np.linalg.norm(e1)
-    e2 = np.cross(axis, e1)
-    t = 2 * np.pi * np.arange(edges) / edges
-    g = (math.cos(half_angle) * axis
-         + math.sin(half_angle) * (np.cos(t)[:, None] * e1 + np.sin(t)[:, None] * e2))
+    ``{x : h . x >= 0 for every h}``. Its edges are the friction pyramid of
+    :func:`forceclosure.geometry.cones.friction_forces` about ``axis``."""
+    g = friction_forces(-np.asarray(axis, dtype=float)[None], math.tan(half_angle), edges)[0]
     h = np.cross(g, np.roll(g, -1, axis=0))
     h *= np.sign(h @ axis)[:, None]
     return h / np.linalg.norm(h, axis=1, keepdims=True)
@@ -411,9 +407,8 @@ def counter_overlapping_prune(polyhedron: Polyhedron, sites: NDArray,
     ``n_j`` less than ``2 alpha`` apart (necessary for :func:`counter_overlapping_cone`)."""
     normals = np.array([f.normal for f in polyhedron.faces])
     alpha = math.atan(hand.mu) - hand.margin
-    cos_gap = np.clip(-np.einsum("pk,pk->p", normals[sites[:, 0]], normals[sites[:, 1]]),
-                      -1.0, 1.0)  # cos angle(-n_i, n_j)
-    return np.arccos(cos_gap) < 2 * alpha
+    return counter_overlap(normals[sites[:, 0]], normals[sites[:, 1]],
+                           math.tan(max(alpha, 0.0)))
 
 
 def _inscribed_bound(factor: float):

@@ -26,7 +26,6 @@ regions come from the search zones of a prototype grasp on the three faces
 from __future__ import annotations
 
 import itertools
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -34,6 +33,7 @@ from numpy.typing import ArrayLike
 
 from ..closure import Verdict, vector_closure
 from ..errors import InputError
+from ..geometry import cones
 from ..objects.polyhedron import Polyhedron
 from .construction import Construction, Hand, register
 from .regions import MARGIN, check_margin, narrowed, tie_rounded
@@ -83,6 +83,7 @@ def counter_overlap(n_i: ArrayLike, n_j: ArrayLike, mu_i: float, mu_j: float | N
                     ) -> bool:
     """Whether the friction cones at two contacts counter-overlap (``C_i ∩ -C_j`` has an
     interior): the angle between ``-n_i`` and ``n_j`` is below ``alpha_i + alpha_j``.
+    :func:`forceclosure.geometry.cones.counter_overlap` for one pair, as a bool.
 
     Examples
     --------
@@ -91,11 +92,7 @@ def counter_overlap(n_i: ArrayLike, n_j: ArrayLike, mu_i: float, mu_j: float | N
     >>> counter_overlap([0, 0, 1], [1, 0, 0], 0.9)    # at right angles: needs mu > 1
     False
     """
-    a = -np.asarray(n_i, dtype=float)
-    b = np.asarray(n_j, dtype=float)
-    cos = float(a @ b) / float(np.linalg.norm(a) * np.linalg.norm(b))
-    mu_j = mu_i if mu_j is None else mu_j
-    return math.acos(max(-1.0, min(1.0, cos))) < math.atan(mu_i) + math.atan(mu_j)
+    return bool(cones.counter_overlap(n_i, n_j, mu_i, mu_j))
 
 
 def classify_three(normals: ArrayLike, mu: float) -> GraspClass:
@@ -144,14 +141,9 @@ class ThreeHardRegions(ZoneRegions):
 
 def force_direction_closure_of_faces(normals: ArrayLike, mu: float, edges: int = EDGES) -> bool:
     """Theorem 2 for hard fingers on faces: do the friction pyramids together push the
-    object in every direction? Depends on the normals only."""
-    from ..contacts import tangent_basis
-
-    N = np.asarray(normals, dtype=float)
-    t1, t2 = tangent_basis(N)
-    theta = 2 * np.pi * np.arange(edges) / edges
-    F = (-N[:, None, :] + mu * (np.cos(theta)[None, :, None] * t1[:, None, :]
-                                + np.sin(theta)[None, :, None] * t2[:, None, :]))
+    object in every direction? Depends on the normals only (inscribed pyramids,
+    :func:`forceclosure.geometry.cones.friction_forces`)."""
+    F = cones.friction_forces(np.asarray(normals, dtype=float), mu, edges)
     return vector_closure(F.reshape(-1, 3).T).verdict is Verdict.CLOSURE
 
 

@@ -27,6 +27,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError
+from ..geometry.cones import friction_forces
 from ..objects.polygon import Polygon
 from .construction import Construction, Hand, register
 from .regions import (
@@ -50,12 +51,9 @@ def convex_vertices(polygon: Polygon) -> list[tuple[int, int, int]]:
 
 
 def _generators(normals, mu) -> list:
-    """The pushing generators ``-n ± mu t`` of a contact, for each of its normals."""
-    gens = []
-    for n in normals:
-        t = [-n[1], n[0]]
-        gens += [[-n[0] + mu * t[0], -n[1] + mu * t[1]], [-n[0] - mu * t[0], -n[1] - mu * t[1]]]
-    return gens
+    """The pushing generators ``-n ± mu t`` of a contact, for each of its normals
+    (:func:`forceclosure.geometry.cones.friction_forces`), as lists."""
+    return friction_forces(np.asarray(normals, dtype=float), float(mu)).reshape(-1, 2).tolist()
 
 
 def _extremes(gens) -> tuple[list, list] | None:

@@ -38,9 +38,11 @@ from scipy.spatial import ConvexHull, QhullError
 
 from ..contacts import Cone, primitive_wrenches
 from ..errors import InputError
+from ..geometry.clip import clip
+from ..geometry.cones import pyramid_radius
 from ..objects.polygon import _signed_area
 from ..objects.polyhedron import PlanarFace, Polyhedron
-from .patches import FacePatch, SpatialRegions, clip, convex_pieces, uniform_in_triangles
+from .patches import FacePatch, SpatialRegions, convex_pieces, uniform_in_triangles
 from .regions import MARGIN, Certificate, check_margin, narrowed, proved_once
 
 __all__ = ["AFFINE_BATCH", "EDGES", "MODELS", "ZONE_MARGIN", "Prototype", "SearchZones",
@@ -77,7 +79,7 @@ def finger_generators(model: str, mu: float, margin: float, edges: int = EDGES
         return model, narrowed(mu, margin), False
     if margin <= 0:
         return "frictionless", 0.0, False
-    return "hard", math.tan(margin) / math.cos(math.pi / edges) * (1 + 1e-12), True
+    return "hard", pyramid_radius(math.tan(margin), edges, True) * (1 + 1e-12), True
 
 
 @dataclass(frozen=True, eq=False)

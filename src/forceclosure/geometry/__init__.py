@@ -1,0 +1,26 @@
+"""Plane and cone geometry shared by the analysis, the kernels and the constructions.
+
+A leaf package: it imports nothing from :mod:`forceclosure` but
+:mod:`forceclosure.errors` and :mod:`forceclosure.tolerance`, so every layer
+above may use it.
+
+* :mod:`.clip` — a convex polygon cut by half-planes.
+* :mod:`.cones` — friction cones: the angle between two axes, whether two
+  cones counter-overlap, tangent bases, and the friction pyramid.
+"""
+
+from __future__ import annotations
+
+from .clip import clip
+from .cones import (
+    angle_between,
+    counter_overlap,
+    counter_overlap_angle,
+    friction_forces,
+    pyramid_radius,
+    pyramid_rim,
+    tangent_basis,
+)
+
+__all__ = ["angle_between", "clip", "counter_overlap", "counter_overlap_angle",
+           "friction_forces", "pyramid_radius", "pyramid_rim", "tangent_basis"]
