@@ -20,7 +20,7 @@ import shapely
 from numpy.typing import NDArray
 
 from ..errors import InputError
-from ..geometry.clip import clip  # noqa: F401  (re-exported: synthesis.patches.clip)
+from ..geometry.clip import clip
 from ..objects.polygon import _signed_area
 from ..objects.polyhedron import PlanarFace, Polyhedron
 from .regions import Certificate, RegionSet
