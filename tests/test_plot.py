@@ -259,3 +259,14 @@ def test_synthesize_plot_stands_the_object_up_by_its_format(tmp_path, monkeypatc
     step = np.eye(3)["xyz".index(up)]
     xs, ys, _ = proj3d.proj_transform(*np.array([np.zeros(3), step]).T, ax.get_proj())
     assert abs(xs[1] - xs[0]) < 0.05 * (ys[1] - ys[0])  # the up axis points up the screen
+
+
+def test_grasps_sharing_a_vertex_all_show():
+    """On the triangle at mu 0.3 three of the five vertex grasps have a finger on the vertex
+    (-1, 0) (two pair it with the other vertices): their dots there are rings, each drawn
+    smaller than the one under it, so that none hides another."""
+    ax = plot_regions(vertex_grasps(bundled("triangle"), 0.3, top=5)).axes[0]
+    at = [line for line in ax.lines if line.get_marker() == "o"
+          and np.allclose(np.column_stack(line.get_data()).astype(float)[0], [-1, 0])]
+    sizes = [line.get_markersize() for line in sorted(at, key=lambda line: line.zorder)]
+    assert len(sizes) == 3 and sizes == sorted(sizes, reverse=True) and len(set(sizes)) == 3

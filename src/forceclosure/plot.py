@@ -26,6 +26,7 @@ file's extension (:data:`FORMATS`), atomically.
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -208,8 +209,9 @@ def _vertex_grasp(ax: Any, g: Any, colour: Any, label: str, reach: float,
                   labels_at: dict) -> None:
     """A soft finger on a convex vertex: a dot, and its cone (the hull of the friction cones
     of the two edges meeting there, shaded); the other finger's segment or vertex alike.
-    ``labels_at`` counts the labels already written at each vertex (they stack outward) and
-    collects where they are (``"places"``)."""
+    ``labels_at`` counts the labels already written at each vertex (they stack outward),
+    collects where they are (``"places"``), and holds how many grasps have a dot at each
+    vertex (``"dots"``, by incoming edge) and how many are drawn."""
     polygon = g.polygon
     edges = polygon.edges
 
@@ -219,7 +221,11 @@ def _vertex_grasp(ax: Any, g: Any, colour: Any, label: str, reach: float,
             ax.fill(*fan.T, color=colour, alpha=0.22, zorder=2, linewidth=0)
         for ray in rays:
             ax.plot(*ray.T, color=colour, linewidth=0.8, alpha=0.8, zorder=2)
-        ax.plot(*p, marker="o", markersize=9, color=colour, markeredgecolor="white", zorder=4)
+        # grasps sharing a vertex: rings, the first (best) outermost, so every one shows
+        behind = labels_at["dots"][a] - labels_at.setdefault(("dot", a), 0) - 1
+        labels_at[("dot", a)] += 1
+        ax.plot(*p, marker="o", markersize=9 + 6 * behind, color=colour,
+                markeredgecolor="white", zorder=4 + 0.01 * labels_at[("dot", a)])
 
     corner(*g.corners[0])
     kind, k = g.other
@@ -378,7 +384,8 @@ def plot_regions(regions: Sequence[Any], path: str | Path | None = None,
         centre = getattr(r, "centre", None)  # three fingers: where the lines of force meet
         if centre is not None:
             ax.plot(*centre, marker="x", color=colour, markersize=8, zorder=4)
-    labels_at: dict = {}
+    labels_at: dict = {"dots": Counter(a for g in corners for a, _ in
+                                       (g.corners if g.other[0] == "vertex" else g.corners[:1]))}
     for rank, g in enumerate(corners):
         _vertex_grasp(ax, g, colours[id(g)], f"v{rank + 1}", reach, labels_at)
     if "places" in labels_at:  # room for the labels

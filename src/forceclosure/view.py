@@ -15,6 +15,7 @@ sets and chooses by the object's dimension.
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -198,19 +199,25 @@ def spatial_figure(found: Sequence[SpatialRegions], title: str | None = None, *,
     return fig
 
 
-def _vertex_traces(g, colour: str, group: str, reach: float) -> list:
+def _dot_corners(g) -> tuple[tuple[int, int], ...]:
+    """The (incoming, outgoing) edges of the vertices a vertex grasp has a dot on."""
+    return g.corners if g.other[0] == "vertex" else g.corners[:1]
+
+
+def _vertex_traces(g, colour: str, group: str, reach: float, sizes: list[int]) -> list:
     """A grasp with a soft finger on a convex vertex: the vertex (and the other one, for two
-    vertices) as dots, each with its cone shaded (the hull of its two edges' friction
-    cones, :func:`forceclosure.plot.corner_cone`); the other finger's segment in bold."""
+    vertices) as dots of ``sizes``, each with its cone shaded (the hull of its two edges'
+    friction cones, :func:`forceclosure.plot.corner_cone`); the other finger's segment in
+    bold."""
     polygon, traces = g.object, []
     kind, k = g.other
-    ends = g.corners if kind == "vertex" else g.corners[:1]
+    ends = _dot_corners(g)
     dots = np.array([polygon.edges[a].end for a, _ in ends])
     where = [f"vertex {g.vertex}" if i == 0 else f"vertex {k}" for i in range(len(dots))]
     text = f"{group}: " + "; ".join(g.describe())
     traces.append(go.Scatter(x=dots[:, 0], y=dots[:, 1], mode="markers", name=group,
                              legendgroup=group, hovertext=[f"{text} ({w})" for w in where],
-                             hoverinfo="text", marker={"color": colour, "size": 13,
+                             hoverinfo="text", marker={"color": colour, "size": sizes,
                                                        "line": {"color": "white",
                                                                 "width": 1.5}}))
     rays = []
@@ -282,8 +289,15 @@ def planar_figure(found: Sequence[RegionSet], title: str | None = None) -> go.Fi
         fig.add_trace(go.Scatter(x=cone[:, 0], y=cone[:, 1], mode="lines", legendgroup=group,
                                  line={"color": colour, "width": 1}, opacity=0.7,
                                  hoverinfo="skip", showlegend=False))
+    # grasps sharing a vertex: rings, the first (best) outermost, so every one shows
+    total = Counter(a for g in corners for a, _ in _dot_corners(g))
+    seen: Counter = Counter()
     for rank, g in enumerate(corners):
-        fig.add_traces(_vertex_traces(g, colours[id(g)], f"v{rank + 1}", reach))
+        sizes = []
+        for a, _ in _dot_corners(g):
+            seen[a] += 1
+            sizes.append(13 + 8 * (total[a] - seen[a]))
+        fig.add_traces(_vertex_traces(g, colours[id(g)], f"v{rank + 1}", reach, sizes))
     words = []
     if sets:
         mu = sets[0].friction()[0]
