@@ -13,6 +13,7 @@ import subprocess
 import sys
 import warnings
 
+import matplotlib.colors
 import numpy as np
 import pytest
 from PIL import Image
@@ -186,3 +187,86 @@ def test_bad_picture_refused_before_any_work(command, name, words, tmp_path, cap
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and words in err
     assert not (tmp_path / name).exists()
+
+
+# -- one front door for any region sets; the object upright by its file's format ------------
+
+def test_plot_found_draws_vertex_grasps_wherever_they_are():
+    """A vertex grasp first and two-finger grasps after it: the same picture as the other
+    order, the vertex grasp's dot on a corner of the square (+-1, +-1), in the colour of its
+    place in the list (first: blue), labelled v1, each two-finger grasp's number at both of
+    its segments."""
+    from forceclosure.plot import plot_found
+
+    square = bundled("square")
+    sets = best_regions(square, 0.3, top=2)
+    (corner,) = vertex_grasps(square, 0.3, top=1)
+    for order, colour in (([corner, *sets], TAB10[0]), ([*sets, corner], TAB10[2])):
+        ax = plot_found(order).axes[0]
+        dots = [line for line in ax.lines if line.get_marker() == "o"]
+        assert len(dots) == 1
+        xy = np.column_stack(dots[0].get_data()).astype(float)[0]
+        assert np.allclose(np.abs(xy), 1.0)  # a corner of the square
+        assert matplotlib.colors.to_hex(dots[0].get_color()) == colour
+        assert sorted(t.get_text() for t in ax.texts) == ["1", "1", "2", "2", "v1", "v1"]
+    with pytest.raises(InputError, match="same object"):
+        plot_found([*sets, *vertex_grasps(bundled("triangle"), 0.3, top=1)])
+
+
+def _box_file(tmp_path, suffix: str):
+    """A 1 x 3 x 1 box, long along y, centred on the origin: an OBJ written as Blender's
+    exporter writes one (``o``, ``v``, ``s off``, 1-based ``f`` quads), or trimesh's STL."""
+    import trimesh
+
+    box = trimesh.creation.box((1.0, 3.0, 1.0))
+    path = tmp_path / f"tall{suffix}"
+    if suffix == ".obj":
+        lines = ["# Blender 4.1", "o Tall", *(f"v {x:.6f} {y:.6f} {z:.6f}" for x, y, z in
+                                             box.vertices), "s 0"]
+        lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in box.faces]
+        path.write_text("\n".join(lines) + "\n")
+    else:
+        box.export(path)
+    return path, box.vertices
+
+
+@pytest.mark.parametrize("suffix, up", [(".obj", "y"), (".stl", "z")])
+def test_synthesize_plot_stands_the_object_up_by_its_format(tmp_path, monkeypatch, suffix, up):
+    """``--plot`` of a box 3 long along y: from an OBJ (y-up by convention) the picture shows
+    it standing, 3 tall on the screen against about 1.4 wide; from an STL (z-up) lying.
+    Measured on the screen: the box's corners projected by the picture's own camera, and
+    the file format's up axis drawn pointing up the screen (to perspective's slant)."""
+    from mpl_toolkits.mplot3d import proj3d
+
+    import forceclosure.plot
+
+    drawn = []
+    real = forceclosure.plot.plot_found
+
+    def keep(*args, **kwargs):
+        drawn.append(real(*args, **kwargs))
+        return drawn[-1]
+
+    monkeypatch.setattr(forceclosure.plot, "plot_found", keep)
+    path, corners = _box_file(tmp_path, suffix)
+    assert forceclosure.plot.upright_axis(path) == up
+    assert main(["synthesize", str(path), "--fingers", "2", "--contact", "soft", "--mu", "0.5",
+                 "--top", "1", "--plot", str(tmp_path / "x.png")]) == 0
+    ax = drawn[0].axes[0]
+    sx, sy, _ = proj3d.proj_transform(*corners.T, ax.get_proj())
+    tall = (sy.max() - sy.min()) / (sx.max() - sx.min())
+    assert tall > 1.5 if up == "y" else tall < 1.0
+    step = np.eye(3)["xyz".index(up)]
+    xs, ys, _ = proj3d.proj_transform(*np.array([np.zeros(3), step]).T, ax.get_proj())
+    assert abs(xs[1] - xs[0]) < 0.05 * (ys[1] - ys[0])  # the up axis points up the screen
+
+
+def test_grasps_sharing_a_vertex_all_show():
+    """On the triangle at mu 0.3 three of the five vertex grasps have a finger on the vertex
+    (-1, 0) (two pair it with the other vertices): their dots there are rings, each drawn
+    smaller than the one under it, so that none hides another."""
+    ax = plot_regions(vertex_grasps(bundled("triangle"), 0.3, top=5)).axes[0]
+    at = [line for line in ax.lines if line.get_marker() == "o"
+          and np.allclose(np.column_stack(line.get_data()).astype(float)[0], [-1, 0])]
+    sizes = [line.get_markersize() for line in sorted(at, key=lambda line: line.zorder)]
+    assert len(sizes) == 3 and sizes == sorted(sizes, reverse=True) and len(set(sizes)) == 3

@@ -163,3 +163,104 @@ def test_chromium_draws_the_object(tmp_path, cube_pairs):
     assert _object_pixels(shot) > 0.04, "the object is not drawn"
     assert _object_pixels(control) < 0.01
     assert _blue_pixels(shot) > 0.002, "the first finger's region is not drawn"
+
+
+# -- vertex grasps on the planar page; any region sets through one front door ---------------
+
+def _page_figure(page: Path) -> tuple[list, dict]:
+    """The traces and layout a saved page hands to ``Plotly.newPlot``, read back from the
+    HTML (numeric arrays decoded from plotly's base64 typed arrays)."""
+    import base64
+    import json
+
+    def decode(value):
+        if isinstance(value, dict) and set(value) >= {"dtype", "bdata"}:
+            return np.frombuffer(base64.b64decode(value["bdata"]), dtype=value["dtype"])
+        if isinstance(value, dict):
+            return {k: decode(v) for k, v in value.items()}
+        if isinstance(value, list):
+            return [decode(v) for v in value]
+        return value
+
+    text = page.read_text(encoding="utf-8")
+    at = text.index("Plotly.newPlot(") + len("Plotly.newPlot(")
+    reader = json.JSONDecoder()
+    parsed = []
+    for _ in range(3):  # the element id, the traces, the layout
+        while text[at] in " \n,":
+            at += 1
+        value, at = reader.raw_decode(text, at)
+        parsed.append(value)
+    return decode(parsed[1]), decode(parsed[2])
+
+
+def test_planar_view_draws_each_vertex_grasp_at_its_vertex():
+    """The square (corners (+-1, +-1)) at mu 0.3: each vertex grasp is a legend entry v1, v2,
+    ... whose dot is on a corner, with its bold segment on the opposite or a neighbouring
+    edge: with the vertex fixed, a finger at q on the edge across holds iff the line from q
+    to the vertex stays within the edge's cone narrowed by the margin, a segment
+    2 tan(atan 0.3 - 1e-3) long from the corner above (or beside) the vertex."""
+    from forceclosure.synthesis import vertex_grasps
+
+    square = bundled("square")
+    corners = vertex_grasps(square, 0.3, top=5)
+    fig = planar_figure([*best_regions(square, 0.3, top=2), *corners])
+    length = 2 * np.tan(np.arctan(0.3) - 1e-3)
+    for rank, g in enumerate(corners, start=1):
+        (dot,) = [t for t in fig.data if t.name == f"v{rank}"]
+        vertex = np.array([dot.x[0], dot.y[0]], dtype=float)
+        assert np.array_equal(np.abs(vertex), [1.0, 1.0]) and np.array_equal(vertex, g.point)
+        bold = [t for t in fig.data if t.legendgroup == dot.name and t.line.width == 7]
+        (segment,) = bold
+        ends = np.column_stack([segment.x, segment.y]).astype(float)
+        assert np.linalg.norm(ends[1] - ends[0]) == pytest.approx(length, rel=1e-9)
+        fixed = np.flatnonzero(np.isclose(ends[0], ends[1]))  # the edge's line: x or y = +-1
+        assert len(fixed) == 1 and np.allclose(np.abs(ends[:, fixed]), 1.0)
+        # one end of the segment is the corner sharing the vertex's other coordinate
+        shares = [np.isclose(np.abs(e), 1).all() and np.sum(np.isclose(e, vertex)) == 1
+                  for e in ends]
+        assert any(shares), (vertex, ends)
+    assert [t.name for t in fig.data if t.showlegend is not False] == [
+        "grasp 1", "grasp 2", "v1", "v2", "v3", "v4", "v5"]
+
+
+def test_cli_html_draws_vertex_grasps(tmp_path, capsys):
+    """``synthesize triangle --vertices --html``: no two fingers on edges hold the triangle
+    at mu 0.3, yet the page comes, with the vertex grasps; every dot is a vertex of the
+    bundled triangle (circumradius 1, a vertex at (-1, 0), the others 120 degrees apart),
+    the pairs of vertices with two dots."""
+    page = tmp_path / "t.html"
+    assert main(["synthesize", "triangle", "--mu", "0.3", "--vertices", "--html",
+                 str(page)]) == 0
+    assert f"interactive view: {page}" in capsys.readouterr().out
+    data, _ = _page_figure(page)
+    dots = {t["name"]: np.column_stack([t["x"], t["y"]]) for t in data
+            if t.get("mode") == "markers"}
+    assert sorted(dots) == ["v1", "v2", "v3", "v4", "v5"]
+    corners = np.array([[np.cos(a), np.sin(a)] for a in np.radians([60, 180, 300])])
+    for name, xy in dots.items():
+        for p in xy:
+            assert np.min(np.linalg.norm(corners - p, axis=1)) < 1e-12, (name, p)
+    assert sorted(len(xy) for xy in dots.values()) == [1, 1, 1, 2, 2]
+
+
+def test_page_of_a_y_up_obj_holds_y_up(tmp_path):
+    """``--html`` of an OBJ (y-up by convention, :func:`forceclosure.plot.upright_axis`):
+    the page's camera holds +y up and looks from above along it; from an STL, +z."""
+    import trimesh
+
+    box = trimesh.creation.box((1.0, 3.0, 1.0))
+    for suffix, up in ((".obj", [0, 1, 0]), (".stl", [0, 0, 1])):
+        path = tmp_path / f"tall{suffix}"
+        box.export(path)
+        page = tmp_path / f"tall{suffix}.html"
+        assert main(["synthesize", str(path), "--fingers", "2", "--contact", "soft", "--mu",
+                     "0.5", "--top", "1", "--html", str(page)]) == 0
+        _, layout = _page_figure(page)
+        camera = layout["scene"]["camera"]
+        assert [camera["up"][k] for k in "xyz"] == up
+        eye = np.array([camera["eye"][k] for k in "xyz"])
+        assert eye @ up == pytest.approx(1.0)  # above the object, along its up axis
+    with pytest.raises(InputError, match="up must be"):
+        write_html(best_soft_pair_regions(bundled("cube"), 0.5, top=1), tmp_path / "c.html",
+                   up="w")

@@ -512,28 +512,24 @@ def _check_picture(path: str | None, source: str) -> None:
 
 def _save_views(args: argparse.Namespace, found: list, corners: list = ()) -> None:
     """The PNG still (``--plot``) and the interactive page (``--html``) of the grasps found
-    (the still also draws the grasps with a soft finger on a vertex, ``--vertices``)."""
+    and those with a soft finger on a vertex (``--vertices``), whatever their kind; a mesh
+    file's object upright by its format's convention (:func:`forceclosure.plot.upright_axis`)."""
     say = sys.stderr if args.json else sys.stdout
-    if args.plot and corners:
-        from .plot import plot_regions
-
-        plot_regions([*found, *corners], args.plot)
-        print(f"  picture: {args.plot}", file=say)
-    if not found:
+    drawn = [*found, *corners]
+    if not drawn or not (args.plot or args.html):
         return
-    if args.plot and not corners:
-        from .plot import plot_regions, plot_spatial_regions
-        from .synthesis.patches import SpatialRegions
+    from .plot import upright_axis
 
-        if isinstance(found[0], SpatialRegions):
-            plot_spatial_regions(found[0], args.plot)
-        else:
-            plot_regions(found, args.plot)
+    up = upright_axis(args.object)
+    if args.plot:
+        from .plot import plot_found
+
+        plot_found(drawn, args.plot, up=up)
         print(f"  picture: {args.plot}", file=say)
     if args.html:
         from .view import write_html
 
-        write_html(found, args.html)
+        write_html(drawn, args.html, up=up)
         print(f"  interactive view: {args.html}", file=say)
 
 

@@ -1,5 +1,12 @@
 """Figures: objects and independent regions as a person would sketch them (matplotlib).
 
+:func:`plot_found` is the one front door for the region sets a synthesis
+finds, whatever made them: it reads the object's dimension from the data
+(``found[0].object.dim``) and draws the planar ones with
+:func:`plot_regions`, the spatial ones with :func:`plot_spatial_regions`.
+:func:`upright_axis` is the one rule for which axis a file's object stands
+along.
+
 ``plot_object`` draws a polygon with numbered edges and outward normals, or a
 polyhedron with each planar face of several triangles in its own colour and
 the faces turned towards the viewer numbered (one-triangle faces, the curved
@@ -19,6 +26,7 @@ file's extension (:data:`FORMATS`), atomically.
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -29,8 +37,8 @@ from numpy.typing import NDArray
 from .errors import InputError
 from .objects import Polygon, Polyhedron
 
-__all__ = ["FORMATS", "check_plot_path", "plot_object", "plot_regions",
-           "plot_spatial_regions"]
+__all__ = ["FORMATS", "UP_AXIS", "check_plot_path", "corner_cone", "on_vertex", "plot_found",
+           "plot_object", "plot_regions", "plot_spatial_regions", "upright_axis"]
 
 #: The pictures' formats, by file extension.
 FORMATS = (".png", ".svg")
@@ -41,6 +49,51 @@ ELEVATION = 24.0
 AZIMUTHS = tuple(-58.0 + 45.0 * k for k in range(8))
 
 _GREY = np.array([0.80, 0.82, 0.86])
+
+#: The axis a mesh file's object stands along, by the file's extension, where the format
+#: says: glTF's specification makes +Y up ("glTF uses a right-handed coordinate system ...
+#: +Y is up"), and OBJ, which states none, is written y-up by the tools that make most
+#: of them (Blender's and Maya's exporters by default; pybullet_data's duck and teddy sit
+#: on y = 0). Every other source (STL and PLY, with no convention; URDF, z-up by ROS REP
+#: 103; bundled objects; objects made in Python) is drawn z-up.
+UP_AXIS = {".obj": "y", ".glb": "y", ".gltf": "y"}
+
+
+def upright_axis(source: Any) -> str:
+    """The axis to draw ``source``'s object upright along: ``"y"`` for the y-up formats
+    (:data:`UP_AXIS`: ``.obj``, ``.glb``, ``.gltf``), ``"z"`` for anything else.
+
+    Parameters
+    ----------
+    source : path, str or anything else given to :func:`forceclosure.objects.load_object`
+
+    Examples
+    --------
+    >>> upright_axis("duck_vhacd.obj"), upright_axis("part.STL"), upright_axis("cube")
+    ('y', 'z', 'z')
+    """
+    if not isinstance(source, str | Path):
+        return "z"
+    return UP_AXIS.get(Path(source).suffix.lower(), "z")
+
+
+def on_vertex(regions: Any) -> bool:
+    """Whether a planar region set has a finger on a vertex (a region of size 0).
+
+    Read from the data every region set has (:attr:`RegionSet.sizes`): a
+    segment on an edge has a positive length (the constructions refuse empty
+    ones), a vertex is a point, size 0
+    (:class:`~forceclosure.synthesis.vertices.VertexGrasp`).
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> from forceclosure.synthesis import best_regions, vertex_grasps
+    >>> square = bundled("square")
+    >>> on_vertex(best_regions(square, 0.3, top=1)[0]), on_vertex(vertex_grasps(square, 0.3)[0])
+    (False, True)
+    """
+    return min(regions.sizes) == 0.0
 
 
 def check_plot_path(path: str | Path) -> None:
@@ -92,6 +145,16 @@ def _save(fig: Any, path: str | Path | None) -> None:
 # --- the plane --------------------------------------------------------------------------
 
 
+def _one_object(found: Sequence[Any]) -> Polygon | Polyhedron:
+    """The object all the region sets are on, or one InputError line."""
+    if not found:
+        raise InputError("no regions to draw")
+    obj = found[0].object
+    if any(r.object is not obj for r in found):
+        raise InputError("all grasps of one picture must be on the same object")
+    return obj
+
+
 def _polygon_axes(ax: Any, polygon: Polygon, label_edges: bool = True) -> None:
     from matplotlib.patches import PathPatch
     from matplotlib.path import Path as MplPath
@@ -122,29 +185,47 @@ def _turn(v: NDArray, angle: float) -> NDArray:
     return np.array([c * v[0] - s * v[1], s * v[0] + c * v[1]])
 
 
+def corner_cone(polygon: Polygon, a: int, b: int, mu: float, reach: float
+                ) -> tuple[NDArray, list[NDArray], NDArray | None]:
+    """A soft finger's cone at the convex vertex where edge ``a`` ends and edge ``b`` starts,
+    for drawing (here and in :mod:`forceclosure.view`): the vertex, the four rays of
+    length ``reach`` bounding the friction cones of the two edges (each ``(2, 2)``, from the
+    vertex), and the wedge they span into the object (their hull, the finger's cone) as a
+    fan of points, or None when it is a half-plane or more."""
+    edges = polygon.edges
+    p = edges[a].end
+    push = -(edges[a].normal + edges[b].normal)
+    push /= np.linalg.norm(push)
+    rays = [_turn(-edges[k].normal, s * np.arctan(mu)) for k in (a, b) for s in (-1, 1)]
+    turns = [np.arctan2(push[0] * r[1] - push[1] * r[0], push @ r) for r in rays]
+    lo, hi = min(turns), max(turns)
+    fan = None
+    if hi - lo < np.pi:
+        fan = np.array([p, *(p + reach * _turn(push, t) for t in np.linspace(lo, hi, 16))])
+    return p, [np.array([p, p + reach * r]) for r in rays], fan
+
+
 def _vertex_grasp(ax: Any, g: Any, colour: Any, label: str, reach: float,
                   labels_at: dict) -> None:
     """A soft finger on a convex vertex: a dot, and its cone (the hull of the friction cones
     of the two edges meeting there, shaded); the other finger's segment or vertex alike.
-    ``labels_at`` counts the labels already written at each vertex (they stack outward) and
-    collects where they are (``"places"``)."""
+    ``labels_at`` counts the labels already written at each vertex (they stack outward),
+    collects where they are (``"places"``), and holds how many grasps have a dot at each
+    vertex (``"dots"``, by incoming edge) and how many are drawn."""
     polygon = g.polygon
     edges = polygon.edges
 
     def corner(a: int, b: int) -> None:
-        p = edges[a].end
-        push = -(edges[a].normal + edges[b].normal)
-        push /= np.linalg.norm(push)
-        rays = [_turn(-edges[k].normal, s * np.arctan(g.mu)) for k in (a, b) for s in (-1, 1)]
-        turns = [np.arctan2(push[0] * r[1] - push[1] * r[0], push @ r) for r in rays]
-        lo, hi = min(turns), max(turns)
-        if hi - lo < np.pi:  # the cone: a wedge from the vertex into the object
-            fan = [p, *(p + reach * _turn(push, t) for t in np.linspace(lo, hi, 16))]
-            ax.fill(*np.array(fan).T, color=colour, alpha=0.22, zorder=2, linewidth=0)
-        for r in rays:
-            ax.plot(*np.array([p, p + reach * r]).T, color=colour, linewidth=0.8, alpha=0.8,
-                    zorder=2)
-        ax.plot(*p, marker="o", markersize=9, color=colour, markeredgecolor="white", zorder=4)
+        p, rays, fan = corner_cone(polygon, a, b, g.mu, reach)
+        if fan is not None:  # the cone: a wedge from the vertex into the object
+            ax.fill(*fan.T, color=colour, alpha=0.22, zorder=2, linewidth=0)
+        for ray in rays:
+            ax.plot(*ray.T, color=colour, linewidth=0.8, alpha=0.8, zorder=2)
+        # grasps sharing a vertex: rings, the first (best) outermost, so every one shows
+        behind = labels_at["dots"][a] - labels_at.setdefault(("dot", a), 0) - 1
+        labels_at[("dot", a)] += 1
+        ax.plot(*p, marker="o", markersize=9 + 6 * behind, color=colour,
+                markeredgecolor="white", zorder=4 + 0.01 * labels_at[("dot", a)])
 
     corner(*g.corners[0])
     kind, k = g.other
@@ -235,14 +316,16 @@ def plot_regions(regions: Sequence[Any], path: str | Path | None = None,
     numbered by rank), and at the segments' ends the friction cones (two
     fingers with friction) or the pushing directions (frictionless fingers).
     Grasps with a soft finger on a convex vertex
-    (:class:`~forceclosure.synthesis.vertices.VertexGrasp`) may be given too
-    (after the others, or alone): the vertex as a dot with its wider cone
-    shaded, labelled ``v1``, ``v2``, ... by their own rank.
+    (:class:`~forceclosure.synthesis.vertices.VertexGrasp`, told apart by
+    :func:`on_vertex`) may be given too, anywhere in the list: the vertex as
+    a dot with its wider cone shaded, labelled ``v1``, ``v2``, ... by their
+    own rank. Every grasp's colour is that of its place in the list (tab10).
 
     Parameters
     ----------
-    regions : sequence of Regions or VertexGrasp
-        Grasps on one polygon, best first.
+    regions : sequence of RegionSet
+        Grasps on one polygon (any planar construction's, and vertex grasps),
+        best first.
     path : str or Path, optional
         Save the picture there (``.png`` or ``.svg``).
     title : str, optional
@@ -263,21 +346,19 @@ def plot_regions(regions: Sequence[Any], path: str | Path | None = None,
     >>> len(fig.axes[0].lines) > 0
     True
     """
-    from .synthesis.vertices import VertexGrasp
-
-    if not regions:
-        raise InputError("no regions to draw")
-    polygon = regions[0].polygon
-    if any(r.polygon is not polygon for r in regions):
-        raise InputError("all grasps of one picture must be on the same polygon")
+    polygon = _one_object(regions)
+    if polygon.dim != 2:
+        raise InputError("plot_regions draws grasps on a polygon; on a polyhedron, "
+                         "plot_spatial_regions (or plot_found)")
     fig, ax = _axes(ax, False, (6, 6), "plot_regions")
     _polygon_axes(ax, polygon, label_edges=False)
-    colours = _palette()
+    palette = _palette()
     reach = polygon.size * 0.18
-    sets = [r for r in regions if not isinstance(r, VertexGrasp)]
-    corners = [r for r in regions if isinstance(r, VertexGrasp)]
+    colours = {id(r): palette[place % 10] for place, r in enumerate(regions)}
+    sets = [r for r in regions if not on_vertex(r)]
+    corners = [r for r in regions if on_vertex(r)]
     for rank, r in enumerate(sets):
-        colour = colours[rank % 10]
+        colour = colours[id(r)]
         mus = r.friction()
         for (a, b), e in zip(r.points, (polygon.edges[k] for k in r.edges), strict=True):
             ax.plot(*np.array([a, b]).T, color=colour, linewidth=4.5, solid_capstyle="butt",
@@ -303,10 +384,10 @@ def plot_regions(regions: Sequence[Any], path: str | Path | None = None,
         centre = getattr(r, "centre", None)  # three fingers: where the lines of force meet
         if centre is not None:
             ax.plot(*centre, marker="x", color=colour, markersize=8, zorder=4)
-    labels_at: dict = {}
+    labels_at: dict = {"dots": Counter(a for g in corners for a, _ in
+                                       (g.corners if g.other[0] == "vertex" else g.corners[:1]))}
     for rank, g in enumerate(corners):
-        _vertex_grasp(ax, g, colours[(len(sets) + rank) % 10], f"v{rank + 1}", reach,
-                      labels_at)
+        _vertex_grasp(ax, g, colours[id(g)], f"v{rank + 1}", reach, labels_at)
     if "places" in labels_at:  # room for the labels
         places, pad = np.array(labels_at["places"]), polygon.size * 0.05
         (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
@@ -594,3 +675,49 @@ def plot_spatial_regions(regions: Any, path: str | Path | None = None,
                  f"{regions.min_area:.3g}", fontsize=9)
     _save(fig, path)
     return fig
+
+
+# --- any region sets --------------------------------------------------------------------
+
+
+def plot_found(found: Sequence[Any], path: str | Path | None = None, title: str | None = None,
+               *, ax: Any = None, up: str = "z"):
+    """The picture of the region sets a synthesis found, whatever construction made them.
+
+    Chooses by the data, the dimension of the object the regions are on
+    (``found[0].object.dim``): on a polygon every grasp together, vertex
+    grasps among them wherever they are in the list (:func:`plot_regions`);
+    on a polyhedron the best, the first, lit and with every finger's region
+    labelled (:func:`plot_spatial_regions`; the HTML view of
+    :func:`forceclosure.view.write_html` has a menu for the others).
+
+    Parameters
+    ----------
+    found : sequence of RegionSet
+        Region sets on one object, best first (``synthesize(...).found``,
+        with any :func:`~forceclosure.synthesis.vertex_grasps` added).
+    path : str or Path, optional
+        Save the picture there (``.png`` or ``.svg``).
+    title : str, optional
+    ax : matplotlib Axes, optional
+        2-D axes for a polygon, 3-D axes for a polyhedron.
+    up : {"x", "y", "z"}
+        The axis drawn upright on a polyhedron (``upright_axis(file)`` gives the file
+        format's); a polygon lies in its plane.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> from forceclosure.synthesis.best import synthesize
+    >>> fig = plot_found(synthesize(bundled("cube"), 2, "soft", 0.5, top=2).found)
+    >>> [t.get_text() for t in fig.axes[0].texts]
+    ['finger 1', 'finger 2 (behind)']
+    """
+    obj = _one_object(found)
+    if obj.dim == 2:
+        return plot_regions(found, path, title, ax=ax)
+    return plot_spatial_regions(found[0], path, title, ax=ax, up=up)

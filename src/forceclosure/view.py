@@ -7,11 +7,15 @@ forces its finger can push with (the friction cone, drawn on the finger's
 side of the surface; a frictionless finger's single direction is a line).
 On polyhedra several grasps share one page with a menu to switch between
 them; on polygons they are drawn together, as in the PNG of
-:func:`forceclosure.plot.plot_regions`, and each can be hidden from the legend.
+:func:`forceclosure.plot.plot_regions` (grasps with a soft finger on a convex
+vertex among them), and each can be hidden from the legend. Like
+:func:`forceclosure.plot.plot_found`, :func:`write_html` reads any region
+sets and chooses by the object's dimension.
 """
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -22,8 +26,9 @@ from numpy.typing import NDArray
 from .contacts import tangent_basis
 from .errors import InputError
 from .objects import Polyhedron
+from .plot import _one_object, corner_cone, on_vertex
 from .synthesis.patches import SpatialRegions
-from .synthesis.regions import Regions
+from .synthesis.regions import RegionSet
 
 __all__ = ["COLOURS", "CONE_SIDES", "check_html_path", "grasps_figure", "planar_figure",
            "spatial_figure", "write_grasps_html", "write_html"]
@@ -120,7 +125,19 @@ def _grasp_traces(regions: SpatialRegions) -> list:
     return traces
 
 
-def spatial_figure(found: Sequence[SpatialRegions], title: str | None = None) -> go.Figure:
+def _camera(up: str) -> dict:
+    """The page's camera: from the front, right and above, with ``up`` upright (as the
+    PNG's :func:`forceclosure.plot._eye` turns its camera)."""
+    if up not in ("x", "y", "z"):
+        raise InputError(f"up must be 'x', 'y' or 'z', got {up!r}")
+    turn = "xyz".index(up) - 2
+    eye = np.roll([1.5, -1.6, 1.0], turn)
+    return {"eye": dict(zip("xyz", eye.tolist(), strict=True)),
+            "up": dict(zip("xyz", np.roll([0.0, 0.0, 1.0], turn).tolist(), strict=True))}
+
+
+def spatial_figure(found: Sequence[SpatialRegions], title: str | None = None, *,
+                   up: str = "z") -> go.Figure:
     """The interactive figure of region sets on one polyhedron (§5.2–§5.5, or mesh regions).
 
     Parameters
@@ -130,6 +147,8 @@ def spatial_figure(found: Sequence[SpatialRegions], title: str | None = None) ->
         :func:`forceclosure.synthesis.best_soft_pair_regions` and its kin).
         The first is shown; a menu switches to the others.
     title : str, optional
+    up : {"x", "y", "z"}
+        The axis the camera holds upright (:func:`forceclosure.plot.upright_axis`).
 
     Returns
     -------
@@ -143,11 +162,7 @@ def spatial_figure(found: Sequence[SpatialRegions], title: str | None = None) ->
     >>> sum(t.type == "mesh3d" for t in fig.data)  # object, two regions, two cones
     5
     """
-    if not found:
-        raise InputError("no regions to draw")
-    poly = found[0].polyhedron
-    if any(r.polyhedron is not poly for r in found):
-        raise InputError("all region sets of one view must be on the same object")
+    poly = _one_object(found)
     fig = go.Figure(_object_traces(poly))
     always = len(fig.data)
     groups = []
@@ -180,38 +195,94 @@ def spatial_figure(found: Sequence[SpatialRegions], title: str | None = None) ->
     fig.update_layout(
         title={"text": caption(first, 0), "x": 0.02, "font": {"size": 15}},
         scene={"aspectmode": "data", "xaxis_title": "x", "yaxis_title": "y",
-               "zaxis_title": "z", "camera": {"eye": {"x": 1.5, "y": -1.6, "z": 1.0}}},
+               "zaxis_title": "z", "camera": _camera(up)},
         margin={"l": 0, "r": 0, "t": 60, "b": 0}, paper_bgcolor="white",
         updatemenus=[{"buttons": buttons, "x": 0.02, "y": 0.93, "xanchor": "left",
                       "yanchor": "top"}] if len(found) > 1 else [])
     return fig
 
 
-def planar_figure(found: Sequence[Regions], title: str | None = None) -> go.Figure:
+def _dot_corners(g) -> tuple[tuple[int, int], ...]:
+    """The (incoming, outgoing) edges of the vertices a vertex grasp has a dot on."""
+    return g.corners if g.other[0] == "vertex" else g.corners[:1]
+
+
+def _vertex_traces(g, colour: str, group: str, reach: float, sizes: list[int]) -> list:
+    """A grasp with a soft finger on a convex vertex: the vertex (and the other one, for two
+    vertices) as dots of ``sizes``, each with its cone shaded (the hull of its two edges'
+    friction cones, :func:`forceclosure.plot.corner_cone`); the other finger's segment in
+    bold."""
+    polygon, traces = g.object, []
+    kind, k = g.other
+    ends = _dot_corners(g)
+    dots = np.array([polygon.edges[a].end for a, _ in ends])
+    where = [f"vertex {g.vertex}" if i == 0 else f"vertex {k}" for i in range(len(dots))]
+    text = f"{group}: " + "; ".join(g.describe())
+    traces.append(go.Scatter(x=dots[:, 0], y=dots[:, 1], mode="markers", name=group,
+                             legendgroup=group, hovertext=[f"{text} ({w})" for w in where],
+                             hoverinfo="text", marker={"color": colour, "size": sizes,
+                                                       "line": {"color": "white",
+                                                                "width": 1.5}}))
+    rays = []
+    for a, b in ends:
+        _, edge_rays, fan = corner_cone(polygon, a, b, g.mu, reach)
+        rays += edge_rays
+        if fan is not None:
+            traces.append(go.Scatter(x=fan[:, 0], y=fan[:, 1], mode="lines", fill="toself",
+                                     fillcolor=colour, opacity=0.25, legendgroup=group,
+                                     line={"width": 0}, hoverinfo="skip", showlegend=False))
+    if kind == "edge":
+        e = polygon.edges[k]
+        seg = np.array([e.point(t) for t in g.segment])
+        traces.append(go.Scatter(x=seg[:, 0], y=seg[:, 1], mode="lines", legendgroup=group,
+                                 line={"color": colour, "width": 7}, hovertext=text,
+                                 hoverinfo="text", showlegend=False))
+        for s in (-1, 1):
+            c, d = np.cos(s * np.arctan(g.mu)), np.sin(s * np.arctan(g.mu))
+            push = -e.normal
+            ray = reach * np.array([c * push[0] - d * push[1], d * push[0] + c * push[1]])
+            rays += [np.array([q, q + ray]) for q in seg]
+    cone = _lines(rays, closed=False)
+    traces.append(go.Scatter(x=cone[:, 0], y=cone[:, 1], mode="lines", legendgroup=group,
+                             line={"color": colour, "width": 1}, opacity=0.7,
+                             hoverinfo="skip", showlegend=False))
+    return traces
+
+
+def planar_figure(found: Sequence[RegionSet], title: str | None = None) -> go.Figure:
     """The interactive figure of region sets on one polygon (§5.1, §5.4).
 
     Every grasp's segments in its own colour, with the cones of forces its
-    fingers can push with at the segments' ends; clicking a grasp in the
-    legend hides it.
+    fingers can push with at the segments' ends; grasps with a soft finger on
+    a convex vertex (:func:`forceclosure.plot.on_vertex`), anywhere in the
+    list, as the PNG draws them: the vertex a dot with its cone shaded,
+    named ``v1``, ``v2``, ... Every grasp's colour is that of its place in
+    the list; clicking a grasp in the legend hides it.
 
     Examples
     --------
     >>> from forceclosure.objects import bundled
-    >>> from forceclosure.synthesis import best_regions
-    >>> fig = planar_figure(best_regions(bundled("hexagon"), 0.3, top=2))
+    >>> from forceclosure.synthesis import best_regions, vertex_grasps
+    >>> square = bundled("square")
+    >>> fig = planar_figure([*best_regions(square, 0.3, top=2), *vertex_grasps(square, 0.3,
+    ...                                                                         top=1)])
     >>> sorted({t.legendgroup for t in fig.data if t.legendgroup})
-    ['grasp 1', 'grasp 2']
+    ['grasp 1', 'grasp 2', 'v1']
     """
-    if not found:
-        raise InputError("no regions to draw")
-    polygon = found[0].polygon
+    polygon = _one_object(found)
+    if polygon.dim != 2:
+        raise InputError("planar_figure draws grasps on a polygon; on a polyhedron, "
+                         "spatial_figure (or write_html)")
     outline = _lines(list(polygon.rings), closed=True)
     fig = go.Figure(go.Scatter(x=outline[:, 0], y=outline[:, 1], mode="lines", fill="toself",
                                fillcolor="#dfe7f2", line={"color": "#1f3b63", "width": 2},
                                hoverinfo="skip", showlegend=False))
     reach = polygon.size * 0.18
-    for rank, r in enumerate(found):
-        colour, group = COLOURS[rank % len(COLOURS)], f"grasp {rank + 1}"
+    sets = [r for r in found if not on_vertex(r)]
+    corners = [r for r in found if on_vertex(r)]
+    colours = {id(r): COLOURS[place % len(COLOURS)] for place, r in enumerate(found)}
+    for rank, r in enumerate(sets):
+        colour, group = colours[id(r)], f"grasp {rank + 1}"
         segs = _lines(list(r.points), closed=False)
         cone = _lines(list(r.cone_rays(reach)), closed=False)
         fig.add_trace(go.Scatter(x=segs[:, 0], y=segs[:, 1], mode="lines", name=group,
@@ -221,30 +292,50 @@ def planar_figure(found: Sequence[Regions], title: str | None = None) -> go.Figu
         fig.add_trace(go.Scatter(x=cone[:, 0], y=cone[:, 1], mode="lines", legendgroup=group,
                                  line={"color": colour, "width": 1}, opacity=0.7,
                                  hoverinfo="skip", showlegend=False))
-    fingers = len(found[0].edges)
-    mu = found[0].friction()[0]
-    friction = f"mu {mu:g}" if mu > 0 else "frictionless"
+    # grasps sharing a vertex: rings, the first (best) outermost, so every one shows
+    total = Counter(a for g in corners for a, _ in _dot_corners(g))
+    seen: Counter = Counter()
+    for rank, g in enumerate(corners):
+        sizes = []
+        for a, _ in _dot_corners(g):
+            seen[a] += 1
+            sizes.append(13 + 8 * (total[a] - seen[a]))
+        fig.add_traces(_vertex_traces(g, colours[id(g)], f"v{rank + 1}", reach, sizes))
+    words = []
+    if sets:
+        mu = sets[0].friction()[0]
+        friction = f"mu {mu:g}" if mu > 0 else "frictionless"
+        words.append(f"{len(sets)} best {len(sets[0].edges)}-finger grasps, {friction} "
+                     "(bold: independent regions)")
+    if corners:
+        words.append(f"{len(corners)} with a soft finger on a convex vertex (v), "
+                     f"mu {corners[0].mu:g}")
     fig.update_layout(
-        title={"text": title or f"{polygon.name}: {len(found)} best {fingers}-finger grasps, "
-                                f"{friction} (bold: independent regions)", "x": 0.02},
+        title={"text": title or f"{polygon.name}: " + ";<br>".join(words), "x": 0.02},
         xaxis={"scaleanchor": "y", "scaleratio": 1, "title": "x"}, yaxis={"title": "y"},
-        plot_bgcolor="white", paper_bgcolor="white", margin={"l": 40, "r": 20, "t": 60,
+        plot_bgcolor="white", paper_bgcolor="white", margin={"l": 40, "r": 20, "t": 80,
                                                              "b": 40})
     return fig
 
 
-def write_html(found: Sequence[SpatialRegions] | Sequence[Regions], path: str | Path,
-               title: str | None = None) -> Path:
+def write_html(found: Sequence[RegionSet], path: str | Path, title: str | None = None, *,
+               up: str = "z") -> Path:
     """Save region sets as one self-contained, offline HTML page.
+
+    Chooses by the data, the dimension of the object the regions are on
+    (``found[0].object.dim``), as :func:`forceclosure.plot.plot_found`.
 
     Parameters
     ----------
-    found : sequence of SpatialRegions or of Regions
+    found : sequence of RegionSet
         Region sets on one polyhedron (:func:`spatial_figure`) or on one
-        polygon (:func:`planar_figure`), best first.
+        polygon, vertex grasps among them anywhere (:func:`planar_figure`),
+        best first.
     path : str or Path
         Where to write the page (plotly.js is embedded: about 5 MB).
     title : str, optional
+    up : {"x", "y", "z"}
+        The axis held upright on a polyhedron (:func:`forceclosure.plot.upright_axis`).
 
     Returns
     -------
@@ -260,12 +351,11 @@ def write_html(found: Sequence[SpatialRegions] | Sequence[Regions], path: str | 
     >>> write_html([soft_pair_regions(bundled("cube"), 0, 1, 0.5)], out).stat().st_size > 10**6
     True
     """
-    if not found:
-        raise InputError("no regions to draw")
     path = Path(path)
     if path.suffix.lower() not in (".html", ".htm"):
         raise InputError(f"{path}: an interactive view is saved as .html")
-    fig = (spatial_figure(found, title) if isinstance(found[0], SpatialRegions)
+    obj = _one_object(found)
+    fig = (spatial_figure(found, title, up=up) if obj.dim == 3
            else planar_figure(found, title))
     try:
         fig.write_html(path, include_plotlyjs=True, full_html=True,
