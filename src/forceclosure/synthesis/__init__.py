@@ -5,6 +5,7 @@ and returns the best region sets; the constructions are also here one by one.
 """
 
 from .best import Synthesis, synthesize
+from .construction import Construction, Hand, construction_for, register, registered
 from .frictionless import (
     FrictionlessRegions,
     best_frictionless_regions,
@@ -22,7 +23,8 @@ from .planar import (
     maximal_regions,
     pair_grasps,
 )
-from .regions import Certificate, Regions
+from .regions import Certificate, Regions, RegionSet
+from .search import candidate_sites, search
 from .seven import SevenRegions, best_seven_frictionless_regions, seven_frictionless_regions
 from .soft_pair import (
     CircularCone,
@@ -53,12 +55,15 @@ from .zones import (
 __all__ = [
     "Certificate",
     "CircularCone",
+    "Construction",
     "FacePatch",
     "FrictionlessRegions",
     "GraspClass",
+    "Hand",
     "IndependentRegions",
     "PairGrasps",
     "Prototype",
+    "RegionSet",
     "Regions",
     "SearchZones",
     "Sector",
@@ -76,7 +81,9 @@ __all__ = [
     "best_soft_pair_regions",
     "best_three_finger_regions",
     "best_three_hard_regions",
+    "candidate_sites",
     "classify_three",
+    "construction_for",
     "convex_pieces",
     "convex_vertices",
     "counter_overlap",
@@ -88,7 +95,10 @@ __all__ = [
     "nguyen_regions",
     "pair_grasps",
     "prototype_grasps",
+    "register",
+    "registered",
     "sampling_check",
+    "search",
     "search_zones",
     "seven_frictionless_regions",
     "soft_pair_regions",
