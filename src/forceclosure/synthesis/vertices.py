@@ -117,8 +117,9 @@ class VertexGrasp(RegionSet):
     def to_dict(self) -> dict[str, object]:
         """The JSON record: the vertex, the other site, its region, the certificate."""
         kind, k = self.other
+        other = "edge" if kind == "edge" else "other_vertex"  # not "vertex": that is the own
         record: dict[str, object] = {"vertex": self.vertex, "vertex_point": self.point.tolist(),
-                                     kind: k, "mu": self.mu}
+                                     other: k, "mu": self.mu}
         if self.segment is not None:
             e = self.polygon.edges[k]
             record.update(segment=list(self.segment),
