@@ -471,6 +471,11 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
     return 0
 
 
+#: ``--fingers`` of synthesize and dataset: one default (synthesis.best.default_fingers).
+FINGERS_HELP = ("number of fingers (default: the fewest that can hold the object: 2 with "
+                "friction in the plane, 4 frictionless; in space 2 soft, 3 hard, 7 frictionless)")
+
+
 def _print_found(args: argparse.Namespace, obj, result) -> None:
     """The region sets found, best first, for people (``--json`` has every number)."""
     found, c = result.found, result.construction
@@ -1123,10 +1128,7 @@ def build_parser() -> argparse.ArgumentParser:
                                    "force-closure.")
     y.add_argument("object", metavar="OBJECT",
                    help="a polygon or mesh file, or a bundled name")
-    y.add_argument("--fingers", type=int, default=None,
-                   help="number of fingers (default: the fewest that can hold the object: 2 "
-                        "with friction in the plane, 4 frictionless; in space 2 soft, 3 hard, "
-                        "7 frictionless)")
+    y.add_argument("--fingers", type=int, default=None, help=FINGERS_HELP)
     y.add_argument("--part", metavar="NAME", help="the URDF link (or SVG element id) to read")
     _outside_meshes_option(y)
     _synthesis_options(y)
@@ -1148,9 +1150,7 @@ def build_parser() -> argparse.ArgumentParser:
     t.add_argument("inputs", nargs="+", metavar="INPUT",
                    help="object files, folders or glob patterns (polygons, meshes, URDFs)")
     t.add_argument("--out", required=True, metavar="DIR", help="the results folder")
-    t.add_argument("--fingers", type=int, default=None,
-                   help="number of fingers (default: 2 on polygons; on polyhedra 2 soft, "
-                        "3 hard, 7 frictionless)")
+    t.add_argument("--fingers", type=int, default=None, help=FINGERS_HELP)
     _synthesis_options(t)
     t.add_argument("--analyze", action="store_true",
                    help="analyse the grasps given per object instead of synthesizing")
