@@ -116,6 +116,8 @@ def test_a_construction_returns_only_certified_regions_that_hold(construction, n
     rng = np.random.default_rng(7)
     for r in found:
         assert isinstance(r, RegionSet) and r.object is obj
+        assert len(r.kinds) == len(r.sizes) == (construction.fingers or hand.fingers)
+        assert all((k == "vertex") == (s == 0) for k, s in zip(r.kinds, r.sizes, strict=True))
         assert r.certify().holds
         assert r.min_size == pytest.approx(min(s for s in r.sizes if s > 0) if any(r.sizes)
                                            else 0.0)

@@ -78,12 +78,8 @@ def upright_axis(source: Any) -> str:
 
 
 def on_vertex(regions: Any) -> bool:
-    """Whether a planar region set has a finger on a vertex (a region of size 0).
-
-    Read from the data every region set has (:attr:`RegionSet.sizes`): a
-    segment on an edge has a positive length (the constructions refuse empty
-    ones), a vertex is a point, size 0
-    (:class:`~forceclosure.synthesis.vertices.VertexGrasp`).
+    """Whether a planar region set has a finger on a vertex
+    (:attr:`~forceclosure.synthesis.regions.RegionSet.kinds`).
 
     Examples
     --------
@@ -93,7 +89,7 @@ def on_vertex(regions: Any) -> bool:
     >>> on_vertex(best_regions(square, 0.3, top=1)[0]), on_vertex(vertex_grasps(square, 0.3)[0])
     (False, True)
     """
-    return min(regions.sizes) == 0.0
+    return "vertex" in regions.kinds
 
 
 def check_plot_path(path: str | Path) -> None:

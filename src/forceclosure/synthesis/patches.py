@@ -206,6 +206,10 @@ class SpatialRegions(RegionSet):
         return self.areas
 
     @property
+    def kinds(self) -> tuple[str, ...]:
+        return ("patch",) * len(self.regions)
+
+    @property
     def min_area(self) -> float:
         """The smallest region: the placement error the grasp tolerates."""
         return min(self.areas)

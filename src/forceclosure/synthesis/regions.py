@@ -186,6 +186,12 @@ class RegionSet:
         raise NotImplementedError
 
     @property
+    def kinds(self) -> tuple[str, ...]:  # pragma: no cover - every subclass defines it
+        """What each finger stands on: ``"segment"`` (of an edge), ``"patch"`` (of one or more
+        faces) or ``"vertex"``."""
+        raise NotImplementedError
+
+    @property
     def min_size(self) -> float:
         """The smallest region: the finger-placement error the grasp tolerates."""
         return min(self.sizes)
@@ -211,7 +217,7 @@ class RegionSet:
     def _common(self) -> dict[str, object]:
         """The keys every region set's JSON record has (``to_dict`` adds its own)."""
         cert = self.certify()
-        return {"sizes": list(self.sizes), "min_size": self.min_size,
+        return {"kinds": list(self.kinds), "sizes": list(self.sizes), "min_size": self.min_size,
                 "relative_min_size": self.relative_min_size,
                 "certificate": {"holds": cert.holds, "method": cert.method,
                                 "detail": cert.detail}}
@@ -247,6 +253,10 @@ class Regions(RegionSet):
         return tuple(v - u for u, v in self.segments)
 
     sizes = lengths
+
+    @property
+    def kinds(self) -> tuple[str, ...]:
+        return ("segment",) * len(self.edges)
 
     @property
     def min_length(self) -> float:

@@ -147,6 +147,10 @@ class VertexGrasp(RegionSet):
     def min_size(self) -> float:
         return self.min_length
 
+    @property
+    def kinds(self) -> tuple[str, str]:
+        return ("vertex", "segment" if self.other[0] == "edge" else "vertex")
+
     def describe(self) -> list[str]:
         """``vertex 2 at [x, y]``, then ``edge 0 from [..] to [..] (0.897 long)`` or
         ``vertex 3``."""
