@@ -412,9 +412,9 @@ def _cmd_inspect(args: argparse.Namespace) -> int:
         print(f"  size {info['size']:.6g} (bounding-box diagonal), bounds "
               f"{_rounded(lo, obj.size)} to {_rounded(hi, obj.size)}")
     if args.plot:
-        from .plot import plot_object
+        from .plot import plot_object, upright_axis
 
-        plot_object(obj, args.plot)
+        plot_object(obj, args.plot, up=upright_axis(args.object))
         print(f"  picture: {args.plot}", file=sys.stderr if args.json else sys.stdout)
     return 0
 
