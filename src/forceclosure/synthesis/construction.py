@@ -136,7 +136,8 @@ def register(construction: Construction) -> Construction:
 
 
 def registered() -> tuple[Construction, ...]:
-    """Every registered construction, after importing every module of the package.
+    """Every registered construction, after importing every module of the package, in the
+    order of their keys.
 
     Examples
     --------
@@ -146,7 +147,8 @@ def registered() -> tuple[Construction, ...]:
     package = importlib.import_module(__package__)
     for info in pkgutil.walk_packages(package.__path__, f"{__package__}."):
         importlib.import_module(info.name)
-    return tuple(_TABLE.values())
+    return tuple(sorted(_TABLE.values(), key=lambda c: (c.dim, c.fingers or 99, c.contact,
+                                                         c.name)))
 
 
 def construction_for(dim: int, fingers: int, contact: str, name: str = "maximal",
