@@ -58,8 +58,25 @@ _CODES = {Verdict.NONE: 0, Verdict.MARGINAL: 1, Verdict.CLOSURE: 2}
 CHUNK = 65_536
 
 
+class VerdictCodes:
+    """Verdicts kept as a ``code`` array (0 ``none``, 1 ``marginal``, 2 ``closure``), read as
+    words or as a mask on use."""
+
+    code: NDArray[np.int8]
+
+    @property
+    def verdict(self) -> NDArray[np.str_]:
+        """``"closure"``, ``"marginal"`` or ``"none"`` for each."""
+        return _VERDICTS[self.code]
+
+    @property
+    def force_closure(self) -> NDArray[np.bool_]:
+        """True where the verdict is ``closure``."""
+        return self.code == 2
+
+
 @dataclass(frozen=True, eq=False)
-class BatchAnalysis:
+class BatchAnalysis(VerdictCodes):
     """Verdicts for ``N`` grasps, as arrays (see :class:`forceclosure.Analysis`).
 
     ``code`` is the verdict as 0 ``none``, 1 ``marginal``, 2 ``closure``;
@@ -75,16 +92,6 @@ class BatchAnalysis:
     twist: NDArray[np.float64]
     force_direction_closure: NDArray[np.bool_] | None
     torque_closure: NDArray[np.bool_] | None
-
-    @property
-    def verdict(self) -> NDArray[np.str_]:
-        """``"closure"``, ``"marginal"`` or ``"none"`` per grasp."""
-        return _VERDICTS[self.code]
-
-    @property
-    def force_closure(self) -> NDArray[np.bool_]:
-        """True where the verdict is ``closure``."""
-        return self.code == 2
 
     def __len__(self) -> int:
         return len(self.code)

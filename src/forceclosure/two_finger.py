@@ -37,20 +37,18 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .batch_analysis import Engine, analyze_batch
-from .closure import TOLERANCE, Verdict, analyze, check_tolerance
+from .batch_analysis import _CODES, Engine, VerdictCodes, analyze_batch
+from .closure import TOLERANCE, analyze, check_tolerance
 from .contacts import MAX_COORDINATE, point_contact, unit_rows
 from .errors import InputError
 from .geometry.cones import angle_between as _angle
 
 __all__ = ["PairClosure", "pair_codes", "pair_least_friction", "two_finger_closure"]
 
-_VERDICTS = np.array([Verdict.NONE.value, Verdict.MARGINAL.value, Verdict.CLOSURE.value])
-_CODES = {Verdict.NONE: 0, Verdict.MARGINAL: 1, Verdict.CLOSURE: 2}
 
 
 @dataclass(frozen=True, eq=False)
-class PairClosure:
+class PairClosure(VerdictCodes):
     """Corollary 3 for ``N`` pairs.
 
     Attributes
@@ -74,16 +72,6 @@ class PairClosure:
     code: NDArray[np.int8]
     least_friction: NDArray[np.float64]
     _pairs: tuple[NDArray[np.float64], ...] = field(repr=False)
-
-    @property
-    def verdict(self) -> NDArray[np.str_]:
-        """``"closure"``, ``"marginal"`` or ``"none"`` per pair."""
-        return _VERDICTS[self.code]
-
-    @property
-    def force_closure(self) -> NDArray[np.bool_]:
-        """True where the verdict is ``closure``."""
-        return self.code == 2
 
     @property
     def angle_p(self) -> NDArray[np.float64]:
