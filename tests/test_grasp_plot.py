@@ -89,3 +89,17 @@ def test_svg_too(tmp_path, suffix):
     assert main(["grasps", "cube", "--width", "3", "--count", "5", "--no-least-friction",
                  "--no-collision", "--plot", str(tmp_path / f"g{suffix}")]) == 0
     assert (tmp_path / f"g{suffix}").read_text().lstrip().startswith("<?xml")
+
+
+def test_grasp_pictures_hold_the_up_axis_upright():
+    """A y-up mesh file (OBJ) keeps y upright in the page's camera; a bad axis is refused."""
+    from forceclosure import InputError, ParallelJaw
+    from forceclosure.labels import grasp_labels
+    from forceclosure.plot import upright_axis
+    from forceclosure.view import grasps_figure
+
+    labels = grasp_labels("cube", ParallelJaw(3.0), 0.3, 6, least_friction=False)
+    up = grasps_figure("cube", labels, 2, up=upright_axis("duck.obj")).layout.scene.camera.up
+    assert (up.x, up.y, up.z) == (0.0, 1.0, 0.0)
+    with pytest.raises(InputError, match="up must be"):
+        grasps_figure("cube", labels, 2, up="w")

@@ -874,14 +874,18 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     if args.out:
         labels.save(args.out)
     _write_exports(args, labels, gripper)
+    if args.plot or args.html:
+        from .plot import upright_axis
+
+        up = upright_axis(args.object)
     if args.plot:
         from .grasp_plot import plot_grasps
 
-        plot_grasps(obj, labels, args.plot, top=args.plot_top, gripper=gripper)
+        plot_grasps(obj, labels, args.plot, top=args.plot_top, gripper=gripper, up=up)
     if args.html:
         from .view import write_grasps_html
 
-        write_grasps_html(obj, labels, args.html, top=args.plot_top, gripper=gripper)
+        write_grasps_html(obj, labels, args.html, top=args.plot_top, gripper=gripper, up=up)
     counts = labels.counts()
     mu_star = (float(np.median(labels.least_friction))
                if len(labels) and not args.no_least_friction else math.nan)

@@ -77,8 +77,10 @@ def _outline(center, closing, approach, width, gripper: ParallelJaw) -> list[NDA
 
 
 def plot_grasps(obj: Any, labels: Any, path: str, top: int = 10,
-                gripper: ParallelJaw | None = None, title: str | None = None) -> list[int]:
-    """Draw the object and its ``top`` best labelled poses; save to ``path`` (.png, .svg).
+                gripper: ParallelJaw | None = None, title: str | None = None, *,
+                up: str = "z") -> list[int]:
+    """Draw the object and its ``top`` best labelled poses; save to ``path`` (.png, .svg),
+    with the ``up`` axis upright (:func:`forceclosure.plot.upright_axis`).
 
     Returns the indices of the grasps drawn (:func:`best_grasps`).
 
@@ -133,6 +135,9 @@ def plot_grasps(obj: Any, labels: Any, path: str, top: int = 10,
     ax.set_ylim(middle[1] - radius, middle[1] + radius)
     ax.set_zlim(middle[2] - radius, middle[2] + radius)
     ax.set_box_aspect((1, 1, 1))
+    if up not in ("x", "y", "z"):
+        raise InputError(f"up must be 'x', 'y' or 'z', got {up!r}")
+    ax.view_init(elev=30, azim=-60, vertical_axis=up)
     ax.set_xlabel("x")
     ax.set_ylabel("y")
     ax.set_zlabel("z")

@@ -374,8 +374,8 @@ def _number(x: float, missing: str) -> str:
     return missing if np.isnan(x) else "none closes" if np.isinf(x) else f"{x:.4g}"
 
 
-def grasps_figure(obj, labels, top: int = 10, gripper=None, title: str | None = None
-                  ) -> go.Figure:
+def grasps_figure(obj, labels, top: int = 10, gripper=None, title: str | None = None, *,
+                  up: str = "z") -> go.Figure:
     """The interactive figure of an object and its ``top`` best labelled jaw poses.
 
     The same poses as the picture of :func:`forceclosure.grasp_plot.plot_grasps`
@@ -440,7 +440,7 @@ def grasps_figure(obj, labels, top: int = 10, gripper=None, title: str | None = 
         title={"text": title or f"{poly.name}: the {len(chosen)} best of {len(labels.code):,} "
                                 "labelled jaw poses", "x": 0.02, "font": {"size": 15}},
         scene={"aspectmode": "data", "xaxis_title": "x", "yaxis_title": "y",
-               "zaxis_title": "z", "camera": {"eye": {"x": 1.5, "y": -1.6, "z": 1.0}}},
+               "zaxis_title": "z", "camera": _camera(up)},
         margin={"l": 0, "r": 0, "t": 60, "b": 0}, paper_bgcolor="white")
     return fig
 
@@ -452,9 +452,10 @@ def check_html_path(path: str | Path) -> None:
 
 
 def write_grasps_html(obj, labels, path: str | Path, top: int = 10, gripper=None,
-                      title: str | None = None) -> list[int]:
+                      title: str | None = None, *, up: str = "z") -> list[int]:
     """Save the object and its ``top`` best labelled jaw poses (:func:`grasps_figure`) as one
-    self-contained, offline HTML page, atomically. Returns the indices of the poses drawn.
+    self-contained, offline HTML page, atomically, with ``up`` upright
+    (:func:`forceclosure.plot.upright_axis`). Returns the indices of the poses drawn.
 
     Examples
     --------
@@ -470,7 +471,7 @@ def write_grasps_html(obj, labels, path: str | Path, top: int = 10, gripper=None
     from .grasp_plot import best_grasps
 
     check_html_path(path)
-    fig = grasps_figure(obj, labels, top, gripper, title)
+    fig = grasps_figure(obj, labels, top, gripper, title, up=up)
     page = fig.to_html(include_plotlyjs=True, full_html=True,
                        config={"displaylogo": False, "responsive": True})
     with atomic_write(str(path)) as f:
