@@ -173,3 +173,15 @@ def test_synthesize_is_the_table_lookup():
                                           search(s.construction, bundled("hexagon"),
                                                  Hand(2, "hard", 0.4, top=3))]
     assert synthesize("cube", 4, "hard", 0.5, top=1, samples=2000).construction.name == "mesh"
+
+
+def test_the_command_lists_the_table(capsys):
+    from forceclosure.cli import main
+
+    assert main(["constructions", "--json"]) == 0
+    table = json.loads(capsys.readouterr().out)
+    assert [(c["dim"], c["fingers"], c["contact"], c["name"]) for c in table] == [
+        c.key for c in registered()]
+    assert main(["constructions"]) == 0
+    out = capsys.readouterr().out
+    assert "polyhedron, 2 soft fingers, maximal: §5.2" in out and "Lemma 1" in out

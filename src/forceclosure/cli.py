@@ -371,6 +371,31 @@ def _cmd_objects(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_constructions(args: argparse.Namespace) -> int:
+    import textwrap
+
+    from .synthesis.construction import registered
+
+    table = registered()
+    if args.json:
+        json.dump([{"dim": c.dim, "fingers": c.fingers, "contact": c.contact, "name": c.name,
+                    "paper": c.paper, "method": c.method, "searched": c.searched,
+                    "bound": c.bound is not None, "prune": c.prune is not None}
+                   for c in table], sys.stdout, indent=2)
+        sys.stdout.write("\n")
+        return 0
+    print("The constructions synthesize chooses from (by object, --fingers, --contact and "
+          "--construction;\nthe mesh method where none fits):\n")
+    for c in table:
+        where = "polygon" if c.dim == 2 else "polyhedron"
+        fingers = "any number of" if c.fingers is None else str(c.fingers)
+        contact = "" if c.contact == "any" else f" {c.contact}"
+        print(f"  {where}, {fingers}{contact} fingers, {c.name}: {c.paper}")
+        print(textwrap.fill(f"searches {c.searched}", 96, initial_indent=" " * 6,
+                            subsequent_indent=" " * 6))
+    return 0
+
+
 def _cmd_inspect(args: argparse.Namespace) -> int:
     import numpy as np
 
@@ -1111,6 +1136,10 @@ def build_parser() -> argparse.ArgumentParser:
     w.set_defaults(run=_cmd_warmup)
     o = sub.add_parser("objects", help="list the bundled example objects")
     o.set_defaults(run=_cmd_objects)
+    k = sub.add_parser("constructions", help="list the constructions of independent regions "
+                                             "(the table synthesize chooses from)")
+    k.add_argument("--json", action="store_true", help="print the table as JSON")
+    k.set_defaults(run=_cmd_constructions)
     i = sub.add_parser("inspect", help="summarise an object: polygon or polyhedron",
                        description="Load an object (a file or a bundled name), check it, and "
                                    "summarise it: edges, or planar faces found in a mesh.")
