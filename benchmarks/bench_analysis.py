@@ -21,7 +21,7 @@ import numpy as np
 from scipy.optimize import linprog
 
 from forceclosure import Cone, analyze, generating_wrenches, kernels, point_contact
-from forceclosure.two_finger import two_finger_closure
+from forceclosure.analysis.two_finger import two_finger_closure
 
 
 def baseline(W: np.ndarray) -> bool:

@@ -47,8 +47,8 @@ from scipy.optimize import linprog
 from scipy.spatial import ConvexHull, QhullError
 
 from forceclosure import Cone
-from forceclosure.batch import analyze_batch, epsilon_batch, least_friction_batch
-from forceclosure.two_finger import two_finger_closure
+from forceclosure.analysis.batch import analyze_batch, epsilon_batch, least_friction_batch
+from forceclosure.analysis.two_finger import two_finger_closure
 
 DOCS = Path(__file__).parents[1] / "docs"
 GRASPNET_FRICTION = (0.1, 0.2, 0.4, 0.6, 0.8, 1.0)
@@ -178,8 +178,8 @@ import time
 t = time.perf_counter()
 import numpy as np
 from forceclosure import Cone
-from forceclosure.batch import analyze_batch, epsilon_batch, least_friction_batch
-from forceclosure.two_finger import two_finger_closure
+from forceclosure.analysis.batch import analyze_batch, epsilon_batch, least_friction_batch
+from forceclosure.analysis.two_finger import two_finger_closure
 P = np.random.default_rng(0).normal(size=(64, 3, 3))
 two_finger_closure(P[:, 0, :2], P[:, 0, :2], P[:, 1, :2], -P[:, 1, :2], 0.3)
 two_finger_closure(P[:, 0], P[:, 0], P[:, 1], -P[:, 1], 0.3)
@@ -205,7 +205,7 @@ def compile_seconds():
 # child inherits from the (large) parent it was forked from.
 STREAM = """
 import sys
-from forceclosure.cli import main
+from forceclosure.app.cli import main
 code = main(["analyze", sys.argv[1], "--out", sys.argv[2], "--json"])
 status = open("/proc/self/status").read().split("VmHWM:")[1]
 print(int(status.split()[0]) / 1024, file=sys.stderr)

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import pybullet_data
 
-from forceclosure.dataset import Job, run_dataset
+from forceclosure.app.dataset import Job, run_dataset
 from forceclosure.errors import InputError
 from forceclosure.objects.io import load_object
 from forceclosure.synthesis.best import synthesize

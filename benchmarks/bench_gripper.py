@@ -5,8 +5,8 @@ bunny and duck, opening 1.5, soft pads, mu 0.5) and produce the same labels:
 the contact pair by ray casting, the verdict, the least friction and the
 Ferrari-Canny epsilon. Timed in one run, on the same poses:
 
-* **ours**: one vectorised ray query (:func:`forceclosure.gripper.jaw_contacts`)
-  and :func:`forceclosure.labels.label_grasps` (closed-form pair verdicts with
+* **ours**: one vectorised ray query (:func:`forceclosure.gripper.jaw.jaw_contacts`)
+  and :func:`forceclosure.gripper.labels.label_grasps` (closed-form pair verdicts with
   exact cones, exact least friction, the compiled epsilon);
 * **the pipeline**, re-implemented from its published algorithms, grasp by
   grasp as those tools run: the two rays cast for this grasp (trimesh, the same
@@ -88,7 +88,7 @@ def dexnet_epsilon(W):
 def pipeline(mesh, centers, closing, width, mu, epsilon=True):
     """The per-grasp pipeline: rays, wrenches, QP verdict, six-value friction, Qhull epsilon
     (GraspNet's labels have no epsilon: ``epsilon=False``)."""
-    from forceclosure.gripper import cast_first
+    from forceclosure.gripper.jaw import cast_first
 
     out = []
     for c, d in zip(centers, closing, strict=True):
@@ -108,9 +108,9 @@ def pipeline(mesh, centers, closing, width, mu, epsilon=True):
 def main() -> None:
     import pybullet_data
 
-    from forceclosure.antipodal import sample_antipodal
-    from forceclosure.gripper import jaw_contacts, surface_mesh
-    from forceclosure.labels import label_grasps
+    from forceclosure.gripper.antipodal import sample_antipodal
+    from forceclosure.gripper.jaw import jaw_contacts, surface_mesh
+    from forceclosure.gripper.labels import label_grasps
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--poses", type=int, default=20_000)

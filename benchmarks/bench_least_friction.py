@@ -24,8 +24,8 @@ import time
 import numpy as np
 
 from forceclosure import Cone, point_contact
-from forceclosure.batch import least_friction_batch
-from forceclosure.quality import least_friction, least_friction_reference
+from forceclosure.analysis.batch import least_friction_batch
+from forceclosure.analysis.quality import least_friction, least_friction_reference
 
 
 def grasps(kind: str, count: int, rng: np.random.Generator) -> list:

@@ -57,7 +57,7 @@ def stages(path: Path) -> None:
     from forceclosure.objects.io import load_object
     from forceclosure.synthesis.best import synthesize
     from forceclosure.synthesis.regions import narrowed
-    from forceclosure.synthesis.zones import prototype_grasps, zone_regions
+    from forceclosure.synthesis.spatial.zones import prototype_grasps, zone_regions
 
     load_object(path)  # imports (trimesh's own) out of the way
     t = time.process_time()

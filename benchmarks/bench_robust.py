@@ -3,7 +3,7 @@
     uv run python benchmarks/bench_robust.py [--grasps 1000] [--samples 100]
 
 Samples antipodal jaw poses on pybullet_data's bunny and duck, then times
-:func:`forceclosure.robust.robust_labels` (soft pads, exact-cone verdicts)
+:func:`forceclosure.gripper.robust.robust_labels` (soft pads, exact-cone verdicts)
 with and without the expected epsilon, and its parts: the one ray query of
 all perturbed poses, and the verdicts of all the pairs in one batch call.
 """
@@ -20,11 +20,11 @@ import numpy as np
 def main() -> None:
     import pybullet_data
 
-    from forceclosure.gripper import ParallelJaw, jaw_contacts, surface_mesh
-    from forceclosure.labels import grasp_labels
+    from forceclosure.analysis.two_finger import pair_codes
+    from forceclosure.gripper.jaw import ParallelJaw, jaw_contacts, surface_mesh
+    from forceclosure.gripper.labels import grasp_labels
+    from forceclosure.gripper.robust import robust_labels
     from forceclosure.objects.io import load_object
-    from forceclosure.robust import robust_labels
-    from forceclosure.two_finger import pair_codes
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--grasps", type=int, default=1000)

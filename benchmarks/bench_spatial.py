@@ -25,7 +25,7 @@ from scipy.spatial import ConvexHull
 from forceclosure.objects import Polyhedron
 from forceclosure.objects.io import load_object
 from forceclosure.synthesis import best_soft_pair_regions, prototype_grasps, zone_regions
-from forceclosure.synthesis.soft_pair import soft_pair_regions
+from forceclosure.synthesis.spatial.two_soft import soft_pair_regions
 
 
 def ellipsoid_hull(points: int, rng) -> Polyhedron:

@@ -14,7 +14,7 @@ import time
 import numpy as np
 
 from forceclosure import Cone
-from forceclosure.batch import analyze_batch, least_friction_batch
+from forceclosure.analysis.batch import analyze_batch, least_friction_batch
 
 HALF = np.array([1.0, 0.5, 0.25])  # half extents of the box
 

@@ -8,10 +8,10 @@ from collections import Counter
 import numpy as np
 
 from forceclosure import analyze, point_contact
-from forceclosure.batch import analyze_batch
-from forceclosure.equilibrium import nonmarginal_equilibrium
-from forceclosure.quality import epsilon, least_friction
-from forceclosure.two_finger import two_finger_closure
+from forceclosure.analysis.batch import analyze_batch
+from forceclosure.analysis.equilibrium import nonmarginal_equilibrium
+from forceclosure.analysis.quality import epsilon, least_friction
+from forceclosure.analysis.two_finger import two_finger_closure
 
 # Two hard fingers squeezing a box across its faces x = -1 and x = +1.
 hard = [point_contact([-1, 0.3, 0.2], [-1, 0, 0], "hard", mu=0.5),

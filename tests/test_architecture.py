@@ -1,5 +1,6 @@
-"""The package's layering (docs: DESIGN §5): no import cycles, a geometry layer that imports
-nothing above it, and a declared public surface (``__all__``) in every public module.
+"""The package's layering (docs: DESIGN §5, issue 16): no import cycles, layers that import
+nothing above them (geometry → contacts → analysis → synthesis/gripper → pictures/io → app), and
+a declared public surface (``__all__``) in every public module.
 
 The import graph is read from the source with :mod:`ast`, counting every ``import`` and
 ``from ... import`` wherever it stands (module level, inside functions, under
@@ -151,8 +152,9 @@ def test_no_import_cycles():
     graph = import_graph(SRC, PACKAGE)
     assert len(graph) > 50 and "forceclosure.synthesis.planar" in graph
     # the edges the analysis is known to need are seen (so the graph is not empty by accident)
-    assert "forceclosure.synthesis.planar" in graph["forceclosure.synthesis.nguyen"]
-    assert "forceclosure.batch_analysis" in graph["forceclosure.two_finger"]
+    assert ("forceclosure.synthesis.planar.two_fingers"
+            in graph["forceclosure.synthesis.planar.two_sided_cone"])
+    assert "forceclosure.analysis.batch_analysis" in graph["forceclosure.analysis.two_finger"]
     found = cycles(graph)
     assert not found, "import cycles: " + " | ".join(describe(graph, c) for c in found)
 
@@ -170,6 +172,110 @@ def test_geometry_imports_nothing_above_it():
     for module in layer:
         above = {m for m in graph[module] if m not in allowed and m not in layer}
         assert not above, f"{module} imports {sorted(above)}"
+
+
+#: The layers, bottom up: a module imports only from its own layer and those below (the package's
+#: ``__init__``, the lazy facade of public names, and ``__main__`` stand outside). ``io.files``
+#: and ``io.atomic`` are leaf primitives (read a user's file, write one atomically) that import
+#: only ``errors``, so every layer may use them; ``_moved`` keeps the old module paths.
+LAYERS = [
+    ["errors", "tolerance", "_moved", "io.files", "io.atomic"],
+    ["geometry"],
+    ["contacts", "kernels"],
+    ["objects", "simulators"],
+    ["analysis"],
+    ["synthesis"],
+    ["gripper"],  # may use synthesis (antipodal sampling uses its patches), never the reverse
+    ["io"],
+    ["pictures"],  # draws grasps as the exports write them (io.export)
+    ["app"],
+]
+
+
+def layer_of(module: str, package: str, layers: list[list[str]]) -> int | None:
+    """The index of the layer ``module`` is in (its longest listed prefix), or None."""
+    rest = module.removeprefix(package + ".")
+    best: tuple[int, int] | None = None
+    for rank, names in enumerate(layers):
+        for name in names:
+            if (rest == name or rest.startswith(name + ".")) and (best is None
+                                                                  or len(name) > best[1]):
+                best = (rank, len(name))
+    return None if best is None else best[0]
+
+
+def upward_imports(graph: dict[str, dict[str, list[int]]], package: str,
+                   layers: list[list[str]]) -> list[str]:
+    """Every import of a module in a higher layer than the importer's, as text."""
+    found = []
+    for a, edges in sorted(graph.items()):
+        ra = layer_of(a, package, layers)
+        if ra is None:
+            continue
+        for b, lines in sorted(edges.items()):
+            rb = layer_of(b, package, layers)
+            if rb is not None and rb > ra:
+                found.append(f"{a} -> {b} (line {lines[0]})")
+    return found
+
+
+def test_the_layer_checker_finds_what_it_is_shown(tmp_path):
+    """An upward import written on purpose, at module level and inside a function, is found;
+    imports down the layers and within one are not."""
+    root = write_package(tmp_path, {
+        "pkg/__init__.py": "from .top import run\n",
+        "pkg/errors.py": "E = 0\n",
+        "pkg/low/__init__.py": "",
+        "pkg/low/leaf.py": "from ..errors import E\nfrom . import other\n",
+        "pkg/low/other.py": "def f():\n    from ..top.cli import run\n",
+        "pkg/mid.py": "from .low.leaf import E\nfrom .top import cli\n",
+        "pkg/top/__init__.py": "",
+        "pkg/top/cli.py": "from ..mid import E\nrun = 1\n",
+    })
+    layers = [["errors"], ["low"], ["mid"], ["top"]]
+    assert layer_of("pkg.low.leaf", "pkg", layers) == 1 and layer_of("pkg", "pkg", layers) is None
+    assert upward_imports(import_graph(root, "pkg"), "pkg", layers) == [
+        "pkg.low.other -> pkg.top.cli (line 2)", "pkg.mid -> pkg.top.cli (line 2)"]
+
+
+def test_every_module_is_in_a_layer():
+    unplaced = [m for m in module_files(SRC, PACKAGE)
+                if m not in (PACKAGE, f"{PACKAGE}.__main__")
+                and layer_of(m, PACKAGE, LAYERS) is None]
+    assert not unplaced, f"modules in no layer: {unplaced}"
+    for name in ["geometry", "analysis", "synthesis", "synthesis/planar", "synthesis/spatial",
+                 "synthesis/mesh", "gripper", "io", "pictures", "app"]:
+        assert (SRC / PACKAGE / name / "__init__.py").is_file(), name
+
+
+def test_layers_import_nothing_above_them():
+    graph = import_graph(SRC, PACKAGE)
+    # edges known to exist, so that a graph which lost its edges cannot pass
+    assert "forceclosure.kernels.theorem1" in graph["forceclosure.analysis.batch"]
+    assert "forceclosure.analysis.closure" in graph["forceclosure.app.cli"]
+    assert "forceclosure.synthesis.spatial.patches" in graph["forceclosure.gripper.antipodal"]
+    found = upward_imports(graph, PACKAGE, LAYERS)
+    assert not found, "imports up the layers: " + "; ".join(found)
+
+
+def test_analysis_imports_no_synthesis_gripper_pictures_io_or_app():
+    graph = import_graph(SRC, PACKAGE)
+    above = ("synthesis", "gripper", "pictures", "io", "app")
+    analysis = [m for m in graph if m.startswith("forceclosure.analysis")]
+    assert len(analysis) == 11  # the package and its 10 modules (robust, on jaw poses: gripper)
+    for module in analysis:
+        bad = sorted(m for m in graph[module]
+                     if any(m.startswith(f"forceclosure.{a}") for a in above))
+        assert not bad, f"{module} imports {bad}"
+
+
+def test_nothing_in_the_library_imports_the_app():
+    graph = import_graph(SRC, PACKAGE)
+    library = [m for m in graph if not m.startswith("forceclosure.app")
+               and m != "forceclosure.__main__"]
+    assert "forceclosure.app.cli" in graph["forceclosure.__main__"]
+    bad = {m: sorted(b for b in graph[m] if b.startswith("forceclosure.app")) for m in library}
+    assert not any(bad.values()), {m: b for m, b in bad.items() if b}
 
 
 def public_modules() -> list[str]:

@@ -18,10 +18,10 @@ from hypothesis import strategies as st
 from scipy.optimize import linprog
 
 import forceclosure as fc
-from forceclosure.batch import analyze_batch, epsilon_batch, least_friction_batch
+from forceclosure.analysis.batch import analyze_batch, epsilon_batch, least_friction_batch
+from forceclosure.analysis.quality import epsilon, least_friction
+from forceclosure.analysis.two_finger import two_finger_closure
 from forceclosure.errors import InputError
-from forceclosure.quality import epsilon, least_friction
-from forceclosure.two_finger import two_finger_closure
 
 #: Examples per test: 150, the same ones every run (about 30 s for the file); set
 #: FORCECLOSURE_FUZZ_EXAMPLES for a longer, random search.
@@ -212,7 +212,7 @@ def test_huge_and_tiny_grasps_keep_their_verdict(size):
 def test_sampling_nothing_is_refused_in_one_line():
     """Triangles of zero (or overflowing) area have nothing to sample: one line, not numpy's
     'probabilities contain NaN'."""
-    from forceclosure.synthesis.patches import uniform_in_triangles
+    from forceclosure.synthesis.spatial.patches import uniform_in_triangles
 
     zero = np.zeros((2, 3))
     huge = np.array([[0, 0, 0], [1e300, 0, 0], [0, 1e300, 0]], dtype=float)[:, None, :]

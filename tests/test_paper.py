@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from forceclosure import Verdict, analyze, point_contact
-from forceclosure.equilibrium import nonmarginal_equilibrium
-from forceclosure.two_finger import two_finger_closure
+from forceclosure.analysis.equilibrium import nonmarginal_equilibrium
+from forceclosure.analysis.two_finger import two_finger_closure
 
 ROOT = resources.files("forceclosure") / "examples"
 

@@ -30,7 +30,7 @@ def loaded_after(code: str) -> list[str]:
                                   ["synthesize", "--help"], ["dataset", "--help"],
                                   ["grasps", "--help"]])
 def test_help_and_version_load_nothing_heavy(argv):
-    code = ("from forceclosure.cli import main\n"
+    code = ("from forceclosure.app.cli import main\n"
             f"try:\n    main({argv!r})\nexcept SystemExit as e:\n    assert e.code == 0")
     assert loaded_after(code) == []
 
@@ -48,7 +48,7 @@ def test_import_forceclosure_loads_names_on_first_use():
 
 
 def test_warmup_compiles_every_kernel_with_a_line_each(capsys):
-    from forceclosure.cli import main
+    from forceclosure.app.cli import main
 
     assert main(["warmup"]) == 0
     err = capsys.readouterr().err.splitlines()

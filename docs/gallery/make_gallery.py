@@ -9,7 +9,7 @@ import pybullet_data
 
 from forceclosure.objects import bundled, glyph
 from forceclosure.objects.io import load_object
-from forceclosure.plot import plot_object, plot_regions, plot_spatial_regions
+from forceclosure.pictures.plot import plot_object, plot_regions, plot_spatial_regions
 from forceclosure.synthesis import (
     best_frictionless_regions,
     best_regions,

@@ -22,6 +22,11 @@ from importlib import import_module
 from importlib.metadata import PackageNotFoundError, version
 from typing import TYPE_CHECKING, Any
 
+from ._moved import install as _install_moved
+from ._moved import moved_attribute as _moved_attribute
+
+_install_moved()  # the old module paths (forceclosure.closure, ...) keep working
+
 try:
     __version__ = version("forceclosure")
 except PackageNotFoundError:  # pragma: no cover - running from a source tree
@@ -31,21 +36,22 @@ except PackageNotFoundError:  # pragma: no cover - running from a source tree
 #: forceclosure`` (and ``forceclosure --help``) does not load numpy and scipy.
 _HOME = {
     **dict.fromkeys(["TOLERANCE", "Analysis", "VectorClosure", "Verdict", "analyze",
-                     "force_direction_closure", "torque_closure", "vector_closure"], "closure"),
+                     "force_direction_closure", "torque_closure", "vector_closure"],
+                    "analysis.closure"),
     **dict.fromkeys(["Cone", "Contact", "WrenchSet", "edge_contact", "face_contact",
                      "generating_wrenches", "point_contact", "vertex_contact"], "contacts"),
     **dict.fromkeys(["ForceClosureError", "InputError"], "errors"),
-    **dict.fromkeys(["Motion", "motion_of"], "motion"),
-    **dict.fromkeys(["JawPose", "ParallelJaw", "contacts_of", "pose_from_contacts"], "gripper"),
-    **dict.fromkeys(["sample_antipodal"], "antipodal"),
-    **dict.fromkeys(["GraspLabels", "grasp_labels", "label_grasps"], "labels"),
+    **dict.fromkeys(["Motion", "motion_of"], "analysis.motion"),
+    **dict.fromkeys(["JawPose", "ParallelJaw", "contacts_of", "pose_from_contacts"], "gripper.jaw"),
+    **dict.fromkeys(["sample_antipodal"], "gripper.antipodal"),
+    **dict.fromkeys(["GraspLabels", "grasp_labels", "label_grasps"], "gripper.labels"),
     **dict.fromkeys(["contacts_from_mujoco", "contacts_from_pybullet"], "simulators"),
-    **dict.fromkeys(["Noise", "Robustness", "robust_labels"], "robust"),
-    **dict.fromkeys(["GraspMetrics", "grasp_matrix", "grasp_metrics"], "metrics"),
-    **dict.fromkeys(["TaskWrench", "gravity_wrench", "resist_wrench"], "task"),
-    **dict.fromkeys(["collides"], "collision"),
-    **dict.fromkeys(["graspnet_array", "save_acronym", "save_graspnet"], "export"),
-    **dict.fromkeys(["plot_grasps"], "grasp_plot"),
+    **dict.fromkeys(["Noise", "Robustness", "robust_labels"], "gripper.robust"),
+    **dict.fromkeys(["GraspMetrics", "grasp_matrix", "grasp_metrics"], "analysis.metrics"),
+    **dict.fromkeys(["TaskWrench", "gravity_wrench", "resist_wrench"], "analysis.task"),
+    **dict.fromkeys(["collides"], "gripper.collision"),
+    **dict.fromkeys(["graspnet_array", "save_acronym", "save_graspnet"], "io.export"),
+    **dict.fromkeys(["plot_grasps"], "pictures.grasp_plot"),
     **dict.fromkeys(["Synthesis", "synthesize"], "synthesis.best"),
     **dict.fromkeys(["Certificate", "Regions", "best_frictionless_regions", "best_regions",
                      "best_seven_frictionless_regions", "best_soft_pair_regions",
@@ -60,7 +66,7 @@ def __getattr__(name: str) -> Any:
         value = getattr(import_module(f".{_HOME[name]}", __name__), name)
         globals()[name] = value
         return value
-    raise AttributeError(f"module 'forceclosure' has no attribute {name!r}")
+    return _moved_attribute(__name__, name)
 
 
 def __dir__() -> list[str]:
@@ -68,8 +74,7 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # for type checkers and editors: the same names, eagerly
-    from .antipodal import sample_antipodal
-    from .closure import (
+    from .analysis.closure import (
         TOLERANCE,
         Analysis,
         VectorClosure,
@@ -79,7 +84,9 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, eagerly
         torque_closure,
         vector_closure,
     )
-    from .collision import collides
+    from .analysis.metrics import GraspMetrics, grasp_matrix, grasp_metrics
+    from .analysis.motion import Motion, motion_of
+    from .analysis.task import TaskWrench, gravity_wrench, resist_wrench
     from .contacts import (
         Cone,
         Contact,
@@ -91,15 +98,15 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, eagerly
         vertex_contact,
     )
     from .errors import ForceClosureError, InputError
-    from .export import graspnet_array, save_acronym, save_graspnet
-    from .grasp_plot import plot_grasps
-    from .gripper import JawPose, ParallelJaw, contacts_of, pose_from_contacts
-    from .labels import GraspLabels, grasp_labels, label_grasps
-    from .metrics import GraspMetrics, grasp_matrix, grasp_metrics
-    from .motion import Motion, motion_of
+    from .gripper.antipodal import sample_antipodal
+    from .gripper.collision import collides
+    from .gripper.jaw import JawPose, ParallelJaw, contacts_of, pose_from_contacts
+    from .gripper.labels import GraspLabels, grasp_labels, label_grasps
+    from .gripper.robust import Noise, Robustness, robust_labels
+    from .io.export import graspnet_array, save_acronym, save_graspnet
     from .objects import Polygon, Polyhedron, bundled, glyph, prism
     from .objects.io import load_object
-    from .robust import Noise, Robustness, robust_labels
+    from .pictures.grasp_plot import plot_grasps
     from .simulators import contacts_from_mujoco, contacts_from_pybullet
     from .synthesis import (
         Certificate,
@@ -112,7 +119,6 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, eagerly
         best_three_hard_regions,
     )
     from .synthesis.best import Synthesis, synthesize
-    from .task import TaskWrench, gravity_wrench, resist_wrench
 
 __all__ = [
     "TOLERANCE",

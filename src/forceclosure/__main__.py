@@ -1,7 +1,7 @@
-"""``python -m forceclosure``: the command-line tool (see :mod:`forceclosure.cli`)."""
+"""``python -m forceclosure``: the command-line tool (see :mod:`forceclosure.app.cli`)."""
 
 import sys
 
-from .cli import main
+from .app.cli import main
 
 sys.exit(main())

@@ -9,7 +9,7 @@ builder of a cone's generating forces, :func:`friction_forces` (exact in the
 plane, a ``k``-edge pyramid in space), whose edge angles :func:`fill_rim` and
 radius :func:`pyramid_divisor` are plain arithmetic that the compiled kernels
 (:mod:`forceclosure.kernels.theorem1`) compile from this same source, so that
-both paths build bit-for-bit the same wrenches (tests/test_wrench_builders.py).
+both paths build bit-for-bit the same wrenches (tests/kernels/test_wrench_builders.py).
 
 numba keys a cached kernel by its own file only: after editing :func:`fill_rim`
 or :func:`pyramid_divisor`, touch ``kernels/theorem1.py`` (or clear numba's

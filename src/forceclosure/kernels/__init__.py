@@ -1,4 +1,5 @@
-"""Compiled batch kernels (numba) behind :mod:`forceclosure.batch` and :mod:`.two_finger`.
+"""Compiled batch kernels (numba) behind :mod:`forceclosure.analysis.batch` and
+:mod:`forceclosure.analysis.two_finger`.
 
 They answer the same questions as the reference path, with the same
 tolerance, many grasps at a time and in parallel; compiled code is cached on

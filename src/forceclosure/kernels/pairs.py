@@ -10,7 +10,7 @@ The condition ``angle(Q - P, -n_P) < atan(mu_P) - tol`` is decided from
 and the least friction is ``tan(angle) = s / c`` (``inf`` once ``c <= 0``).
 The corollary holds for the segment ``PQ`` *or* ``QP``: fingers squeezing
 the object, or spreading apart inside it (``c`` negated at both ends). That
-is the same three-way verdict as :func:`forceclosure.two_finger.
+is the same three-way verdict as :func:`forceclosure.analysis.two_finger.
 two_finger_closure` computes from angles, at a few multiplications a pair.
 
 Spatial soft pairs have their least friction in closed form too
@@ -26,7 +26,7 @@ import numpy as np
 
 __all__ = ["CLOSURE", "MARGINAL", "NONE", "NON_FINITE", "UNDECIDED", "ZERO_NORMAL", "pair_kernel"]
 
-#: Pair codes, as in :mod:`forceclosure.two_finger`.
+#: Pair codes, as in :mod:`forceclosure.analysis.two_finger`.
 NONE, MARGINAL, CLOSURE = 0, 1, 2
 #: A pair whose code is not final: spatial soft fingers whose closed form is
 #: ill-conditioned (decided by Theorem 1 instead).

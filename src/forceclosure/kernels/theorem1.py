@@ -1,6 +1,6 @@
 """Theorem 1 compiled: the force-closure verdict for many point-contact grasps at once.
 
-Each grasp goes through the same steps as :func:`forceclosure.closure.
+Each grasp goes through the same steps as :func:`forceclosure.analysis.closure.
 vector_closure`, with the same tolerance, the same generating wrenches and
 the same margin LP, so verdicts and margins agree with the reference path:
 
@@ -19,7 +19,7 @@ the same margin LP, so verdicts and margins agree with the reference path:
 Soft fingers with the paper's two-sided torques are decided modulo the span
 of those torques, as the reference does. Spatial friction with
 ``exact`` cones brackets the circular cone between inscribed and
-circumscribed pyramids of 8 … 256 edges, as :func:`forceclosure.closure.
+circumscribed pyramids of 8 … 256 edges, as :func:`forceclosure.analysis.closure.
 decide` does.
 
 A grasp the kernel cannot settle with a clear margin is flagged ``DEFER``
@@ -177,7 +177,7 @@ def wrenches(P, N, mu, tors, model, edges, radius_divisor, ref, scale, W, two, r
     pyramid_divisor``). ``rim`` caches the cosines and sines of the pyramid's
     edge angles (``geometry.cones.fill_rim``); its last column says for how
     many edges. The columns equal the reference's bit for bit
-    (tests/test_wrench_builders.py).
+    (tests/kernels/test_wrench_builders.py).
     """
     if rim[0, -1] != edges:
         _fill_rim(rim, edges)
@@ -660,7 +660,7 @@ def _physical(y, ref, scale, d, out):  # pragma: no cover - compiled
 @nb.njit(cache=True, nogil=True)
 def grasp(P, N, mu, tors, model, edges, fit, exact, tol, work, ref, y):
     # pragma: no cover - compiled
-    """One grasp, as :func:`forceclosure.closure.decide`: (code, rank, margin, scale).
+    """One grasp, as :func:`forceclosure.analysis.closure.decide`: (code, rank, margin, scale).
 
     ``ref`` receives the torque reference point and ``y`` the twist in the
     scaled wrench frame.

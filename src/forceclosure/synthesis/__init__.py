@@ -4,17 +4,23 @@
 and returns the best region sets; the constructions are also here one by one.
 """
 
+from typing import Any
+
+from .._moved import moved_attribute
 from .best import Synthesis, synthesize
 from .construction import Construction, Hand, construction_for, register, registered
-from .frictionless import (
+from .planar.four_frictionless import (
     FrictionlessRegions,
     best_frictionless_regions,
     maximal_frictionless_regions,
     nguyen_frictionless_regions,
 )
-from .nguyen import nguyen_regions
-from .patches import FacePatch, SpatialRegions, convex_pieces, sampling_check
-from .planar import (
+from .planar.three_fingers import (
+    ThreeFingerRegions,
+    best_three_finger_regions,
+    three_finger_regions,
+)
+from .planar.two_fingers import (
     IndependentRegions,
     PairGrasps,
     Sector,
@@ -23,18 +29,17 @@ from .planar import (
     maximal_regions,
     pair_grasps,
 )
+from .planar.two_sided_cone import nguyen_regions
+from .planar.vertex_grasps import VertexGrasp, convex_vertices, vertex_grasps
 from .regions import Certificate, Regions, RegionSet
 from .search import candidate_sites, search
-from .seven import SevenRegions, best_seven_frictionless_regions, seven_frictionless_regions
-from .soft_pair import (
-    CircularCone,
-    SoftPairRegions,
-    best_soft_pair_regions,
-    counter_overlapping_cone,
-    soft_pair_regions,
+from .spatial.patches import FacePatch, SpatialRegions, convex_pieces, sampling_check
+from .spatial.seven_frictionless import (
+    SevenRegions,
+    best_seven_frictionless_regions,
+    seven_frictionless_regions,
 )
-from .three_fingers import ThreeFingerRegions, best_three_finger_regions, three_finger_regions
-from .three_hard import (
+from .spatial.three_hard import (
     GraspClass,
     ThreeHardRegions,
     best_three_hard_regions,
@@ -42,8 +47,14 @@ from .three_hard import (
     counter_overlap,
     three_hard_regions,
 )
-from .vertices import VertexGrasp, convex_vertices, vertex_grasps
-from .zones import (
+from .spatial.two_soft import (
+    CircularCone,
+    SoftPairRegions,
+    best_soft_pair_regions,
+    counter_overlapping_cone,
+    soft_pair_regions,
+)
+from .spatial.zones import (
     Prototype,
     SearchZones,
     ZoneRegions,
@@ -108,3 +119,8 @@ __all__ = [
     "vertex_grasps",
     "zone_regions",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    # the modules that moved into planar/, spatial/, mesh/ (forceclosure.synthesis.nguyen, ...)
+    return moved_attribute(__name__, name)

@@ -40,7 +40,7 @@ class Synthesis:
     ----------
     found : list
         Region sets, best first (:class:`~forceclosure.synthesis.Regions` on
-        polygons, :class:`~forceclosure.synthesis.patches.SpatialRegions` on
+        polygons, :class:`~forceclosure.synthesis.spatial.patches.SpatialRegions` on
         polyhedra).
     method : str
         ``"edges"`` (polygons), ``"faces"`` (the paper's constructions on a
@@ -160,7 +160,7 @@ least 3 hard fingers (two cannot resist rotation about the line between them)
 
 
 #: The sizes (bounding-box diagonals) of the objects synthesis serves: regions are the
-#: same, relative to the object, from 1e-6 to 1e6 (tests/test_objects_as_given.py); far
+#: same, relative to the object, from 1e-6 to 1e6 (tests/objects/test_objects_as_given.py); far
 #: outside, absolute tolerances in the constructions lose grasps.
 SIZES = (1e-6, 1e6)
 

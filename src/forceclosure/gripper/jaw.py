@@ -1,0 +1,365 @@
+"""A parallel-jaw gripper: jaw poses and the contacts they make on a mesh.
+
+A :class:`JawPose` is where the two jaws are: a centre, the closing axis
+(from the first jaw to the second), an approach axis perpendicular to it,
+and the opening ``width``; the jaws' pads sit at ``centre ∓ width/2 ·
+closing``. :func:`contacts_of` closes the jaws onto an object by casting a
+ray from each jaw towards the other (trimesh's ray queries, embree when it
+is installed) and takes the first surface each one meets: the contact pair,
+with the outward normals of the faces hit — or the reason there is none
+(a ray misses the object between the jaws, a jaw starts inside it, the pose
+is wider than the gripper opens). :func:`pose_from_contacts` is the way
+back, from a contact pair to the pose whose jaws touch it.
+
+Hit points are recomputed in double precision from the plane of the
+triangle hit (embree reports distances in single precision), so a contact
+lies on its face to rounding.
+"""
+
+from __future__ import annotations
+
+import weakref
+from dataclasses import dataclass
+from numbers import Real
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..errors import InputError
+
+__all__ = ["JawContacts", "JawPose", "ParallelJaw", "contacts_of", "pose_from_contacts"]
+
+#: Reasons a jaw pose makes no contact pair (``JawContacts.reason``).
+MISSES = "misses: a jaw's ray meets no surface between the jaws"
+INSIDE = "a jaw starts inside the object: it is wider than the opening along this line"
+TOO_WIDE = "wider than the opening: the pose's width exceeds the gripper's width_max"
+
+#: How far behind its pad each jaw's ray starts, relative to the object's size, so that a
+#: surface touching the pad (a pose from :func:`pose_from_contacts`) is met.
+BACKOFF = 1e-6
+
+
+def _unit(v: ArrayLike, name: str) -> NDArray[np.float64]:
+    try:
+        a = np.asarray(v, dtype=float).reshape(3)
+    except (TypeError, ValueError):
+        raise InputError(f"'{name}' must be 3 numbers, got {v!r}") from None
+    length = float(np.linalg.norm(a))
+    if not np.isfinite(length) or length <= 1e-12:
+        raise InputError(f"'{name}' must be a finite nonzero vector, got {a.tolist()}")
+    return a / length
+
+
+def default_approach(closing: NDArray[np.float64]) -> NDArray[np.float64]:
+    """A unit vector perpendicular to ``closing``: the world axis least aligned with it,
+    with its ``closing`` component removed (deterministic).
+
+    Examples
+    --------
+    >>> default_approach(np.array([1.0, 0, 0])).tolist()
+    [0.0, 1.0, 0.0]
+    """
+    axis = np.eye(3)[int(np.argmin(np.abs(closing)))]
+    a = axis - (axis @ closing) * closing
+    return a / np.linalg.norm(a)
+
+
+#: The hand's box dimensions (:class:`ParallelJaw`) and their defaults, shares of ``width_max``.
+_SHAPE = {"depth": 0.2, "finger_length": 0.5, "finger_thickness": 0.1, "finger_height": 0.2,
+          "palm_thickness": 0.1}
+
+
+@dataclass(frozen=True)
+class ParallelJaw:
+    """A parallel-jaw gripper.
+
+    Parameters
+    ----------
+    width_max : float
+        The widest opening (same units as the object).
+    pad_radius : float
+        Radius of the finger pads. With soft contacts and a positive radius
+        the pads' torsional friction is coupled to the normal force, ``|τ| ≤
+        (2/3) μ a f_n`` (a uniform pressure over a disc of radius ``a``); 0
+        gives the paper's soft finger (uncoupled torque).
+    depth, finger_length, finger_thickness, finger_height, palm_thickness : float, optional
+        The hand's boxes, for collision checks (:mod:`forceclosure.gripper.collision`),
+        in the jaw frame (x the approach axis, y the closing axis, origin the
+        jaw centre): each finger is a box ``finger_length`` long along x, from
+        ``depth - finger_length`` to its tip at ``depth`` (how far the tips
+        reach past the jaw centre, graspnetAPI's ``depth``),
+        ``finger_thickness`` thick along y, outside the opening, and
+        ``finger_height`` high along z (graspnetAPI's ``height``); the palm
+        joins the fingers' bases, ``palm_thickness`` thick along x behind
+        them, as wide as the fully open hand (``width_max + 2
+        finger_thickness``) and as high as the fingers (0: no palm). Defaults,
+        from ``width_max = w``: depth ``0.2 w``, finger length ``0.5 w``,
+        thickness ``0.1 w``, height ``0.2 w``, palm ``0.1 w`` (graspnetAPI's
+        collision model at ``w = 0.1``: height 0.02, finger width 0.01, palm
+        0.02 behind the centre for a depth of 0.02, not its thickness).
+
+    Examples
+    --------
+    >>> ParallelJaw(0.08, pad_radius=0.01).torsion(0.3)
+    0.002
+    >>> ParallelJaw(0.1).finger_length, ParallelJaw(0.1, depth=0.03).depth
+    (0.05, 0.03)
+    """
+
+    width_max: float
+    pad_radius: float = 0.0
+    depth: float | None = None
+    finger_length: float | None = None
+    finger_thickness: float | None = None
+    finger_height: float | None = None
+    palm_thickness: float | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("width_max", "pad_radius", *_SHAPE):
+            value = getattr(self, name)
+            if value is None and name in _SHAPE:
+                continue
+            if (isinstance(value, bool) or not isinstance(value, Real)
+                    or not np.isfinite(value) or value < 0):
+                raise InputError(f"ParallelJaw: '{name}' must be a finite number >= 0, "
+                                 f"got {value!r}")
+        if self.width_max <= 0:
+            raise InputError(f"ParallelJaw: 'width_max' must be positive, got {self.width_max}")
+        for name, share in _SHAPE.items():
+            if getattr(self, name) is None:
+                object.__setattr__(self, name, round(share * float(self.width_max), 15))
+            else:
+                object.__setattr__(self, name, float(getattr(self, name)))
+        for name in ("finger_length", "finger_thickness", "finger_height"):
+            if getattr(self, name) <= 0:
+                raise InputError(f"ParallelJaw: '{name}' must be positive, got "
+                                 f"{getattr(self, name)}")
+        if self.depth > self.finger_length:
+            raise InputError(f"ParallelJaw: 'depth' ({self.depth}) must not exceed "
+                             f"'finger_length' ({self.finger_length}): the tips reach past the "
+                             "jaw centre by at most the fingers' length")
+
+    def torsion(self, mu: float) -> float | None:
+        """The soft pads' coupled torsional coefficient at friction ``mu``, or None
+        (uncoupled) for point pads."""
+        return None if self.pad_radius == 0 else round(2.0 / 3.0 * mu * self.pad_radius, 15)
+
+
+@dataclass(frozen=True, eq=False)
+class JawPose:
+    """Where the jaws are: ``center``, unit ``closing_axis`` (jaw 1 → jaw 2), unit
+    ``approach_axis`` (perpendicular to it; made so if given otherwise), ``width``.
+
+    Examples
+    --------
+    >>> pose = JawPose([0, 0, 0], [2, 0, 0], [0, 0, 1], 3.0)
+    >>> pose.closing_axis.tolist(), pose.jaws.tolist()
+    ([1.0, 0.0, 0.0], [[-1.5, 0.0, 0.0], [1.5, 0.0, 0.0]])
+    """
+
+    center: NDArray[np.float64]
+    closing_axis: NDArray[np.float64]
+    approach_axis: NDArray[np.float64]
+    width: float
+
+    def __post_init__(self) -> None:
+        try:
+            center = np.asarray(self.center, dtype=float).reshape(3)
+        except (TypeError, ValueError):
+            raise InputError(f"JawPose: 'center' must be 3 numbers, got {self.center!r}") from None
+        if not np.all(np.isfinite(center)):
+            raise InputError(f"JawPose: 'center' must be finite, got {center.tolist()}")
+        closing = _unit(self.closing_axis, "closing_axis")
+        approach = _unit(self.approach_axis, "approach_axis")
+        approach = approach - (approach @ closing) * closing
+        if np.linalg.norm(approach) <= 1e-9:
+            raise InputError("JawPose: 'approach_axis' is parallel to 'closing_axis'")
+        approach = approach / np.linalg.norm(approach)
+        try:
+            width = float(self.width)
+        except (TypeError, ValueError):
+            raise InputError(f"JawPose: 'width' must be a number, got {self.width!r}") from None
+        if not np.isfinite(width) or width <= 0:
+            raise InputError(f"JawPose: 'width' must be finite and positive, got {width}")
+        object.__setattr__(self, "center", center)
+        object.__setattr__(self, "closing_axis", closing)
+        object.__setattr__(self, "approach_axis", approach)
+        object.__setattr__(self, "width", width)
+
+    @property
+    def jaws(self) -> NDArray[np.float64]:
+        """The two pads' centres, ``(2, 3)``: ``center ∓ width/2 · closing_axis``."""
+        half = 0.5 * self.width * self.closing_axis
+        return np.array([self.center - half, self.center + half])
+
+    @property
+    def rotation(self) -> NDArray[np.float64]:
+        """The gripper frame as a rotation matrix, columns ``(approach, closing, approach ×
+        closing)``: graspnetAPI's order (x approach, y the jaws' axis)."""
+        a, c = self.approach_axis, self.closing_axis
+        return np.column_stack([a, c, np.cross(a, c)])
+
+
+@dataclass(frozen=True, eq=False)
+class JawContacts:
+    """The contact pair a jaw pose makes, or why it makes none.
+
+    ``points`` and ``normals`` are ``(2, 3)`` (the contact met by jaw 1, then
+    jaw 2; outward unit normals of the faces hit), ``triangles`` the
+    triangles hit (indices into the loaded object's ``triangles``, which may
+    differ from a given trimesh's: vertices are merged and faces oriented);
+    all None when ``reason`` says why there is no pair.
+    """
+
+    points: NDArray[np.float64] | None
+    normals: NDArray[np.float64] | None
+    triangles: NDArray[np.int64] | None
+    reason: str | None = None
+
+    @property
+    def ok(self) -> bool:
+        """True when the jaws meet the object in a contact pair."""
+        return self.reason is None
+
+
+def surface_mesh(obj: Any):
+    """``(polyhedron, trimesh)`` of an object (a file, a bundled name, a ``trimesh.Trimesh``
+    or a :class:`~forceclosure.objects.Polyhedron`): the mesh validated and oriented
+    outward by :func:`~forceclosure.objects.io.load_object`."""
+    from ..objects.io import load_object
+    from ..objects.polyhedron import Polyhedron
+
+    poly = load_object(obj)
+    if not isinstance(poly, Polyhedron):
+        raise InputError(f"{poly.name}: a parallel-jaw gripper grasps a mesh (a polyhedron), "
+                         "not a polygon")
+    cached = _MESHES.get(id(poly))
+    if cached is not None and cached[0]() is poly:
+        return poly, cached[1]
+    mesh = poly.to_trimesh()
+    if len(_MESHES) >= 8:
+        _MESHES.pop(next(iter(_MESHES)))
+    _MESHES[id(poly)] = (weakref.ref(poly), mesh)
+    return poly, mesh
+
+
+#: The trimesh (and its ray accelerator) of the last few polyhedra used, by identity.
+_MESHES: dict[int, tuple[weakref.ref, Any]] = {}
+
+
+def cast_first(mesh, origins: NDArray[np.float64], directions: NDArray[np.float64]
+               ) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64]]:
+    """The first triangle each ray meets (-1 for none), the distance along the ray
+    (double precision, from the triangle's plane; inf for none), and the hit points.
+
+    One batched ray query (``mesh.ray.intersects_id``, embree when installed).
+    """
+    n = len(origins)
+    tri = np.full(n, -1, dtype=np.int64)
+    t = np.full(n, np.inf)
+    if n:
+        index_tri, index_ray = mesh.ray.intersects_id(origins, directions, multiple_hits=False)
+        tri[np.asarray(index_ray, dtype=np.int64)] = index_tri
+    hit = tri >= 0
+    normal = mesh.face_normals[tri[hit]]
+    anchor = mesh.vertices[mesh.faces[tri[hit], 0]]
+    denom = np.einsum("ij,ij->i", normal, directions[hit])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t[hit] = np.einsum("ij,ij->i", normal, anchor - origins[hit]) / denom
+    t[hit] = np.where(np.isfinite(t[hit]), t[hit], 0.0)  # a ray grazing its face
+    points = origins + np.where(hit, t, 0.0)[:, None] * directions
+    return tri, t, points
+
+
+def jaw_contacts(mesh, size: float, centers: NDArray, closing: NDArray, widths: NDArray
+                 ) -> tuple[NDArray, NDArray, NDArray, NDArray[np.object_]]:
+    """Vectorised :func:`contacts_of` for ``N`` poses on a trimesh (outward faces):
+    points ``(N, 2, 3)``, normals ``(N, 2, 3)``, triangles ``(N, 2)`` and reasons (None
+    where the pose makes a pair)."""
+    n = len(centers)
+    back = BACKOFF * size
+    half = (0.5 * widths + back)[:, None] * closing
+    origins = np.concatenate([centers - half, centers + half])
+    directions = np.concatenate([closing, -closing])
+    tri, t, points = cast_first(mesh, origins, directions)
+    reach = np.concatenate([widths, widths]) + 2 * back
+    met = tri >= 0
+    normals = np.zeros((2 * n, 3))
+    normals[met] = mesh.face_normals[tri[met]]
+    # the first face met, however far, faces away from the jaw: the jaw is inside
+    inside = met & (np.einsum("ij,ij->i", normals, directions) > 0)
+    hit = met & (t <= reach)
+    reasons = np.full(n, None, dtype=object)
+    miss = ~(hit[:n] & hit[n:])
+    reasons[miss] = MISSES
+    reasons[inside[:n] | inside[n:]] = INSIDE
+    pair = lambda a: np.stack([a[:n], a[n:]], axis=1)  # noqa: E731
+    return pair(points), pair(normals), pair(np.where(hit, tri, -1)), reasons
+
+
+def contacts_of(obj: Any, pose: JawPose, gripper: ParallelJaw | None = None) -> JawContacts:
+    """The contact pair the jaws of ``pose`` make on ``obj``, closing along its axis.
+
+    Each jaw casts a ray from its pad (``pose.jaws``) towards the other jaw;
+    its contact is the first surface met within the opening, with that
+    face's outward normal. There is no pair, and ``reason`` says so, when
+    the pose is wider than ``gripper.width_max``, when a ray meets nothing
+    before the other jaw (misses), or when the first face a ray meets faces
+    away from the jaw (the jaw starts inside the object).
+
+    Parameters
+    ----------
+    obj : file, bundled name, trimesh.Trimesh or Polyhedron
+    pose : JawPose
+    gripper : ParallelJaw, optional
+        Checks the pose's width against ``width_max``.
+
+    A file is read again at each call; for many poses load it once
+    (:func:`~forceclosure.objects.io.load_object`): a loaded object's ray
+    accelerator is kept between calls.
+
+    Examples
+    --------
+    The 2 × 2 × 2 cube, pinched across its x faces 0.5 above its middle:
+
+    >>> c = contacts_of("cube", JawPose([0, 0.5, 0], [1, 0, 0], [0, 0, 1], 3.0))
+    >>> c.points.round(9).tolist(), c.normals.tolist()
+    ([[-1.0, 0.5, 0.0], [1.0, 0.5, 0.0]], [[-1.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
+    >>> contacts_of("cube", JawPose([0, 0, 0], [1, 0, 0], [0, 0, 1], 3.0),
+    ...             ParallelJaw(2.5)).reason
+    "wider than the opening: the pose's width exceeds the gripper's width_max"
+    >>> contacts_of("cube", JawPose([0, 3, 0], [1, 0, 0], [0, 0, 1], 3.0)).reason
+    "misses: a jaw's ray meets no surface between the jaws"
+    """
+    if not isinstance(pose, JawPose):
+        raise InputError(f"pose must be a JawPose, got {type(pose).__name__}")
+    if gripper is not None and pose.width > gripper.width_max:
+        return JawContacts(None, None, None, TOO_WIDE)
+    poly, mesh = surface_mesh(obj)
+    points, normals, tris, reasons = jaw_contacts(
+        mesh, poly.size, pose.center[None], pose.closing_axis[None], np.array([pose.width]))
+    if reasons[0] is not None:
+        return JawContacts(None, None, None, reasons[0])
+    return JawContacts(points[0], normals[0], tris[0])
+
+
+def pose_from_contacts(p: ArrayLike, q: ArrayLike, approach: ArrayLike | None = None
+                       ) -> JawPose:
+    """The jaw pose whose pads touch ``p`` (jaw 1) and ``q`` (jaw 2): centred between
+    them, closing from ``p`` to ``q``, as wide as they are apart; the approach axis is
+    ``approach`` made perpendicular to the closing axis (default
+    :func:`default_approach`).
+
+    Examples
+    --------
+    >>> pose = pose_from_contacts([-1, 0.5, 0], [1, 0.5, 0], approach=[0, 1, 1])
+    >>> pose.center.tolist(), pose.width, pose.approach_axis.round(6).tolist()
+    ([0.0, 0.5, 0.0], 2.0, [0.0, 0.707107, 0.707107])
+    """
+    p = np.asarray(p, dtype=float).reshape(3)
+    q = np.asarray(q, dtype=float).reshape(3)
+    closing = _unit(q - p, "q - p")
+    if approach is None:
+        approach = default_approach(closing)
+    return JawPose(0.5 * (p + q), closing, approach, float(np.linalg.norm(q - p)))

@@ -1,0 +1,224 @@
+"""Several approach axes per contact pair, and the labelled poses in the HTML view.
+
+The hand's collision at every approach tried is decided independently of
+FCL: manifold3d's boolean intersection volume of each hand box with the
+object (through trimesh), the boxes placed in frames the tests build
+themselves (the candidate axes by scipy's rotation about the closing axis,
+not by the library's formula). The HTML page is parsed back (the figure's
+JSON inside it) and its traces compared with the labels saved in the
+``.npz`` of the same run.
+"""
+
+import base64
+import json
+import os
+import re
+
+import numpy as np
+import pybullet_data
+import pytest
+import trimesh
+from scipy.spatial.transform import Rotation
+
+from forceclosure.app.cli import main
+from forceclosure.errors import InputError
+from forceclosure.gripper.antipodal import sample_antipodal
+from forceclosure.gripper.collision import choose_approach
+from forceclosure.gripper.jaw import ParallelJaw
+from forceclosure.gripper.labels import grasp_labels
+from forceclosure.objects.io import load_object
+from forceclosure.pictures.grasp_plot import COLOURS
+
+CUBE = trimesh.creation.box(extents=(2.0, 2.0, 2.0))
+#: long fingers: the palm sits 1.2 to 1.42 behind the jaw centre, outside the 2-unit cube
+#: when the hand comes in along a face's normal from that face's side
+LONG = ParallelJaw(2.2, depth=0.2, finger_length=1.4)
+D = pybullet_data.getDataPath()
+
+
+def _hits(mesh, center, closing, approach, width, clearance, gripper):
+    """Whether the hand's boxes meet the object: a positive boolean intersection volume
+    (manifold3d), boxes built here from the gripper's dimensions."""
+    c = closing / np.linalg.norm(closing)
+    a = approach / np.linalg.norm(approach)
+    R = np.column_stack([a, c, np.cross(a, c)])
+    g = gripper
+    x = g.depth - 0.5 * g.finger_length
+    y = 0.5 * width + clearance + 0.5 * g.finger_thickness
+    boxes = [((g.finger_length, g.finger_thickness, g.finger_height), (x, -y, 0)),
+             ((g.finger_length, g.finger_thickness, g.finger_height), (x, y, 0)),
+             ((g.palm_thickness, g.width_max + 2 * g.finger_thickness, g.finger_height),
+              (g.depth - g.finger_length - 0.5 * g.palm_thickness, 0, 0))]
+    for extents, offset in boxes:
+        T = np.eye(4)
+        T[:3, :3], T[:3, 3] = R, center + R @ np.array(offset, dtype=float)
+        common = trimesh.boolean.intersection(
+            [mesh, trimesh.creation.box(extents=extents, transform=T)], engine="manifold")
+        if not common.is_empty and common.volume > 1e-12:
+            return True
+    return False
+
+
+def _candidates(closing, start, k):
+    """The k axes tried: ``start`` turned about ``closing`` by 2 pi j / k (scipy)."""
+    c = closing / np.linalg.norm(closing)
+    return [Rotation.from_rotvec(2 * np.pi * j / k * c).apply(start) for j in range(k)]
+
+
+def test_cube_a_clear_approach_for_most_poses_and_the_first_clear_is_kept():
+    # mu 0.05: the jaws' line tilts by at most atan 0.05, so a face rises at most
+    # 0.05 x 1.42 < 0.1 (the clearance) across a finger: only the palm can collide
+    s = sample_antipodal("cube", 0.05, 30, seed=4, width_max=2.2)
+    axis, hit = choose_approach("cube", s, LONG, approaches=8, clearance=0.1)
+    truths = []
+    for i in range(len(s)):
+        tried = [_hits(CUBE, s.center[i], s.closing_axis[i], a, s.width[i], 0.1, LONG)
+                 for a in _candidates(s.closing_axis[i], s.approach_axis[i], 8)]
+        truths.append(tried)
+        if all(tried):
+            assert hit[i] and np.allclose(axis[i], s.approach_axis[i])
+        else:
+            first = tried.index(False)
+            assert not hit[i]
+            assert np.allclose(axis[i], _candidates(s.closing_axis[i], s.approach_axis[i],
+                                                    8)[first], atol=1e-9)
+    truths = np.array(truths)
+    one_axis = int(np.sum(~truths[:, 0]))
+    clear = int(np.sum(~truths.all(axis=1)))
+    assert clear >= 27 and one_axis <= 20  # measured: 29 of 30 clear, 17 at the first axis
+    assert int(np.sum(~hit)) == clear
+
+
+def _clear_fraction(obj, gripper, mu, clearance, approaches):
+    labels = grasp_labels(obj, gripper, mu, 500, seed=0, least_friction=False,
+                          clearance=clearance, approaches=approaches)
+    return labels, float(np.mean(~labels.collides))
+
+
+@pytest.mark.parametrize("name, width, clearance, one_most, eight_least", [
+    # measured (500 poses, seed 0): bunny 0.002 -> 0.044; duck 0.042 -> 0.186
+    ("bunny.obj", 0.3, 0.015, 0.01, 0.03),
+    ("duck_vhacd.obj", 1.5, 0.075, 0.07, 0.14),
+])
+def test_more_clear_poses_on_real_meshes(name, width, clearance, one_most, eight_least):
+    obj = load_object(os.path.join(D, name))
+    gripper = ParallelJaw(width)
+    one, f1 = _clear_fraction(obj, gripper, 0.5, clearance, 1)
+    eight, f8 = _clear_fraction(obj, gripper, 0.5, clearance, 8)
+    assert f1 <= one_most and f8 >= eight_least and f8 >= 3 * f1
+    # the contacts, and so the labels, do not depend on the approach
+    assert np.array_equal(one.points, eight.points)
+    assert np.array_equal(one.code, eight.code) and np.array_equal(one.epsilon, eight.epsilon)
+    # every chosen axis is a unit vector perpendicular to the closing axis
+    assert np.allclose(np.linalg.norm(eight.approach_axis, axis=1), 1.0)
+    assert np.abs(np.einsum("ij,ij->i", eight.approach_axis, eight.closing_axis)).max() < 1e-12
+    # spot checks by manifold3d: chosen clear poses are clear; a colliding one collides at
+    # every one of the eight axes
+    mesh = obj.to_trimesh()
+    for i in np.flatnonzero(~eight.collides)[:6]:
+        assert not _hits(mesh, eight.center[i], eight.closing_axis[i], eight.approach_axis[i],
+                         eight.width[i], clearance, gripper)
+    for i in np.flatnonzero(eight.collides)[:2]:
+        assert all(_hits(mesh, eight.center[i], eight.closing_axis[i], a, eight.width[i],
+                         clearance, gripper)
+                   for a in _candidates(eight.closing_axis[i], one.approach_axis[i], 8))
+
+
+def test_one_approach_is_the_samplers_and_the_seed_decides():
+    labels = grasp_labels("cube", LONG, 0.2, 40, seed=7, least_friction=False, approaches=1)
+    s = sample_antipodal("cube", 0.2, 40, seed=7, width_max=2.2)
+    assert np.allclose(labels.approach_axis, s.approach_axis, atol=1e-12)
+    a = grasp_labels("cube", LONG, 0.2, 40, seed=7, least_friction=False, approaches=5)
+    b = grasp_labels("cube", LONG, 0.2, 40, seed=7, least_friction=False, approaches=5)
+    c = grasp_labels("cube", LONG, 0.2, 40, seed=8, least_friction=False, approaches=5)
+    assert np.array_equal(a.approach_axis, b.approach_axis)
+    assert np.array_equal(a.collides, b.collides)
+    assert not np.array_equal(a.approach_axis, c.approach_axis)
+    assert a.meta["approaches"] == 5
+    assert grasp_labels("cube", LONG, 0.2, 4, collision=False).meta["approaches"] is None
+    for bad in (0, -2, 1.5, True):
+        with pytest.raises(InputError, match="approaches"):
+            grasp_labels("cube", LONG, 0.2, 4, approaches=bad)
+
+
+def test_cli_approaches_flag(tmp_path, capsys):
+    out1, out8 = tmp_path / "a1.npz", tmp_path / "a8.npz"
+    args = ["grasps", "cube", "--width", "2.2", "--count", "30", "--mu", "0.05", "--seed", "4",
+            "--clearance", "0.1", "--no-least-friction", "--json"]
+    assert main([*args, "--approaches", "1", "--out", str(out1)]) == 0
+    one = json.loads(capsys.readouterr().out)
+    assert main([*args, "--out", str(out8)]) == 0  # the default: 8
+    eight = json.loads(capsys.readouterr().out)
+    assert one["approaches"] == 1 and eight["approaches"] == 8
+    with np.load(out8) as saved:
+        assert json.loads(str(saved["meta"]))["approaches"] == 8
+        assert int(np.sum(~saved["collides"])) == 30 - eight["collides"]
+    assert eight["collides"] < one["collides"]
+    for extra, words in ((["--approaches", "0"], "--approaches must be"),
+                         (["--approaches", "4", "--no-collision"], "--no-collision")):
+        assert main(["grasps", "cube", "--width", "3", "--count", "100000", *extra]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and words in err
+
+
+# --- the HTML view ------------------------------------------------------------------------
+
+
+def _figure_data(html: str) -> list[dict]:
+    """The traces of the plotly figure embedded in a page."""
+    m = re.search(r'Plotly\.newPlot\(\s*"[^"]+",\s*', html)
+    assert m, "no plotly figure in the page"
+    data, _ = json.JSONDecoder().raw_decode(html, m.end())
+    return data
+
+
+def _values(v) -> np.ndarray:
+    """A plotly JSON array: a list, or a typed array (base64 ``bdata`` of a ``dtype``)."""
+    if isinstance(v, dict):
+        return np.frombuffer(base64.b64decode(v["bdata"]), dtype=np.dtype(v["dtype"]))
+    return np.asarray(v, dtype=float)
+
+
+def test_cli_html_draws_the_best_poses_in_their_colours(tmp_path, capsys):
+    page, out = tmp_path / "g.html", tmp_path / "l.npz"
+    assert main(["grasps", "cube", "--width", "2.2", "--count", "60", "--seed", "3",
+                 "--clearance", "0.1", "--no-least-friction", "--approaches", "1",
+                 "--out", str(out), "--html", str(page), "--plot-top", "12"]) == 0
+    assert "interactive view of the 12 best" in capsys.readouterr().out
+    data = _figure_data(page.read_text(encoding="utf-8"))
+    with np.load(out) as saved:
+        code, hit, eps = saved["code"], saved["collides"], saved["epsilon"]
+    # the best 12, computed here: clear closed by decreasing epsilon, colliding closed,
+    # marginal, none
+    category = np.where((code == 2) & ~hit, 0, np.where(code == 2, 1, np.where(code == 1, 2, 3)))
+    order = sorted(range(len(code)), key=lambda i: (category[i], -eps[i], i))[:12]
+    names = ["closure", "closure, collides", "marginal", "none"]
+    lines = [t for t in data if t.get("legendgroup") and t["mode"] == "lines"]
+    dots = [t for t in data if t.get("legendgroup") and t["mode"] == "markers"]
+    assert len(lines) == len(dots) == 12
+    assert [t["legendgroup"] for t in lines] == [f"grasp {k}" for k in range(1, 13)]
+    assert [t["line"]["color"] for t in lines] == [COLOURS[names[category[i]]] for i in order]
+    assert {COLOURS["closure"], COLOURS["closure, collides"]} <= {t["line"]["color"]
+                                                                for t in lines}
+    with np.load(out) as saved:
+        for t, i in zip(dots, order, strict=True):  # the dots are the pose's contacts
+            assert np.allclose(np.column_stack([_values(t[k]) for k in "xyz"]), saved["points"][i])
+    for t, i in zip(lines, order, strict=True):
+        words = t["hovertext"]
+        assert f": {['none', 'marginal', 'closure'][code[i]]}<br>" in words
+        assert f"hand collides: {'yes' if hit[i] else 'no'}" in words
+        assert "mu* not computed" in words
+    assert sum(t["type"] == "mesh3d" for t in data) == 1  # the object
+
+
+def test_html_refused_before_any_work(tmp_path, capsys):
+    for name, extra, words in (("g.png", [], "saved as .html"),
+                               ("g.html", ["--plot-top", "-1"], "--plot-top"),
+                               ("g.html", ["--plot", "PLACE"], "its own file")):
+        target = tmp_path / name
+        extra = [str(target) if e == "PLACE" else e for e in extra]
+        assert main(["grasps", "cube", "--width", "3", "--count", "100000",
+                     "--html", str(target), *extra]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and words in err, err
+        assert not target.exists()

@@ -1,0 +1,105 @@
+"""The picture of labelled jaw poses: what it draws, what it refuses, what it leaves alone.
+
+The PNG is read back with PIL (not matplotlib) and its pixels searched for
+the label colours: green appears when a drawn grasp closes and is clear,
+orange when one closes but collides, neither when nothing is drawn.
+"""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from forceclosure.app.cli import main
+from forceclosure.pictures.grasp_plot import COLOURS, best_grasps
+
+
+def _has_colour(path, hex_colour, tol=40):
+    rgb = np.array(Image.open(path).convert("RGB"), dtype=int)
+    target = np.array([int(hex_colour[k:k + 2], 16) for k in (1, 3, 5)])
+    return int(np.sum(np.abs(rgb - target).sum(axis=2) < tol))
+
+
+def test_cli_plot_draws_the_labels_colours(tmp_path, capsys):
+    png, labels = tmp_path / "g.png", tmp_path / "l.npz"
+    assert main(["grasps", "cube", "--width", "2.2", "--count", "60", "--seed", "3",
+                 "--clearance", "0.1", "--no-least-friction", "--out", str(labels),
+                 "--plot", str(png), "--plot-top", "12", "--approaches", "1"]) == 0
+    assert "picture of the 12 best" in capsys.readouterr().out
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    with np.load(labels) as saved:
+        clear = int(np.sum((saved["code"] == 2) & ~saved["collides"]))
+    assert 0 < clear < 12  # the 12 best: every clear closed grasp, then colliding ones
+    assert _has_colour(png, COLOURS["closure"]) > 50
+    assert _has_colour(png, COLOURS["closure, collides"]) > 50
+    assert _has_colour(png, COLOURS["none"]) == 0
+    # nothing drawn: no label colour at all
+    empty = tmp_path / "empty.png"
+    assert main(["grasps", "cube", "--width", "2.2", "--count", "5", "--no-least-friction",
+                 "--plot", str(empty), "--plot-top", "0"]) == 0
+    assert all(_has_colour(empty, c) == 0 for c in COLOURS.values())
+
+
+def test_plot_refused_before_any_work(tmp_path, capsys):
+    for name, words in (("g.jpg", "saved as .png or .svg"), ("g.png", "--plot-top")):
+        extra = ["--plot-top", "-1"] if name == "g.png" else []
+        assert main(["grasps", "cube", "--width", "3", "--count", "100000",
+                     "--plot", str(tmp_path / name), *extra]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and words in err
+        assert not (tmp_path / name).exists()
+
+
+def test_best_grasps_order():
+    class L:
+        code = np.array([0, 2, 1, 2, 2, 2])
+        collides = np.array([False, True, False, False, False, True])
+        epsilon = np.array([0.0, 0.9, 0.0, 0.2, 0.4, 0.1])
+    # clear closed by decreasing epsilon (4, 3), colliding closed (1, 5), marginal, none
+    assert best_grasps(L, 10).tolist() == [4, 3, 1, 5, 2, 0]
+    L.collides = None  # not checked: closure alone
+    assert best_grasps(L, 3).tolist() == [1, 4, 3]
+
+
+def test_no_pyplot_and_no_backend_switch(tmp_path):
+    script = f"""
+import sys, types, numpy as np, matplotlib
+backend = lambda: dict.__getitem__(matplotlib.rcParams, "backend")  # get_backend() loads pyplot
+before = backend()
+from forceclosure.pictures.grasp_plot import plot_grasps
+labels = types.SimpleNamespace(
+    code=np.array([2]), collides=np.array([False]), epsilon=np.array([0.1]),
+    center=np.zeros((1, 3)), closing_axis=np.array([[1.0, 0, 0]]),
+    approach_axis=np.array([[0, 0, -1.0]]), width=np.array([2.0]),
+    points=np.array([[[-1.0, 0, 0], [1.0, 0, 0]]]), meta={{"width_max": 3.0}})
+plot_grasps("cube", labels, {str(tmp_path / 'one.png')!r}, top=1)
+print("matplotlib.pyplot" in sys.modules, backend() == before)
+"""
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                         timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["False", "True"]
+    assert (tmp_path / "one.png").stat().st_size > 0
+
+
+@pytest.mark.parametrize("suffix", [".svg"])
+def test_svg_too(tmp_path, suffix):
+    assert main(["grasps", "cube", "--width", "3", "--count", "5", "--no-least-friction",
+                 "--no-collision", "--plot", str(tmp_path / f"g{suffix}")]) == 0
+    assert (tmp_path / f"g{suffix}").read_text().lstrip().startswith("<?xml")
+
+
+def test_grasp_pictures_hold_the_up_axis_upright():
+    """A y-up mesh file (OBJ) keeps y upright in the page's camera; a bad axis is refused."""
+    from forceclosure import InputError, ParallelJaw
+    from forceclosure.gripper.labels import grasp_labels
+    from forceclosure.pictures.plot import upright_axis
+    from forceclosure.pictures.view import grasps_figure
+
+    labels = grasp_labels("cube", ParallelJaw(3.0), 0.3, 6, least_friction=False)
+    up = grasps_figure("cube", labels, 2, up=upright_axis("duck.obj")).layout.scene.camera.up
+    assert (up.x, up.y, up.z) == (0.0, 1.0, 0.0)
+    with pytest.raises(InputError, match="up must be"):
+        grasps_figure("cube", labels, 2, up="w")

@@ -1,0 +1,266 @@
+"""The interactive HTML view: what the figure holds, that the page is self-contained, and,
+in headless Chromium, that the object is really drawn."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
+
+import matplotlib.image
+import numpy as np
+import pytest
+
+from forceclosure.app.cli import main
+from forceclosure.errors import InputError
+from forceclosure.objects import bundled
+from forceclosure.pictures.view import planar_figure, spatial_figure, write_html
+from forceclosure.synthesis import best_regions, best_soft_pair_regions
+
+
+@pytest.fixture(scope="module")
+def cube_pairs():
+    return best_soft_pair_regions(bundled("cube"), 0.5, top=3)
+
+
+def _xyz(trace) -> np.ndarray:
+    return np.column_stack([trace.x, trace.y, trace.z]).astype(float)
+
+
+def test_regions_drawn_where_they_are(cube_pairs):
+    """Each finger's region mesh has the patch's corners (lifted off the face by a hair),
+    and its friction cone opens by atan(mu) around the face normal, apex on the region."""
+    regions = cube_pairs[0]
+    poly = regions.polyhedron
+    fig = spatial_figure([regions])
+    meshes = [t for t in fig.data if t.type == "mesh3d"]
+    assert len(meshes) == 1 + 2 * len(regions.regions)  # object, then (region, cone) each
+    for k, region in enumerate(regions.regions):
+        (patch,) = region
+        n = poly.faces[patch.face].normal
+        drawn, cone = _xyz(meshes[1 + 2 * k]), _xyz(meshes[2 + 2 * k])
+        lift = (drawn - patch.points) @ n
+        assert np.allclose(drawn - lift[:, None] * n, patch.points)
+        assert np.all((lift > 0) & (lift < 0.01 * poly.size))
+        apex, rim = cone[0], cone[1:]
+        assert abs((apex - patch.points.mean(axis=0)) @ n) < 1e-12  # on the face
+        axis = rim - apex
+        angle = np.arccos(axis @ n / np.linalg.norm(axis, axis=1))
+        assert np.allclose(angle, np.arctan(regions.mu))
+
+
+def test_menu_shows_one_grasp_at_a_time(cube_pairs):
+    fig = spatial_figure(cube_pairs)
+    (menu,) = fig.layout.updatemenus
+    assert len(menu.buttons) == len(cube_pairs)
+    object_traces = sum(t.visible is None for t in fig.data)  # the rest belong to grasps
+    assert object_traces == 3  # object, face outlines, face numbers
+    shown = []
+    for button in menu.buttons:
+        visible = np.array(button.args[0]["visible"])
+        assert visible[:object_traces].all()  # the object is always there
+        shown.append(frozenset(np.flatnonzero(visible[object_traces:])))
+    assert all(shown) and len(set().union(*shown)) == sum(map(len, shown))  # disjoint groups
+    assert np.array_equal(np.array(menu.buttons[0].args[0]["visible"]),
+                          np.array([t.visible is not False for t in fig.data]))
+
+
+def test_planar_view_segments_and_cones():
+    """The bold lines are the regions' segments; every cone ray leaves a segment end at
+    atan(mu) from the inward normal."""
+    polygon = bundled("hexagon")
+    found = best_regions(polygon, 0.3, top=2)
+    fig = planar_figure(found)
+    lines = [t for t in fig.data if t.showlegend is not False]
+    assert [t.name for t in lines] == ["grasp 1", "grasp 2"]
+    for r, t in zip(found, lines, strict=True):
+        xy = np.column_stack([t.x, t.y]).astype(float)
+        xy = xy[~np.isnan(xy).any(axis=1)]
+        assert np.allclose(xy, r.points.reshape(-1, 2))
+        ends = {tuple(np.round(p, 12)) for p in r.points.reshape(-1, 2)}
+        for start, end in r.cone_rays(1.0):
+            assert tuple(np.round(start, 12)) in ends
+            inward = [-polygon.edges[e].normal for e in r.edges]
+            cos = max(float((end - start) @ d) for d in inward)
+            assert cos == pytest.approx(np.cos(np.arctan(0.3)))
+
+
+def test_page_is_self_contained(tmp_path, cube_pairs):
+    out = write_html(cube_pairs, tmp_path / "cube.html")
+    page = out.read_text(encoding="utf-8")
+    assert "<script src=" not in page  # plotly.js embedded, nothing fetched
+    assert "Plotly.newPlot" in page and len(page) > 1_000_000
+    with pytest.raises(InputError, match=r"saved as \.html"):
+        write_html(cube_pairs, tmp_path / "cube.png")
+    with pytest.raises(InputError, match="no regions"):
+        write_html([], tmp_path / "none.html")
+    other = best_soft_pair_regions(bundled("hexagonal-prism"), 0.5, top=1)[0]
+    with pytest.raises(InputError, match="same object"):
+        spatial_figure([cube_pairs[0], other])
+
+
+def test_cli_html(tmp_path, capsys):
+    out = tmp_path / "cube.html"
+    assert main(["synthesize", "cube", "--fingers", "2", "--contact", "soft", "--mu", "0.5",
+                 "--top", "2", "--html", str(out)]) == 0
+    assert f"interactive view: {out}" in capsys.readouterr().out
+    assert out.stat().st_size > 1_000_000
+    planar = tmp_path / "hexagon.html"
+    assert main(["synthesize", "hexagon", "--json", "--html", str(planar)]) == 0
+    assert planar.exists() and capsys.readouterr().err.startswith("  interactive view")
+    # a wrong extension is refused before any work, in one line
+    assert main(["synthesize", "cube", "--contact", "soft", "--html",
+                 str(tmp_path / "x.png")]) == 2
+    err = capsys.readouterr().err
+    assert "--html" in err and err.count("\n") == 1
+
+
+# -- headless Chromium --------------------------------------------------------------------
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+
+
+def _screenshot(page: Path, png: Path) -> np.ndarray:
+    """The page as a (700, 900, 3) array of 0–255, rendered by headless Chromium (software
+    WebGL, no network)."""
+    with tempfile.TemporaryDirectory() as profile:
+        subprocess.run([CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu",
+                        "--enable-unsafe-swiftshader", "--disable-quic", "--no-first-run",
+                        "--disable-background-networking", "--disable-component-update",
+                        "--disable-sync", f"--user-data-dir={profile}", "--hide-scrollbars",
+                        "--window-size=900,700", "--virtual-time-budget=10000",
+                        f"--screenshot={png}", page.resolve().as_uri()],
+                       check=True, capture_output=True, timeout=120)
+    return (matplotlib.image.imread(png)[..., :3] * 255).round().astype(int)
+
+
+def _object_pixels(image: np.ndarray) -> float:
+    """Share of the screenshot in the object's shaded grey."""
+    r, g, b = image[..., 0], image[..., 1], image[..., 2]
+    return float(((abs(r - g) < 14) & (abs(g - b) < 18) & (r > 60) & (r < 200)).mean())
+
+
+def _blue_pixels(image: np.ndarray) -> float:
+    """Share of the screenshot in the first finger's blue."""
+    r, g, b = image[..., 0], image[..., 1], image[..., 2]
+    return float(((b > r + 60) & (b > g + 25)).mean())
+
+
+@pytest.mark.skipif(CHROMIUM is None and not os.environ.get("FORCECLOSURE_REQUIRE_BROWSER"),
+                    reason="Debian's chromium is not installed (.ci/run installs it)")
+def test_chromium_draws_the_object(tmp_path, cube_pairs):
+    """The page, opened in a real browser, shows the cube and the first finger's region;
+    the same page with the object hidden does not pass for it (the check can fail)."""
+    assert CHROMIUM is not None, "FORCECLOSURE_REQUIRE_BROWSER is set but chromium is missing"
+    page = write_html(cube_pairs, tmp_path / "cube.html")
+    shot = _screenshot(page, tmp_path / "cube.png")
+    fig = spatial_figure(cube_pairs)
+    fig.update_traces(visible=False, selector={"name": "cube"})
+    fig.write_html(tmp_path / "hidden.html", include_plotlyjs=True)
+    control = _screenshot(tmp_path / "hidden.html", tmp_path / "hidden.png")
+    assert _object_pixels(shot) > 0.04, "the object is not drawn"
+    assert _object_pixels(control) < 0.01
+    assert _blue_pixels(shot) > 0.002, "the first finger's region is not drawn"
+
+
+# -- vertex grasps on the planar page; any region sets through one front door ---------------
+
+def _page_figure(page: Path) -> tuple[list, dict]:
+    """The traces and layout a saved page hands to ``Plotly.newPlot``, read back from the
+    HTML (numeric arrays decoded from plotly's base64 typed arrays)."""
+    import base64
+    import json
+
+    def decode(value):
+        if isinstance(value, dict) and set(value) >= {"dtype", "bdata"}:
+            return np.frombuffer(base64.b64decode(value["bdata"]), dtype=value["dtype"])
+        if isinstance(value, dict):
+            return {k: decode(v) for k, v in value.items()}
+        if isinstance(value, list):
+            return [decode(v) for v in value]
+        return value
+
+    text = page.read_text(encoding="utf-8")
+    at = text.index("Plotly.newPlot(") + len("Plotly.newPlot(")
+    reader = json.JSONDecoder()
+    parsed = []
+    for _ in range(3):  # the element id, the traces, the layout
+        while text[at] in " \n,":
+            at += 1
+        value, at = reader.raw_decode(text, at)
+        parsed.append(value)
+    return decode(parsed[1]), decode(parsed[2])
+
+
+def test_planar_view_draws_each_vertex_grasp_at_its_vertex():
+    """The square (corners (+-1, +-1)) at mu 0.3: each vertex grasp is a legend entry v1, v2,
+    ... whose dot is on a corner, with its bold segment on the opposite or a neighbouring
+    edge: with the vertex fixed, a finger at q on the edge across holds iff the line from q
+    to the vertex stays within the edge's cone narrowed by the margin, a segment
+    2 tan(atan 0.3 - 1e-3) long from the corner above (or beside) the vertex."""
+    from forceclosure.synthesis import vertex_grasps
+
+    square = bundled("square")
+    corners = vertex_grasps(square, 0.3, top=5)
+    fig = planar_figure([*best_regions(square, 0.3, top=2), *corners])
+    length = 2 * np.tan(np.arctan(0.3) - 1e-3)
+    for rank, g in enumerate(corners, start=1):
+        (dot,) = [t for t in fig.data if t.name == f"v{rank}"]
+        vertex = np.array([dot.x[0], dot.y[0]], dtype=float)
+        assert np.array_equal(np.abs(vertex), [1.0, 1.0]) and np.array_equal(vertex, g.point)
+        bold = [t for t in fig.data if t.legendgroup == dot.name and t.line.width == 7]
+        (segment,) = bold
+        ends = np.column_stack([segment.x, segment.y]).astype(float)
+        assert np.linalg.norm(ends[1] - ends[0]) == pytest.approx(length, rel=1e-9)
+        fixed = np.flatnonzero(np.isclose(ends[0], ends[1]))  # the edge's line: x or y = +-1
+        assert len(fixed) == 1 and np.allclose(np.abs(ends[:, fixed]), 1.0)
+        # one end of the segment is the corner sharing the vertex's other coordinate
+        shares = [np.isclose(np.abs(e), 1).all() and np.sum(np.isclose(e, vertex)) == 1
+                  for e in ends]
+        assert any(shares), (vertex, ends)
+    assert [t.name for t in fig.data if t.showlegend is not False] == [
+        "grasp 1", "grasp 2", "v1", "v2", "v3", "v4", "v5"]
+
+
+def test_cli_html_draws_vertex_grasps(tmp_path, capsys):
+    """``synthesize triangle --vertices --html``: no two fingers on edges hold the triangle
+    at mu 0.3, yet the page comes, with the vertex grasps; every dot is a vertex of the
+    bundled triangle (circumradius 1, a vertex at (-1, 0), the others 120 degrees apart),
+    the pairs of vertices with two dots."""
+    page = tmp_path / "t.html"
+    assert main(["synthesize", "triangle", "--mu", "0.3", "--vertices", "--html",
+                 str(page)]) == 0
+    assert f"interactive view: {page}" in capsys.readouterr().out
+    data, _ = _page_figure(page)
+    dots = {t["name"]: np.column_stack([t["x"], t["y"]]) for t in data
+            if t.get("mode") == "markers"}
+    assert sorted(dots) == ["v1", "v2", "v3", "v4", "v5"]
+    corners = np.array([[np.cos(a), np.sin(a)] for a in np.radians([60, 180, 300])])
+    for name, xy in dots.items():
+        for p in xy:
+            assert np.min(np.linalg.norm(corners - p, axis=1)) < 1e-12, (name, p)
+    assert sorted(len(xy) for xy in dots.values()) == [1, 1, 1, 2, 2]
+
+
+def test_page_of_a_y_up_obj_holds_y_up(tmp_path):
+    """``--html`` of an OBJ (y-up by convention, :func:`forceclosure.pictures.plot.upright_axis`):
+    the page's camera holds +y up and looks from above along it; from an STL, +z."""
+    import trimesh
+
+    box = trimesh.creation.box((1.0, 3.0, 1.0))
+    for suffix, up in ((".obj", [0, 1, 0]), (".stl", [0, 0, 1])):
+        path = tmp_path / f"tall{suffix}"
+        box.export(path)
+        page = tmp_path / f"tall{suffix}.html"
+        assert main(["synthesize", str(path), "--fingers", "2", "--contact", "soft", "--mu",
+                     "0.5", "--top", "1", "--html", str(page)]) == 0
+        _, layout = _page_figure(page)
+        camera = layout["scene"]["camera"]
+        assert [camera["up"][k] for k in "xyz"] == up
+        eye = np.array([camera["eye"][k] for k in "xyz"])
+        assert eye @ up == pytest.approx(1.0)  # above the object, along its up axis
+    with pytest.raises(InputError, match="up must be"):
+        write_html(best_soft_pair_regions(bundled("cube"), 0.5, top=1), tmp_path / "c.html",
+                   up="w")
