@@ -18,6 +18,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from functools import cached_property
+from typing import NamedTuple
 
 import numpy as np
 import shapely
@@ -25,7 +26,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 
-__all__ = ["RTOL", "Edge", "Polygon"]
+__all__ = ["RTOL", "Edge", "EdgeArrays", "Polygon"]
 
 #: Relative tolerance (of the polygon's size) for repeated vertices and zero area.
 RTOL = 1e-9
@@ -153,6 +154,15 @@ def _validity(outer: NDArray, holes: Sequence[NDArray], name: str) -> None:
         raise InputError(f"{name}: invalid polygon: {kind.strip().lower()}{at}")
     if poly.area <= 0:
         raise InputError(f"{name}: the polygon has zero area")
+
+
+class EdgeArrays(NamedTuple):
+    """A polygon's edges as arrays (:attr:`Polygon.edge_arrays`)."""
+
+    start: NDArray[np.float64]
+    direction: NDArray[np.float64]
+    normal: NDArray[np.float64]
+    length: NDArray[np.float64]
 
 
 @dataclass(frozen=True, eq=False)
@@ -312,6 +322,20 @@ class Polygon:
     def centroid(self) -> NDArray[np.float64]:
         """Centre of area."""
         return np.asarray(self.to_shapely().centroid.coords[0])
+
+    @cached_property
+    def edge_arrays(self) -> EdgeArrays:
+        """The edges' ``start``, ``direction``, ``normal`` (``(n, 2)``) and ``length``
+        (``(n,)``) as arrays, made once per polygon (the vectorised constructions read them).
+
+        Examples
+        --------
+        >>> a = Polygon.regular(4).edge_arrays
+        >>> a.normal.shape, float(a.length.sum()) == Polygon.regular(4).perimeter
+        ((4, 2), True)
+        """
+        return EdgeArrays(*(np.array([getattr(e, k) for e in self.edges], dtype=float)
+                            for k in ("start", "direction", "normal", "length")))
 
     @cached_property
     def convex_corners(self) -> tuple[tuple[int, int, int], ...]:

@@ -92,8 +92,10 @@ def search(construction: Construction, obj: Any, hand: Hand) -> list[RegionSet]:
         if bound is not None:
             if not bound[k] > 0:
                 break
-            if len(built) >= top and bound[k] < -sorted(b[0] for b in built)[top - 1]:
-                break  # the top-th size proved so far beats every site left
+            # sites come by decreasing bound, ties in order: once the best this site could
+            # rank, (its bound, its place), is behind the top-th proved so far, so is the rest
+            if len(built) >= top and (-bound[k], k) > sorted(b[:2] for b in built)[top - 1]:
+                break
         if construction.enough is not None and len(built) >= construction.enough * top:
             break
         regions = construction.build(obj, sites[k], hand)

@@ -45,7 +45,7 @@ def force_direction_prune(polygon: Polygon, sites: NDArray, hand: Hand) -> NDArr
     margin (the pushing directions ``-n`` for frictionless fingers), positively span the
     plane: their edges leave no gap of ``pi`` or more around the circle. Force-direction
     closure is necessary for force closure (Theorem 2)."""
-    normals = np.array([e.normal for e in polygon.edges])
+    normals = polygon.edge_arrays.normal
     push = np.arctan2(-normals[sites, 1], -normals[sites, 0])
     half = math.atan(narrowed(hand.mu, hand.margin)) if hand.mu > 0 else 0.0
     angles = np.sort(np.concatenate([push - half, push + half], axis=1) % (2 * np.pi), axis=1)

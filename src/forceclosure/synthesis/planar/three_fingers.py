@@ -313,9 +313,7 @@ def _prototypes(polygon: Polygon, triples: NDArray[np.int64],
     triples with none are left out."""
     from ...analysis.batch import analyze_batch
 
-    edges = polygon.edges
-    start, direction, normal, length = (np.array([getattr(e, k) for e in edges], float)
-                                        for k in ("start", "direction", "normal", "length"))
+    start, direction, normal, length = polygon.edge_arrays
     t = (np.arange(GRID) + OFFSET) / GRID
     combos = t[np.array(list(itertools.product(range(GRID), repeat=3)))]  # (K, 3)
     per = max(1, BATCH // len(combos))
@@ -508,8 +506,7 @@ def best_three_finger_regions(polygon: Polygon, mu: float, top: int = 5,
 
 def _shortest_edge(polygon: Polygon, sites: NDArray, hand: Hand) -> NDArray[np.float64]:
     """Step 3: a triple's shortest segment is at most its shortest edge."""
-    length = np.array([e.length for e in polygon.edges])
-    return length[sites].min(axis=1) / polygon.size
+    return polygon.edge_arrays.length[sites].min(axis=1) / polygon.size
 
 
 def _build(polygon: Polygon, site: NDArray, hand: Hand) -> ThreeFingerRegions | None:

@@ -342,10 +342,6 @@ def _certified(polygon: Polygon, i: int, j: int, z: float, u1: float, u2: float,
     return None
 
 
-def _normals(polygon: Polygon) -> NDArray[np.float64]:
-    return np.array([e.normal for e in polygon.edges])
-
-
 def edge_pair_sites(polygon: Polygon, hand: Hand):
     """Step 1: every edge pair ``i < j`` in both of Corollary 3's orientations, rows
     ``(i, j, spreading)`` in blocks of rows ``i`` (memory follows the pairs kept, not all
@@ -372,13 +368,13 @@ def counter_overlap_prune(polygon: Polygon, sites: NDArray, hand: Hand) -> NDArr
     shrunk = narrowed(hand.mu, hand.margin)
     if shrunk <= 0:
         return np.zeros(len(sites), dtype=bool)
-    normal = _normals(polygon)
+    normal = polygon.edge_arrays.normal
     i, j, way = sites.T
     keep = counter_overlap(normal[i], normal[j], shrunk)
     spread = way == 1
     if spread.any():
-        start = np.array([e.start for e in polygon.edges])
-        end = np.array([e.end for e in polygon.edges])
+        start, direction, _, length = polygon.edge_arrays
+        end = start + direction * length[:, None]
         tol = 1e-12 * polygon.size
 
         def outside(a, b):
@@ -391,9 +387,7 @@ def counter_overlap_prune(polygon: Polygon, sites: NDArray, hand: Hand) -> NDArr
 
 def _solve(polygon: Polygon, sites: NDArray, mu: float) -> tuple[NDArray, NDArray, NDArray]:
     """:func:`max_min_segments` on every site, in blocks of :data:`CHUNK`."""
-    edges = polygon.edges
-    start, direction, normal, length = (np.array([getattr(e, k) for e in edges])
-                                        for k in ("start", "direction", "normal", "length"))
+    start, direction, normal, length = polygon.edge_arrays
     n = len(sites)
     z, u1, u2 = np.full(n, -np.inf), np.zeros(n), np.zeros(n)
     for lo in range(0, n, CHUNK):
