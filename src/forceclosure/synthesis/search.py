@@ -59,11 +59,12 @@ def search(construction: Construction, obj: Any, hand: Hand) -> list[RegionSet]:
 
     Runs the construction's steps: its sites, pruned by its necessary
     condition; in decreasing order of its bound when it has one (branch and
-    bound: the search stops when the bound falls below the ``top``-th region
-    set proved so far, or to zero); each site built, and ranked by the one
-    rule (the module's docstring). A construction with a bound, or with
-    ``enough``, has each region set proved as it is built; otherwise they are
-    proved in rank order until ``top`` hold.
+    bound: the search stops at the first site whose bound cannot rank it
+    ahead of the ``top``-th region set, once those ``top`` are proved, or
+    when the bound falls to zero); each site built, and ranked by the one rule
+    (the module's docstring). Region sets are proved in rank order, as they
+    are needed (a proof can cost more than the construction), except with
+    ``enough``, which counts proved region sets as they are built.
 
     Parameters
     ----------
@@ -86,29 +87,41 @@ def search(construction: Construction, obj: Any, hand: Hand) -> list[RegionSet]:
     if construction.bound is not None and len(sites):
         bound = np.array([tie_rounded(b) for b in construction.bound(obj, sites, hand)])
     order = range(len(sites)) if bound is None else np.argsort(-bound, kind="stable")
-    prove_now = bound is not None or construction.enough is not None
+    proofs: dict[int, bool] = {}
+
+    def holds(regions: RegionSet) -> bool:
+        if id(regions) not in proofs:
+            proofs[id(regions)] = regions.certify().holds
+        return proofs[id(regions)]
+
+    def beaten(rank: tuple[float, int]) -> bool:
+        """Whether ``top`` proved region sets rank ahead of ``rank``: the best the sites left
+        can do (they come by decreasing bound, ties in order)."""
+        while len(built) >= top:
+            ahead = sorted(built, key=lambda b: b[:2])[:top]
+            if rank < ahead[-1][:2]:
+                return False
+            failed = [b for b in ahead if not holds(b[2])]
+            if not failed:
+                return True
+            built[:] = [b for b in built if all(b is not f for f in failed)]
+        return False
+
     built: list[tuple[float, int, RegionSet]] = []
     for k in order:
-        if bound is not None:
-            if not bound[k] > 0:
-                break
-            # sites come by decreasing bound, ties in order: once the best this site could
-            # rank, (its bound, its place), is behind the top-th proved so far, so is the rest
-            if len(built) >= top and (-bound[k], k) > sorted(b[:2] for b in built)[top - 1]:
-                break
+        if bound is not None and (not bound[k] > 0 or beaten((-bound[k], int(k)))):
+            break
         if construction.enough is not None and len(built) >= construction.enough * top:
             break
         regions = construction.build(obj, sites[k], hand)
-        if regions is None or (prove_now and not regions.certify().holds):
+        if regions is None or (construction.enough is not None and not holds(regions)):
             continue
         built.append((-tie_rounded(regions.relative_min_size), int(k), regions))
     built.sort(key=lambda b: b[:2])
-    if prove_now:
-        return [r for _, _, r in built[:top]]
     proved = []
     for _, _, regions in built:
         if len(proved) == top:
             break
-        if regions.certify().holds:
+        if holds(regions):
             proved.append(regions)
     return proved
