@@ -121,6 +121,9 @@ def test_a_construction_returns_only_certified_regions_that_hold(construction, n
         assert r.certify().holds
         assert r.min_size == pytest.approx(min(s for s in r.sizes if s > 0) if any(r.sizes)
                                            else 0.0)
+        if obj.dim == 2 and not hasattr(r, "vertex"):  # segments on the object as given
+            for e, (u, v) in zip(r.edges, r.segments, strict=True):
+                assert 0 <= u < v <= obj.edges[e].length
         # independent: Theorem 1's general test on points drawn from every region
         if obj.dim == 2:
             for grasp in _planar_grasps(r, rng, 20):
@@ -185,3 +188,19 @@ def test_the_command_lists_the_table(capsys):
     assert main(["constructions"]) == 0
     out = capsys.readouterr().out
     assert "polyhedron, 2 soft fingers, maximal: §5.2" in out and "Lemma 1" in out
+
+
+def test_a_segment_past_its_edge_is_not_certified():
+    """The proof checks that each segment lies within its edge (a region 4e-15 past the end of
+    an edge was once certified), whatever the cones say."""
+    import dataclasses
+
+    from forceclosure.synthesis import maximal_regions
+
+    r = maximal_regions(bundled("square"), 0, 2, 0.3)
+    length = bundled("square").edges[0].length
+    (u, v), other = r.segments
+    assert r.certify().holds and v < length
+    past = dataclasses.replace(r, segments=((u, length * (1 + 1e-15)), other))
+    cert = past.certify()
+    assert not cert.holds and "not within edge 0" in cert.detail

@@ -171,12 +171,13 @@ def test_synthesize_command(tmp_path, capsys):
      "at least 7 frictionless fingers"),
     (["synthesize", "cube", "--fingers", "4", "--method", "faces"], "use --method mesh"),
     (["synthesize", "cube", "--fingers", "3", "--construction", "nguyen"],
-     "two soft fingers"),
-    (["synthesize", "square", "--fingers", "4"], "implemented so far are two or three"),
+     "for 2 soft fingers"),
+    (["synthesize", "square", "--fingers", "4"],
+     "on a polygon the constructions are for 2 hard, 3 hard or 4 frictionless fingers"),
     (["synthesize", "square", "--contact", "frictionless", "--fingers", "2"],
      "the plane needs four"),
     (["synthesize", "square", "--mu", "-1"], "--mu must be a positive number"),
-    (["synthesize", "square", "--top", "0"], "'top' must be a positive integer"),
+    (["synthesize", "square", "--top", "0"], "--top must be a positive integer"),
     (["synthesize", "square", "--margin", "-0.1"], "margin must be an angle in radians"),
 ])
 def test_synthesize_refusals(argv, message, capsys):
@@ -198,7 +199,7 @@ def test_synthesize_refusals(argv, message, capsys):
     ({"mu": -1.0}, ["--mu", "-1"], "mu must be a positive number, got -1",
      "--mu must be a positive number, got -1"),
     ({"contact": "soft", "top": 0}, ["--contact", "soft", "--top", "0"],
-     "top must be at least 1, got 0", "--top must be at least 1, got 0"),
+     "top must be a positive integer, got 0", "--top must be a positive integer, got 0"),
 ])
 def test_refusals_name_parameters_to_callers_and_flags_on_the_command_line(kwargs, argv, api,
                                                                             cli, capsys):

@@ -31,8 +31,8 @@ from .planar.two_fingers import (
 )
 from .planar.two_sided_cone import nguyen_regions
 from .planar.vertex_grasps import VertexGrasp, convex_vertices, vertex_grasps
+from .ranked_search import candidate_sites, search
 from .regions import Certificate, Regions, RegionSet
-from .search import candidate_sites, search
 from .spatial.patches import FacePatch, SpatialRegions, convex_pieces, sampling_check
 from .spatial.seven_frictionless import (
     SevenRegions,

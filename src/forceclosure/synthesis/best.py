@@ -20,15 +20,13 @@ import numpy as np
 
 from ..errors import InputError
 from ..objects import Polygon, Polyhedron
-from .construction import Construction, Hand, construction_for
+from .construction import Construction, Hand, construction_for, registered
+from .ranked_search import search
 from .regions import MARGIN, RegionSet, check_margin, narrowed
-from .search import search
 
-__all__ = ["CONTACTS", "ON_FACES", "SIZES", "Synthesis", "check_hand", "default_fingers",
+__all__ = ["CONTACTS", "SIZES", "Synthesis", "check_hand", "default_fingers",
            "default_fingers_reason", "synthesize"]
 
-#: The paper's constructions on faces (§5.2, §5.3, §5.5), by (fingers, contact).
-ON_FACES = {(2, "soft"): "§5.2", (3, "hard"): "§5.3", (7, "frictionless"): "§5.5"}
 CONTACTS = ("hard", "soft", "frictionless")
 
 
@@ -59,7 +57,7 @@ class Synthesis:
     fingers: int
     contact: str
     mu: float
-    construction: Construction | None = None
+    construction: Construction
 
 
 def default_fingers(dim: int, contact: str) -> int:
@@ -128,35 +126,47 @@ least 3 hard fingers (two cannot resist rotation about the line between them)
         raise InputError(f"construction must be maximal or nguyen, got {construction!r}")
     if method not in ("auto", "faces", "mesh"):
         raise InputError(f"method must be auto, faces or mesh, got {method!r}")
+    if not isinstance(top, int | np.integer) or isinstance(top, bool) or top < 1:
+        raise InputError(f"top must be a positive integer, got {top!r}")
+    table = registered()
     if dim == 2:
-        if (fingers, frictionless) not in ((2, False), (3, False), (4, True)):
-            raise InputError(f"fingers={fingers}, contact="
-                             f"{'frictionless' if frictionless else 'hard'!r}: implemented so "
-                             "far are two or three fingers with friction (hard or soft) and "
-                             "four frictionless fingers (the plane needs four without "
-                             "friction)")
-        if construction == "nguyen" and fingers == 3:
-            raise InputError("construction='nguyen': the paper constructs two- and "
-                             "four-finger regions; three fingers use a common centre of "
-                             "equilibrium")
+        hard = "frictionless" if frictionless else "hard"  # a soft finger acts as a hard one
+        served = sorted({(c.fingers, c.contact) for c in table if c.dim == 2
+                         and c.name in ("maximal", "nguyen")})
+        if (fingers, hard) not in served:
+            raise InputError(f"fingers={fingers}, contact={hard!r}: on a polygon the "
+                             f"constructions are for {_hands(served)} fingers (the plane "
+                             "needs four without friction)")
+        if construction == "nguyen" and (2, fingers, hard, "nguyen") not in {
+                c.key for c in table}:
+            raise InputError(f"construction='nguyen': the paper's construction on a polygon "
+                             f"is for {_hands(_nguyen(table, 2))} fingers; {fingers} use "
+                             "construction='maximal'")
         return fingers
-    if top < 1:
-        raise InputError(f"top must be at least 1, got {top}")
     minimum = {"soft": 2, "hard": 3, "frictionless": 7}[contact]
     if fingers < minimum:
         why = {"soft": "", "hard": " (two cannot resist rotation about the line between "
                "them)", "frictionless": " (Lakshminarayana 1978)"}[contact]
         raise InputError(f"fingers={fingers}, contact={contact!r}: a spatial grasp needs at "
                          f"least {minimum} {contact} fingers{why}")
-    key = (fingers, contact)
-    if method == "faces" and key not in ON_FACES:
-        raise InputError(f"method='faces': the paper constructs two soft, three hard or seven "
-                         f"frictionless fingers on faces, not {fingers} {contact}; use "
-                         "method='mesh'")
-    if construction == "nguyen" and key != (2, "soft"):
-        raise InputError("construction='nguyen': in space the paper's two-sided cone is for "
-                         "two soft fingers (§5.2)")
+    faces = sorted({(c.fingers, c.contact) for c in table if c.method == "faces"})
+    if method == "faces" and (fingers, contact) not in faces:
+        raise InputError(f"method='faces': the paper constructs {_hands(faces)} fingers on "
+                         f"faces, not {fingers} {contact}; use method='mesh'")
+    if construction == "nguyen" and (fingers, contact) not in _nguyen(table, 3):
+        raise InputError(f"construction='nguyen': in space the paper's two-sided cone is for "
+                         f"{_hands(_nguyen(table, 3))} fingers (§5.2)")
     return fingers
+
+
+def _nguyen(table, dim: int) -> list[tuple[int, str]]:
+    return sorted({(c.fingers, c.contact) for c in table if c.dim == dim and c.name == "nguyen"})
+
+
+def _hands(hands: list[tuple[int, str]]) -> str:
+    """``[(2, "soft"), (3, "hard")]`` as ``2 soft or 3 hard``."""
+    words = [f"{n} {contact}" for n, contact in hands]
+    return ", ".join(words[:-1]) + (" or " if len(words) > 1 else "") + words[-1]
 
 
 #: The sizes (bounding-box diagonals) of the objects synthesis serves: regions are the

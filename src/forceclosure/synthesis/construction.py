@@ -4,7 +4,7 @@ Every way of building independent regions of contact — the paper's on edges
 (§5.1, §5.4) and faces (§5.2, §5.3, §5.5), and the mesh method beyond it —
 is one :class:`Construction`, registered under ``(dimension, fingers,
 contact, name)`` by the module that implements it. Each gives the same four
-steps, which :func:`~forceclosure.synthesis.search.search` runs:
+steps, which :func:`~forceclosure.synthesis.ranked_search.search` runs:
 
 1. ``sites(obj, hand)``: the candidate tuples (edge pairs, face triples,
    sampled prototype grasps…);
@@ -121,6 +121,7 @@ class Construction:
 
 
 _TABLE: dict[tuple[int, int | None, str, str], Construction] = {}
+_loaded = False
 
 
 def register(construction: Construction) -> Construction:
@@ -144,9 +145,12 @@ def registered() -> tuple[Construction, ...]:
     >>> sorted({c.method for c in registered()})
     ['edges', 'faces', 'mesh']
     """
-    package = importlib.import_module(__package__)
-    for info in pkgutil.walk_packages(package.__path__, f"{__package__}."):
-        importlib.import_module(info.name)
+    global _loaded
+    if not _loaded:  # once: the modules register themselves as they are imported
+        package = importlib.import_module(__package__)
+        for info in pkgutil.walk_packages(package.__path__, f"{__package__}."):
+            importlib.import_module(info.name)
+        _loaded = True
     return tuple(sorted(_TABLE.values(), key=lambda c: (c.dim, c.fingers or 99, c.contact,
                                                          c.name)))
 

@@ -13,8 +13,8 @@ from numpy.typing import NDArray
 from ..errors import InputError
 from ..objects.polygon import Edge, Polygon
 
-__all__ = ["MARGIN", "Certificate", "Regions", "check_edges", "check_margin", "exact_inward",
-           "exact_point", "first_proved", "narrowed", "proved_once", "tie_rounded"]
+__all__ = ["MARGIN", "Certificate", "RegionSet", "Regions", "check_edges", "check_margin",
+           "exact_inward", "exact_point", "narrowed", "proved_once", "rounded", "tie_rounded"]
 
 _COUNT = {2: "two", 3: "three", 4: "four"}
 
@@ -111,18 +111,6 @@ def tie_rounded(value: float) -> float:
     True
     """
     return float(f"{value:.8g}")
-
-
-def first_proved(ranked: list, top: int) -> list:
-    """The first ``top`` region sets of a ranking whose certificates hold: a search proves
-    only what it returns, walking down its ranking."""
-    proved = []
-    for regions in ranked:
-        if len(proved) == top:
-            break
-        if regions.certify().holds:
-            proved.append(regions)
-    return proved
 
 
 @dataclass(frozen=True)

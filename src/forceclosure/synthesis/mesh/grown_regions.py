@@ -10,7 +10,7 @@ Examples
 --------
 >>> from forceclosure.objects import bundled
 >>> from forceclosure.synthesis.construction import Hand
->>> from forceclosure.synthesis.search import search
+>>> from forceclosure.synthesis.ranked_search import search
 >>> found = search(MESH, bundled("cube"), Hand(4, "hard", 0.5, samples=2000, top=1))
 >>> len(found), found[0].certify().holds
 (1, True)

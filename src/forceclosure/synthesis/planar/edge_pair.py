@@ -173,6 +173,11 @@ class IndependentRegions(Regions):
             cross = m[0] * w[1] - m[1] * w[0]
             return mu * dot - cross > 0 and mu * dot + cross > 0
 
+        for e, (u, v) in zip((e1, e2), self.segments, strict=True):
+            if not 0 <= u <= v <= e.length:
+                return Certificate(False, "corner check (exact rationals)",
+                                   f"the segment ({u:.17g}, {v:.17g}) is not within edge "
+                                   f"{e.index} (length {e.length:.17g})")
         for t1 in self.segments[0]:
             for t2 in self.segments[1]:
                 p, q = exact_point(e1, t1), exact_point(e2, t2)

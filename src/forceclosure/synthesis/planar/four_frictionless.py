@@ -264,7 +264,7 @@ def best_frictionless_regions(polygon: Polygon, top: int = 5, margin: float = MA
     A quadruple is pruned unless its four pushing directions ``-n_i``
     positively span the plane (force-direction closure, Theorem 2: cheap and
     necessary). The rest are ranked by their shortest segment
-    (:func:`~forceclosure.synthesis.search.search`).
+    (:func:`~forceclosure.synthesis.ranked_search.search`).
 
     Examples
     --------
@@ -273,7 +273,7 @@ def best_frictionless_regions(polygon: Polygon, top: int = 5, margin: float = MA
     [(0, 1, 3, 4), (0, 2, 3, 5)]
     """
     from ..construction import construction_for
-    from ..search import search
+    from ..ranked_search import search
 
     if construction not in ("maximal", "nguyen"):
         raise InputError(f"construction must be 'maximal' or 'nguyen', got {construction!r}")

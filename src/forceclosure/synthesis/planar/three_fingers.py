@@ -487,7 +487,7 @@ def best_three_finger_regions(polygon: Polygon, mu: float, top: int = 5,
     force-closure pair plus a free finger). Triples whose narrowed cones
     cannot balance any force are pruned (Theorem 2), and the rest visited by
     their shortest edge, a bound on their regions
-    (:func:`~forceclosure.synthesis.search.search`). An empty list rules out
+    (:func:`~forceclosure.synthesis.ranked_search.search`). An empty list rules out
     only what :data:`SEARCHED` says.
 
     Examples
@@ -498,7 +498,7 @@ def best_three_finger_regions(polygon: Polygon, mu: float, top: int = 5,
     [((0, 1, 2), (0, 2)), ((0, 1, 3), (1, 3))]
     """
     from ..construction import construction_for
-    from ..search import search
+    from ..ranked_search import search
 
     _check(polygon, mu, margin)
     return search(construction_for(2, 3, "hard"), polygon, Hand(3, "hard", mu, margin, top=top))

@@ -444,7 +444,7 @@ def best_regions(polygon: Polygon, mu: float, top: int = 5, margin: float = ANGL
     Nguyen's two-sided cones), ranked by their shorter segment (the placement
     error the grasp tolerates; ties by edge indices, squeezing first): the
     ``top`` ones are returned, each certified
-    (:func:`~forceclosure.synthesis.search.search`).
+    (:func:`~forceclosure.synthesis.ranked_search.search`).
 
     Examples
     --------
@@ -456,7 +456,7 @@ def best_regions(polygon: Polygon, mu: float, top: int = 5, margin: float = ANGL
     [((0, 2), False), ((1, 3), False), ((4, 6), True), ((5, 7), True)]
     """
     from ..construction import construction_for
-    from ..search import search
+    from ..ranked_search import search
 
     check_mu(mu, mu, margin)
     if construction not in ("maximal", "nguyen"):

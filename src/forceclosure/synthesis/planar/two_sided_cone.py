@@ -122,9 +122,9 @@ def _two_sided_cone(polygon: Polygon, i: int, j: int, e1: Edge, e2: Edge, sector
     if min(lengths(best)) <= 1e-9 * polygon.size:
         return None
     segments = []
-    for lo, hi in ends:
+    for (lo, hi), e in zip(ends, (e1, e2), strict=True):  # within the edge, whatever rounding
         t = sorted(float(g @ best + h) for g, h in (lo, hi))
-        segments.append((max(t[0], 0.0) + 0.0, t[1]))
+        segments.append((max(t[0], 0.0) + 0.0, min(t[1], e.length)))
     regions = IndependentRegions(polygon, (i, j), tuple(segments),
                                  "Nguyen's two-sided cone (Algorithm 1)",
                                  (float(mu), float(mu_q)),

@@ -213,12 +213,10 @@ def vertex_grasps(polygon: Polygon, mu: float, top: int = 5,
     >>> g.other[0], round(g.min_length, 3), g.certify().holds
     ('edge', 0.897, True)
     """
-    if not isinstance(top, int) or isinstance(top, bool) or top < 1:
-        raise InputError(f"'top' must be a positive integer, got {top!r}")
     if not (isinstance(mu, int | float) and np.isfinite(mu) and mu > 0):
         raise InputError(f"friction coefficient must be a positive number, got {mu!r}")
     from ..construction import construction_for
-    from ..search import search
+    from ..ranked_search import search
 
     return search(construction_for(2, 2, "hard", "vertices"), polygon,
                   Hand(2, "soft", float(mu), check_margin(margin), top=top))

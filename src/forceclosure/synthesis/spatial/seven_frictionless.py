@@ -333,10 +333,8 @@ def best_seven_frictionless_regions(polyhedron: Polyhedron, top: int = 3,
     (1, True)
     """
     from ..construction import construction_for
-    from ..search import search
+    from ..ranked_search import search
 
-    if top < 1:
-        raise InputError(f"top must be at least 1, got {top}")
     return search(construction_for(3, 7, "frictionless"), polyhedron,
                   Hand(7, "frictionless", 0.0, margin, samples, seed, top))
 

@@ -185,8 +185,13 @@ def _around(polyhedron: Polyhedron, prototype: Prototype, mu: float,
                         result=ThreeHardRegions)
 
 
+#: The faces the search combines (the largest), and the grasps sampled on each triple for its
+#: prototype (the table's entry; the hand's ``samples`` are not used).
+MAX_FACES, SAMPLES = 12, 500
+
+
 def best_three_hard_regions(polyhedron: Polyhedron, mu: float, top: int = 5,
-                            max_faces: int = 12, samples: int = 500,
+                            max_faces: int = MAX_FACES, samples: int = SAMPLES,
                             seed: int = 0, margin: float = MARGIN) -> list[ThreeHardRegions]:
     """The ``top`` face triples with the largest independent regions for three hard fingers.
 
@@ -204,18 +209,17 @@ def best_three_hard_regions(polyhedron: Polyhedron, mu: float, top: int = 5,
     (True, 2)
     """
     from ..construction import construction_for
-    from ..search import search
+    from ..ranked_search import search
 
     _check_mu(mu, 0.0)
-    if top < 1:
-        raise InputError(f"top must be at least 1, got {top}")
-    construction = (construction_for(3, 3, "hard") if (max_faces, samples) == (12, 500)
-                    else _three_hard(max_faces, samples))
+    default = (max_faces, samples) == (MAX_FACES, SAMPLES)
+    construction = construction_for(3, 3, "hard") if default else _three_hard(max_faces,
+                                                                               samples)
     return search(construction, polyhedron, Hand(3, "hard", mu, check_margin(margin),
                                                  seed=seed, top=top))
 
 
-def _three_hard(max_faces: int = 12, samples: int = 500) -> Construction:
+def _three_hard(max_faces: int = MAX_FACES, samples: int = SAMPLES) -> Construction:
     """The search steps of :func:`best_three_hard_regions`."""
     def sites(polyhedron: Polyhedron, hand: Hand):
         """Step 1: triples of the ``max_faces`` largest faces (two fingers may share one,

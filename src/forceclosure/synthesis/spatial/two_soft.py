@@ -385,11 +385,9 @@ def best_soft_pair_regions(polyhedron: Polyhedron, mu: float, top: int = 5,
     [[0, 1], [2, 4], [3, 5]]
     """
     from ..construction import construction_for
-    from ..search import search
+    from ..ranked_search import search
 
     _check_mu(mu, margin)
-    if top < 1:
-        raise InputError(f"top must be at least 1, got {top}")
     chosen = (construction_for(3, 2, "soft", construction) if sides == SIDES
               else _soft_pair(construction, sides))
     return search(chosen, polyhedron, Hand(2, "soft", mu, margin, top=top))

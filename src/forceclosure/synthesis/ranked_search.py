@@ -17,6 +17,7 @@ Examples
 
 from __future__ import annotations
 
+import bisect
 from typing import Any
 
 import numpy as np
@@ -81,7 +82,7 @@ def search(construction: Construction, obj: Any, hand: Hand) -> list[RegionSet]:
     """
     top = hand.top
     if not isinstance(top, int | np.integer) or isinstance(top, bool) or top < 1:
-        raise InputError(f"'top' must be a positive integer, got {top!r}")
+        raise InputError(f"top must be a positive integer, got {top!r}")
     sites = candidate_sites(construction, obj, hand)
     bound = None
     if construction.bound is not None and len(sites):
@@ -98,16 +99,15 @@ def search(construction: Construction, obj: Any, hand: Hand) -> list[RegionSet]:
         """Whether ``top`` proved region sets rank ahead of ``rank``: the best the sites left
         can do (they come by decreasing bound, ties in order)."""
         while len(built) >= top:
-            ahead = sorted(built, key=lambda b: b[:2])[:top]
-            if rank < ahead[-1][:2]:
+            if rank < built[top - 1][:2]:
                 return False
-            failed = [b for b in ahead if not holds(b[2])]
+            failed = [b for b in built[:top] if not holds(b[2])]
             if not failed:
                 return True
             built[:] = [b for b in built if all(b is not f for f in failed)]
         return False
 
-    built: list[tuple[float, int, RegionSet]] = []
+    built: list[tuple[float, int, RegionSet]] = []  # kept in rank order
     for k in order:
         if bound is not None and (not bound[k] > 0 or beaten((-bound[k], int(k)))):
             break
@@ -116,8 +116,8 @@ def search(construction: Construction, obj: Any, hand: Hand) -> list[RegionSet]:
         regions = construction.build(obj, sites[k], hand)
         if regions is None or (construction.enough is not None and not holds(regions)):
             continue
-        built.append((-tie_rounded(regions.relative_min_size), int(k), regions))
-    built.sort(key=lambda b: b[:2])
+        bisect.insort(built, (-tie_rounded(regions.relative_min_size), int(k), regions),
+                      key=lambda b: b[:2])
     proved = []
     for _, _, regions in built:
         if len(proved) == top:
