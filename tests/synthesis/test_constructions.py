@@ -45,6 +45,8 @@ HANDS = {
 #: Constructions that sample prototypes or build slowly: every bundled object in the long
 #: profile, the cube in the default one.
 SLOW = {(3, 3, "hard"), (3, 7, "frictionless"), (3, None, "any")}
+#: And single cases over two seconds: Nguyen's two-sided cones between the larger faces.
+SLOW_CASES = {((3, 2, "soft", "nguyen"), "holed-block"), ((3, 2, "soft", "nguyen"), "l-prism")}
 
 
 def _hand(c):
@@ -56,7 +58,8 @@ def _cases():
     for c in registered():
         names = POLYGONS if c.dim == 2 else POLYHEDRA
         for name in names:
-            slow = (c.dim, c.fingers, c.contact) in SLOW and name != "cube"
+            slow = ((c.dim, c.fingers, c.contact) in SLOW and name != "cube"
+                    or (c.key, name) in SLOW_CASES)
             yield pytest.param(c, name, id=f"{c.dim}d-{c.fingers}-{c.contact}-{c.name}-{name}",
                                marks=[pytest.mark.long] if slow else [])
 
