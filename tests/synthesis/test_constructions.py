@@ -58,7 +58,7 @@ def _cases():
     for c in registered():
         names = POLYGONS if c.dim == 2 else POLYHEDRA
         for name in names:
-            slow = ((c.dim, c.fingers, c.contact) in SLOW and name != "cube"
+            slow = (((c.dim, c.fingers, c.contact) in SLOW and name != "cube")
                     or (c.key, name) in SLOW_CASES)
             yield pytest.param(c, name, id=f"{c.dim}d-{c.fingers}-{c.contact}-{c.name}-{name}",
                                marks=[pytest.mark.long] if slow else [])
