@@ -88,12 +88,8 @@ def search(construction: Construction, obj: Any, hand: Hand) -> list[RegionSet]:
     if construction.bound is not None and len(sites):
         bound = np.array([tie_rounded(b) for b in construction.bound(obj, sites, hand)])
     order = range(len(sites)) if bound is None else np.argsort(-bound, kind="stable")
-    proofs: dict[int, bool] = {}
-
-    def holds(regions: RegionSet) -> bool:
-        if id(regions) not in proofs:
-            proofs[id(regions)] = regions.certify().holds
-        return proofs[id(regions)]
+    def holds(regions: RegionSet) -> bool:  # a region set keeps its proof (proved_once)
+        return regions.certify().holds
 
     def beaten(rank: tuple[float, int]) -> bool:
         """Whether ``top`` proved region sets rank ahead of ``rank``: the best the sites left

@@ -35,6 +35,7 @@ from ..regions import (
     exact_inward,
     exact_point,
     narrowed,
+    proved_once,
 )
 
 __all__ = ["ANGLE_MARGIN", "IndependentRegions", "Sector", "check_mu", "counter_overlapping_sector",
@@ -149,6 +150,7 @@ class IndependentRegions(Regions):
             record["apex"] = list(self.apex)
         return record
 
+    @proved_once
     def certify(self) -> Certificate:
         """Prove, in exact rational arithmetic, that every pair of points is force-closure.
 

@@ -49,6 +49,7 @@ from ..regions import (
     check_margin,
     exact_inward,
     exact_point,
+    proved_once,
 )
 from .edge_sites import edge_tuples, force_direction_prune
 from .vertex_grasps import _extremes
@@ -138,6 +139,7 @@ class FrictionlessRegions(Regions):
         """The JSON record (see :meth:`Regions.to_dict`), with ``margin``."""
         return {**super().to_dict(), "margin": self.margin}
 
+    @proved_once
     def certify(self) -> Certificate:
         """Prove, exactly, that every choice of one point per segment is force-closure,
         for every pushing direction within ``margin`` of each normal.

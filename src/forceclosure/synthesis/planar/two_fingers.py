@@ -28,6 +28,7 @@ parameters ``(t1, t2)``, so are the four conditions. Therefore:
 from __future__ import annotations
 
 import math
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -401,14 +402,28 @@ def _solve(polygon: Polygon, sites: NDArray, mu: float) -> tuple[NDArray, NDArra
     return z, u1, u2
 
 
+#: The last solve of each polygon's pairs, ``(mu, sites, z, u1, u2)``: the bound solves every
+#: pair at once, and the few built read their segments from it (a solve of one pair alone
+#: costs as much as of two thousand).
+_SOLVED: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
 def largest_segments_bound(polygon: Polygon, sites: NDArray, hand: Hand) -> NDArray:
     """Step 3: the largest shorter segment of each pair over the object's size, solved for
     all pairs at once (exact: the regions built are these, trimmed at most by 2e-9)."""
-    return _solve(polygon, sites, narrowed(hand.mu, hand.margin))[0] / polygon.size
+    mu = narrowed(hand.mu, hand.margin)
+    z, u1, u2 = _solve(polygon, sites, mu)
+    _SOLVED[polygon] = (mu, sites, z, u1, u2)
+    return z / polygon.size
 
 
 def _build_maximal(polygon: Polygon, site: NDArray, hand: Hand) -> IndependentRegions | None:
-    z, u1, u2 = _solve(polygon, site[None], narrowed(hand.mu, hand.margin))
+    mu = narrowed(hand.mu, hand.margin)
+    solved = _SOLVED.get(polygon)
+    row = (np.flatnonzero((solved[1] == site).all(axis=1))
+           if solved is not None and solved[0] == mu else ())
+    z, u1, u2 = ((a[row[:1]] for a in solved[2:]) if len(row) else
+                 _solve(polygon, site[None], mu))
     i, j, way = (int(x) for x in site)
     return _certified(polygon, i, j, z[0], u1[0], u2[0], (hand.mu, hand.mu), bool(way))
 

@@ -38,6 +38,7 @@ from ..regions import (
     exact_inward,
     exact_point,
     narrowed,
+    proved_once,
     rounded,
 )
 
@@ -164,6 +165,7 @@ class VertexGrasp(RegionSet):
             where = f"vertex {k}"
         return [f"vertex {self.vertex} at {rounded(self.point, size)}", where]
 
+    @proved_once
     def certify(self) -> Certificate:
         """Corollary 3, exactly in rationals, at the region's ends (linear in between)."""
         F = Fraction
