@@ -88,8 +88,7 @@ def search(construction: Construction, obj: Any, hand: Hand) -> list[RegionSet]:
     if construction.bound is not None and len(sites):
         bound = np.array([tie_rounded(b) for b in construction.bound(obj, sites, hand)])
     order = range(len(sites)) if bound is None else np.argsort(-bound, kind="stable")
-    def holds(regions: RegionSet) -> bool:  # a region set keeps its proof (proved_once)
-        return regions.certify().holds
+    built: list[tuple[float, int, RegionSet]] = []  # in rank order; each keeps its proof
 
     def beaten(rank: tuple[float, int]) -> bool:
         """Whether ``top`` proved region sets rank ahead of ``rank``: the best the sites left
@@ -97,27 +96,27 @@ def search(construction: Construction, obj: Any, hand: Hand) -> list[RegionSet]:
         while len(built) >= top:
             if rank < built[top - 1][:2]:
                 return False
-            failed = [b for b in built[:top] if not holds(b[2])]
+            failed = [b for b in built[:top] if not b[2].certify().holds]
             if not failed:
                 return True
             built[:] = [b for b in built if all(b is not f for f in failed)]
         return False
 
-    built: list[tuple[float, int, RegionSet]] = []  # kept in rank order
     for k in order:
         if bound is not None and (not bound[k] > 0 or beaten((-bound[k], int(k)))):
             break
         if construction.enough is not None and len(built) >= construction.enough * top:
             break
         regions = construction.build(obj, sites[k], hand)
-        if regions is None or (construction.enough is not None and not holds(regions)):
+        if regions is None or (construction.enough is not None
+                               and not regions.certify().holds):
             continue
         bisect.insort(built, (-tie_rounded(regions.relative_min_size), int(k), regions),
                       key=lambda b: b[:2])
     proved = []
-    for _, _, regions in built:
+    for *_, regions in built:
         if len(proved) == top:
             break
-        if holds(regions):
+        if regions.certify().holds:
             proved.append(regions)
     return proved

@@ -157,10 +157,12 @@ class RegionSet:
     patch of one or more faces, or a vertex), such that every choice of one point per
     region is force-closure, and the proof of it.
 
-    Subclasses give ``sizes`` (a length per finger on a polygon, an area on a
-    polyhedron), :meth:`describe`, :meth:`certify` and :meth:`to_dict`; the
-    rest is common, so that printers, dataset rows and pictures read any
-    region set alike.
+    Subclasses give ``kinds``, ``sizes`` (a length per finger on a polygon,
+    an area on a polyhedron), :meth:`describe`, :meth:`certify` (decorated
+    with :func:`proved_once`: a region set keeps its proof, which the search,
+    the printer and the record all ask for) and :meth:`to_dict`; the rest is
+    common, so that printers, dataset rows and pictures read any region set
+    alike.
     """
 
     @property
