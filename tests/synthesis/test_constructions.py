@@ -11,6 +11,7 @@ regions. A new construction is tested by registering it.
 """
 
 import json
+import pickle
 from pathlib import Path
 
 import jsonschema
@@ -140,6 +141,8 @@ def test_a_construction_returns_only_certified_regions_that_hold(construction, n
         assert (record["min_size"], record["sizes"]) == (r.min_size, list(r.sizes))
         assert record["relative_min_size"] == r.relative_min_size
         assert record["certificate"]["holds"] is True
+        again = pickle.loads(pickle.dumps(r))  # with its proof kept (process pools pickle it)
+        assert again.certify() == r.certify() and again.sizes == r.sizes
 
 
 @pytest.mark.parametrize("construction, name",

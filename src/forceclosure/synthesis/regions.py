@@ -127,8 +127,9 @@ def proved_once(certify):
     return the same :class:`Certificate` (a region set's proof is asked for when it is
     ranked, printed and written; on a large mesh each proof costs seconds).
 
-    Each decorated method keeps its own result, so a subclass's proof that calls its
-    parent's gets both right.
+    Each decorated method keeps its own result (by its qualified name, so that a region
+    set with its proofs pickles), and a subclass's proof that calls its parent's gets both
+    right.
 
     Examples
     --------
@@ -142,12 +143,14 @@ def proved_once(certify):
     >>> r.certify() is r.certify(), Once.calls
     (True, 1)
     """
+    key = certify.__qualname__
+
     @functools.wraps(certify)
     def once(self):
         proofs = self.__dict__.setdefault("_proofs", {})
-        if certify not in proofs:
-            proofs[certify] = certify(self)
-        return proofs[certify]
+        if key not in proofs:
+            proofs[key] = certify(self)
+        return proofs[key]
 
     return once
 
