@@ -145,8 +145,18 @@ def test_a_construction_returns_only_certified_regions_that_hold(construction, n
         assert again.certify() == r.certify() and again.sizes == r.sizes
 
 
-@pytest.mark.parametrize("construction, name",
-                         [c for c in CASES if c.values[0].prune or c.values[0].bound])
+def _pruned_cases():
+    """Every case with a prune or a bound; on polyhedra, all but the cube in the long
+    profile (each build there costs a second)."""
+    for case in CASES:
+        c, name = case.values
+        if c.prune or c.bound:
+            long = c.dim == 3 and name != "cube"
+            yield pytest.param(c, name, id=case.id,
+                               marks=[pytest.mark.long] if long else case.marks)
+
+
+@pytest.mark.parametrize("construction, name", list(_pruned_cases()))
 def test_pruning_and_bounds_lose_no_regions(construction, name):
     """Sites the prune removes give no certified regions (a sample of them on the slow
     constructions); the bound is above the regions each site gives."""

@@ -465,7 +465,8 @@ def _frictionless_closure(points: np.ndarray, normals: np.ndarray) -> bool:
     return bool(s[5] > 1e-9 * s[0] and null.min() > 1e-9)
 
 
-@pytest.mark.parametrize("name", ["cube", pytest.param("l-prism", marks=pytest.mark.long)])
+@pytest.mark.long
+@pytest.mark.parametrize("name", ["cube", "l-prism"])
 def test_seven_frictionless_regions_hold_for_normals_turned_by_the_margin(name):
     """With --margin t, every tuple of points in the seven regions closes for normals
     turned by up to t in any direction (at the regions' corners too); a larger margin
