@@ -1,6 +1,7 @@
 """Every construction through the front door: time and result, optionally against a revision.
 
-For each case (one per registered construction, on bundled objects),
+For each case (one per registered construction, on bundled objects; and a regular
+400-gon, whose edge pairs all tie for branch and bound),
 ``synthesize()`` is called once to warm up (compiling kernels on a fresh
 install), then timed as the best of ``--repeat`` calls. With ``--against
 REV`` the same cases run, in the same run, with the package as it was at git
@@ -25,6 +26,7 @@ from pathlib import Path
 CASES = [
     ("2 hard, maximal", "frame", {"fingers": 2, "mu": 0.4}),
     ("2 hard, maximal, glyph", "glyph:&", {"fingers": 2, "mu": 0.4}),
+    ("2 hard, maximal, ties", "regular:400", {"fingers": 2, "mu": 0.3}),
     ("2 hard, nguyen", "star", {"fingers": 2, "mu": 0.3, "construction": "nguyen"}),
     ("soft on vertices", "star", {"vertices": True, "mu": 0.3}),
     ("3 hard (plane)", "hexagon", {"fingers": 3, "mu": 0.6}),
@@ -41,14 +43,16 @@ CASES = [
 
 DRIVER = r"""
 import json, sys, time
-from forceclosure.objects import bundled, glyph
+from forceclosure.objects import Polygon, bundled, glyph
 from forceclosure.synthesis.best import synthesize
 from forceclosure.synthesis import vertex_grasps
 
 cases, repeat = json.loads(sys.argv[1]), int(sys.argv[2])
 out = {}
 for label, name, kwargs in cases:
-    obj = glyph(name[6:]) if name.startswith("glyph:") else bundled(name)
+    kind, _, arg = name.partition(":")
+    obj = {"glyph": lambda: glyph(arg), "regular": lambda: Polygon.regular(int(arg or 0))}.get(
+        kind, lambda: bundled(name))()
     kwargs = dict(kwargs)
     if kwargs.pop("vertices", False):
         run = lambda: vertex_grasps(obj, kwargs["mu"], top=5)
