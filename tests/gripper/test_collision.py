@@ -141,12 +141,13 @@ def test_a_hand_mesh_instead_of_boxes():
 # --- labels and the command ----------------------------------------------------------------
 
 
-def _manifold_truth(mesh, gripper, centers, closing, approach, widths, clearance):
+def _manifold_truth(mesh, gripper, centers, closing, approach, widths, clearance, depths):
     frames = jaw_frames(centers, closing, approach)
     truth = []
     for i in range(len(widths)):
         volume = 0.0
         for _, ext, c in hand_boxes(gripper, widths[i], clearance=clearance):
+            c = c + np.array([depths[i] - gripper.depth, 0.0, 0.0])  # the pose's depth
             T = frames[i].copy()
             T[:3, 3] += frames[i, :3, :3] @ c
             box = trimesh.creation.box(extents=ext, transform=T)
@@ -157,14 +158,14 @@ def _manifold_truth(mesh, gripper, centers, closing, approach, widths, clearance
 
 
 def test_labels_carry_collides_and_save_it(tmp_path):
-    # small fingers, no palm, on the 2-unit cube: a finger cuts its face when the jaws' line
-    # is tilted enough (up to atan 0.1) for the face to rise more than the clearance across it
-    gripper = ParallelJaw(2.5, depth=0.1, finger_length=0.2, finger_thickness=0.05,
-                          finger_height=0.1, palm_thickness=0.0)
+    # on the 2-unit cube, one approach each: the palm, 1.1 to 1.2 behind the jaws' line, is
+    # in the cube unless the line runs within 1.1 of the face's edge it comes from
+    gripper = ParallelJaw(2.5, depth=0.1, finger_length=1.2, finger_thickness=0.05,
+                          finger_height=0.1, palm_thickness=0.1, pad_length=0.2)
     labels = grasp_labels("cube", gripper, mu=0.1, count=40, seed=2, least_friction=False,
-                          clearance=0.01)
+                          clearance=0.01, approaches=1, depths=1, tilt=1.0)
     truth = _manifold_truth(CUBE, gripper, labels.center, labels.closing_axis,
-                            labels.approach_axis, labels.width, 0.01)
+                            labels.approach_axis, labels.width, 0.01, labels.depth)
     assert labels.collides.tolist() == truth
     assert 0 < sum(truth) < len(truth)
     assert labels.meta["collision"]["clearance"] == 0.01
@@ -188,7 +189,7 @@ def test_cli_grasps_counts_colliding_grasps(tmp_path, capsys):
         hit, code = saved["collides"], saved["code"]
         truth = _manifold_truth(CUBE, ParallelJaw(3.0), saved["center"],
                                 saved["closing_axis"], saved["approach_axis"], saved["width"],
-                                0.03)
+                                0.03, saved["depth"])
     assert hit.tolist() == truth  # default clearance 0.01 x width, boxes from width_max
     assert summary["collides"] == sum(truth)
     assert summary["collides_closure"] == int(np.sum(hit & (code == 2)))

@@ -95,6 +95,8 @@ def test_cube_task_against_the_friction_bound(tmp_path, mass):
     mu, f_max, g = 0.3, 70.0, np.array([0, 0, -9.81])
     out = tmp_path / "cube.npz"
     assert main(["grasps", "cube", "--width", "3", "--count", "150", "--mu", str(mu),
+                 "--pad-radius", "0",  # the closed form's pads: torsion unbounded
+                 "--tilt", "0.5",  # lines across half the friction cone: both outcomes occur
                  "--no-least-friction", "--no-collision", "--no-epsilon",
                  "--task-mass", str(mass), "--out", str(out)]) == 0  # default --f-max 70
     z = np.load(out)

@@ -267,7 +267,7 @@ def test_sampler_refuses_lines_wider_than_the_opening():
 
 def test_labels_of_sampled_box_grasps_follow_corollary_3():
     mu = 0.4
-    labels = grasp_labels(BOX, ParallelJaw(5.0), mu, 150, seed=4)
+    labels = grasp_labels(BOX, ParallelJaw(5.0, pad_radius=0), mu, 150, seed=4)  # paper's pads
     p, q = labels.points[:, 0], labels.points[:, 1]
     n_p, n_q = labels.normals[:, 0], labels.normals[:, 1]
     opposite = np.einsum("ij,ij->i", n_p, n_q) < -0.5

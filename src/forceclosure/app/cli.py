@@ -662,7 +662,7 @@ def _robust_settings(args: argparse.Namespace) -> dict[str, Any] | None:
             raise InputError(f"{given[0]} needs --robust")
         return None
     settings = {"samples": 100 if args.robust_samples is None else args.robust_samples,
-                "pose_sigma": 0.01 * args.width if args.pose_sigma is None else args.pose_sigma,
+                "pose_sigma": args.pose_sigma,  # None: 1 % of the opening, once the hand is known
                 "angle_sigma": 0.05 if args.angle_sigma is None else args.angle_sigma,
                 "mu_sigma": 0.05 if args.mu_sigma is None else args.mu_sigma,
                 "normal_sigma": 0.0 if args.normal_sigma is None else args.normal_sigma,
@@ -671,7 +671,8 @@ def _robust_settings(args: argparse.Namespace) -> dict[str, Any] | None:
         raise InputError(f"--robust-samples must be a whole number >= 2 (an interval needs "
                          f"two), got {settings['samples']}")
     for flag in ("pose_sigma", "angle_sigma", "mu_sigma", "normal_sigma"):
-        if not (math.isfinite(settings[flag]) and settings[flag] >= 0):
+        if settings[flag] is not None and not (math.isfinite(settings[flag])
+                                               and settings[flag] >= 0):
             raise InputError(f"--{flag.replace('_', '-')} must be finite and >= 0, got "
                              f"{settings[flag]}")
     if not 0 < settings["confidence"] < 1:
@@ -810,6 +811,22 @@ def _metrics_stage(labels: Any) -> tuple[Any, dict[str, Any]]:
     return labels, entry
 
 
+def _gripper_of(args: argparse.Namespace):
+    """The hand of ``--gripper`` (a built-in, or the generic one of ``--width``)."""
+    from ..gripper.grippers import GENERIC, make_gripper
+
+    name = args.gripper or GENERIC
+    if name == GENERIC and args.width is None:
+        raise InputError("--width: give the gripper's opening, or a built-in hand with "
+                         "--gripper (panda, graspnet)")
+    if name != GENERIC and args.width is not None:
+        raise InputError(f"--width: --gripper {name} has its own opening; drop --width")
+    try:
+        return make_gripper(name, args.width, args.pad_radius)
+    except InputError as e:
+        raise InputError(f"--gripper {name}: {e}") from None
+
+
 def _cmd_grasps(args: argparse.Namespace) -> int:
     """Sample parallel-jaw grasps on a mesh and label them: verdict, least friction, epsilon."""
     import math
@@ -818,17 +835,20 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     import numpy as np
     from tqdm import tqdm
 
-    from ..gripper.jaw import ParallelJaw
+    from ..gripper.hand_poses import APPROACHES, DEPTHS, units_warning
     from ..gripper.labels import grasp_labels
     from ..objects.io import load_object
 
-    if not (math.isfinite(args.width) and args.width > 0):
+    if args.width is not None and not (math.isfinite(args.width) and args.width > 0):
         raise InputError(f"--width must be a finite positive opening, got {args.width}")
     if args.count < 0:
         raise InputError(f"--count must be a whole number >= 0, got {args.count}")
+    if not 0 <= args.tilt <= 1:
+        raise InputError(f"--tilt must be a share from 0 to 1, got {args.tilt}")
     if not (math.isfinite(args.mu) and args.mu > 0):
         raise InputError(f"--mu must be finite and positive, got {args.mu}")
-    if not (math.isfinite(args.pad_radius) and args.pad_radius >= 0):
+    if args.pad_radius is not None and not (math.isfinite(args.pad_radius)
+                                            and 0 <= args.pad_radius <= 1e150):
         raise InputError(f"--pad-radius must be finite and >= 0, got {args.pad_radius}")
     if args.contact == "hard" and args.pad_radius:
         raise InputError("--pad-radius couples a soft pad's torsion; hard contacts have none "
@@ -845,12 +865,17 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
                          "--no-collision")
     if (args.html or args.plot) and args.plot_top < 0:
         raise InputError(f"--plot-top must be a whole number >= 0, got {args.plot_top}")
-    if args.approaches is not None:
-        if args.approaches < 1:
-            raise InputError(f"--approaches must be a whole number >= 1, got {args.approaches}")
+    for flag, value in (("--approaches", args.approaches), ("--depths", args.depths)):
+        if value is None:
+            continue
+        if value < 1:
+            raise InputError(f"{flag} must be a whole number >= 1, got {value}")
         if args.no_collision:
-            raise InputError("--approaches picks each pose's approach by the collision check; "
-                             "it has no use with --no-collision")
+            raise InputError(f"{flag} is searched by the collision check; it has no use with "
+                             "--no-collision")
+    gripper = _gripper_of(args)
+    if robust is not None and robust["pose_sigma"] is None:
+        robust["pose_sigma"] = 0.01 * gripper.width_max
     if args.html:
         from ..io.atomic import check_output
         from ..pictures.view import check_html_path
@@ -879,7 +904,9 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     if task is not None and getattr(obj, "watertight", True) is False:
         raise InputError(f"{obj.name}: --task-mass needs a closed mesh for its centre of mass; "
                          "this one is open")
-    gripper = ParallelJaw(args.width, args.pad_radius)
+    warning = units_warning(gripper, obj.size)
+    if warning:
+        print(f"forceclosure: warning: {obj.name}: {warning}", file=sys.stderr)
     start = time.perf_counter()
     with tqdm(total=args.count, unit=" grasps", unit_scale=True, file=sys.stderr, disable=None,
               desc="labelling") as bar:
@@ -887,8 +914,10 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
                               args.contact, progress=bar.update,
                               least_friction=not args.no_least_friction,
                               collision=not args.no_collision, clearance=args.clearance,
-                              approaches=8 if args.approaches is None else args.approaches,
-                              epsilon=not args.no_epsilon)
+                              approaches=APPROACHES if args.approaches is None
+                              else args.approaches, epsilon=not args.no_epsilon,
+                              depths=DEPTHS if args.depths is None else args.depths,
+                              tilt=args.tilt)
     seconds = time.perf_counter() - start
     if robust is not None:
         labels, robust = _robust_stage(obj, labels, gripper, args, robust)
@@ -918,13 +947,15 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     closed = labels.epsilon[labels.code == 2] if not args.no_epsilon else np.zeros(0)
     summary = {"object": args.object, "candidates": len(labels), "requested": args.count,
                "attempts": labels.meta["attempts"], "rejected": labels.meta["rejected"],
-               "contact": args.contact, "mu": args.mu, "width": args.width, **counts,
+               "contact": args.contact, "mu": args.mu, "width": gripper.width_max,
+               "gripper": gripper.name, **counts,
                "least_friction_median": mu_star if math.isfinite(mu_star) else None,
                "epsilon_median": float(np.median(closed)) if len(closed) else None,
                **_collision_summary(labels),
                "exports": [{"kind": kind, "file": path} for kind, path in args.export],
                "plot": args.plot, "html": args.html,
-               "approaches": labels.meta["approaches"],
+               "approaches": labels.meta["approaches"], "depths": labels.meta["depths"],
+               "hand_poses_tried": labels.meta["tried"],
                "seconds": round(seconds, 3),
                "grasps_per_second": round(len(labels) / seconds) if seconds > 0 else None,
                "out": args.out}
@@ -938,11 +969,14 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
         json.dump(summary, sys.stdout, indent=2, allow_nan=False)
         sys.stdout.write("\n")
         return 0
-    print(f"{printable(args.object)}: {len(labels):,} antipodal jaw poses (of {args.count:,} "
-          f"asked; {labels.meta['attempts']:,} surface points drawn), {args.contact} "
-          f"contacts, mu {args.mu:g}, opening up to {args.width:g}")
+    print(f"{printable(args.object)}: {len(labels):,} jaw poses of the {gripper.name} gripper "
+          f"(of {args.count:,} asked; {labels.meta['attempts']:,} closing lines drawn), "
+          f"{args.contact} contacts, mu {args.mu:g}, opening up to {gripper.width_max:g}")
+    if labels.collides is not None:
+        print(f"  closure and clear: {summary['closure_clear']:,} of {len(labels):,} "
+              f"(clear {len(labels) - summary['collides']:,}; closure {counts['closure']:,})")
     for reason, n in labels.meta["rejected"].items():
-        print(f"  {n:,} points made no grasp: {reason}")
+        print(f"  {n:,} lines made no pose: {reason}")
     print(f"  closure {counts['closure']:,}, marginal {counts['marginal']:,}, "
           f"none {counts['none']:,}")
     print("  least friction: " + ("not computed" if args.no_least_friction or not len(labels)
@@ -982,9 +1016,10 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     else:
         print(f"  collides: {summary['collides']:,} (closure {summary['collides_closure']:,}, "
               f"marginal {summary['collides_marginal']:,}, none {summary['collides_none']:,}; "
-              f"verdicts kept: they are of the contacts); closure and clear: "
-              f"{summary['closure_clear']:,}; {summary['approaches']} approach "
-              f"ax{'i' if summary['approaches'] == 1 else 'e'}s tried per pose")
+              f"verdicts kept: they are of the contacts); {summary['approaches']} approach "
+              f"ax{'i' if summary['approaches'] == 1 else 'e'}s x {summary['depths']} "
+              f"depth{'' if summary['depths'] == 1 else 's'} searched per closing line "
+              f"({summary['hand_poses_tried']:,} hand poses checked)")
     print(f"  {seconds:.2f} s ({summary['grasps_per_second'] or 0:,} grasps/s)"
           + (f"; labels in {printable(args.out)}" if args.out else ""))
     for kind, path in args.export:
@@ -1234,15 +1269,20 @@ def build_parser() -> argparse.ArgumentParser:
                    help="accept open or non-manifold meshes (oriented outward, with a "
                         "warning) instead of refusing them")
     _outside_meshes_option(g)
-    g.add_argument("--width", type=float, required=True,
-                   help="the gripper's widest opening (object units)")
+    g.add_argument("--gripper", metavar="NAME", choices=("parallel-jaw", "panda", "graspnet"),
+                   help="the hand: a built-in with its real sizes ('panda': Franka Emika's, "
+                        "'graspnet': GraspNet-1Billion's model; metres), or 'parallel-jaw' "
+                        "(the default), a generic hand sized from --width")
+    g.add_argument("--width", type=float, default=None,
+                   help="the generic gripper's widest opening (object units)")
     g.add_argument("--count", type=int, default=1000, help="grasps to sample (default 1000)")
     g.add_argument("--mu", type=float, default=0.3, help="friction coefficient (default 0.3)")
     g.add_argument("--contact", choices=("soft", "hard"), default="soft",
                    help="soft pads (default) or hard point contacts (two never close in space)")
-    g.add_argument("--pad-radius", type=float, default=0.0,
-                   help="soft pads' radius: torsion bounded by (2/3) mu radius times the "
-                        "normal force; 0 (default): the paper's soft finger")
+    g.add_argument("--pad-radius", type=float, default=None,
+                   help="soft pads' torsion: bounded by (2/3) mu radius times the normal "
+                        "force; 0: the paper's soft finger (unlimited); default: bounded by "
+                        "the hand's rectangular pad (mu times its mean radius)")
     g.add_argument("--seed", type=int, default=0, help="random seed of the sampling")
     g.add_argument("--no-least-friction", action="store_true",
                    help="skip the least friction (saved as NaN): microseconds a grasp for "
@@ -1278,9 +1318,16 @@ def build_parser() -> argparse.ArgumentParser:
                    help="each finger's pad stands D off its contact in the collision check "
                         "(default 0.01 x --width)")
     g.add_argument("--approaches", type=int, default=None, metavar="K",
-                   help="approach axes tried per contact pair, turned about the closing axis "
-                        "in even steps; the first at which the hand is clear is kept "
-                        "(default 8; 1: the sampler's axis alone)")
+                   help="approach axes tried per closing line, turned about it in even "
+                        "steps; the first pose at which the hand is clear is kept "
+                        "(default 12; 1: the sampler's axis alone)")
+    g.add_argument("--tilt", type=float, default=0.0, metavar="SHARE",
+                   help="spread the closing lines about the surface normals over this share "
+                        "(0 to 1) of the friction cone's half-angle (default 0: along the "
+                        "normals, where flat pads meet a surface flush)")
+    g.add_argument("--depths", type=int, default=None, metavar="K",
+                   help="fingertip depths tried per approach axis, spread over the pad "
+                        "(default 3; 1: the pad's middle)")
     g.add_argument("--export", nargs=2, action="append", default=[], metavar=("KIND", "FILE"),
                    help="also write the labelled poses for a trainer, atomically: 'graspnet "
                         "FILE.npy' (graspnetAPI's GraspGroup array, N x 17) or 'acronym "

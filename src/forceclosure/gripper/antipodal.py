@@ -23,7 +23,7 @@ from ..errors import InputError
 from ..synthesis.spatial.patches import uniform_in_triangles
 from .jaw import TOO_WIDE, JawPose, jaw_contacts, surface_mesh
 
-__all__ = ["AntipodalSamples", "sample_antipodal"]
+__all__ = ["AntipodalSamples", "draw_lines", "sample_antipodal"]
 
 #: Rounds of sampling before giving up on reaching ``count`` candidates.
 ROUNDS = 8
@@ -91,6 +91,18 @@ def _draw(V, T, normals, mu: float, m: int, rng: np.random.Generator):
                                                  + np.sin(phi)[:, None] * e2))
     d /= np.linalg.norm(d, axis=1)[:, None]
     return points, d, rng.random(m) * 2 * np.pi
+
+
+def draw_lines(mesh, mu: float, m: int, rng: np.random.Generator, tilt: float = 1.0
+               ) -> tuple[NDArray, NDArray, NDArray]:
+    """``m`` closing lines on a mesh (outward faces): points uniform over the surface, a
+    direction each uniform over the cap of half-angle ``tilt · atan(mu)`` around the
+    inward normal (``tilt`` 0: the inward normal itself), and an approach axis each
+    perpendicular to it (uniform angle)."""
+    cap = float(np.tan(tilt * np.arctan(mu)))
+    p, d, angle = _draw(mesh.vertices, mesh.faces, mesh.face_normals, cap, m, rng)
+    e1, e2 = _perpendicular(d)
+    return p, d, np.cos(angle)[:, None] * e1 + np.sin(angle)[:, None] * e2
 
 
 def sample_antipodal(obj: Any, mu: float, count: int, seed: int = 0,

@@ -24,6 +24,7 @@ meshes) and a vertex of each of the object's pieces inside each part.
 
 from __future__ import annotations
 
+import weakref
 from typing import Any
 
 import numpy as np
@@ -48,8 +49,8 @@ def hand_boxes(gripper: ParallelJaw, width: float, clearance: float | None = Non
 
     The fingers' inner faces are at ``y = ∓(width/2 + clearance)``; they run
     along x from ``depth - finger_length`` to ``depth``. The palm (absent
-    when ``palm_thickness`` is 0) lies behind them, ``width_max + 2
-    finger_thickness`` wide.
+    when ``palm_thickness`` is 0) lies behind them, ``palm_width`` wide and
+    ``palm_height`` high.
 
     Examples
     --------
@@ -69,7 +70,7 @@ def hand_boxes(gripper: ParallelJaw, width: float, clearance: float | None = Non
     y = 0.5 * width + c + 0.5 * t
     boxes = [("jaw1", finger, np.array([x, -y, 0.0])), ("jaw2", finger, np.array([x, y, 0.0]))]
     if g.palm_thickness > 0:
-        boxes.append(("palm", np.array([g.palm_thickness, g.width_max + 2 * t, h]),
+        boxes.append(("palm", np.array([g.palm_thickness, g.palm_width, g.palm_height]),
                       np.array([g.depth - length - 0.5 * g.palm_thickness, 0.0, 0.0])))
     return boxes
 
@@ -98,6 +99,26 @@ def jaw_frames(center: ArrayLike, closing_axis: ArrayLike, approach_axis: ArrayL
     frames[:, :3, 3] = center
     frames[:, 3, 3] = 1.0
     return frames
+
+
+#: The collision manager of the last few meshes checked, by identity (building one costs
+#: milliseconds per thousand triangles).
+_WORLDS: dict[int, tuple[Any, Any]] = {}
+
+
+def _world(mesh):
+    """A collision manager holding ``mesh`` alone (kept for the mesh's next checks)."""
+    from trimesh.collision import CollisionManager
+
+    kept = _WORLDS.get(id(mesh))
+    if kept is not None and kept[0]() is mesh:
+        return kept[1]
+    world = CollisionManager()
+    world.add_object("object", mesh)
+    if len(_WORLDS) >= 8:
+        _WORLDS.pop(next(iter(_WORLDS)))
+    _WORLDS[id(mesh)] = (weakref.ref(mesh), world)
+    return world
 
 
 def _anchors(mesh) -> NDArray[np.float64]:
@@ -137,7 +158,7 @@ def _poses(poses: Any) -> tuple[NDArray, NDArray, NDArray, NDArray]:
 
 
 def collides(obj: Any, poses: Any, gripper: ParallelJaw, clearance: float | None = None,
-             hand: Any = None) -> NDArray[np.bool_] | bool:
+             hand: Any = None, depths: Any = None) -> NDArray[np.bool_] | bool:
     """Whether the hand, opened at each jaw pose, meets the object.
 
     Parameters
@@ -155,6 +176,10 @@ def collides(obj: Any, poses: Any, gripper: ParallelJaw, clearance: float | None
         ``width_max``.
     hand : trimesh.Trimesh, optional
         A hand mesh in the jaw frame, instead of the boxes (checked as given).
+    depths : (N,) array, optional
+        How far each pose's fingertips reach past its jaw centre (default the
+        gripper's ``depth``): the hand moves along its approach axis by the
+        difference.
 
     Returns
     -------
@@ -195,11 +220,13 @@ def collides(obj: Any, poses: Any, gripper: ParallelJaw, clearance: float | None
                          for name in names])
         offsets = np.repeat(np.array([c for _, _, c in template])[None], n, axis=0)
         offsets[:, :, 1] += 0.5 * width[:, None] * side[None]
+        if depths is not None:
+            shift = np.asarray(depths, dtype=float).reshape(n) - gripper.depth
+            offsets[:, :, 0] += shift[:, None]
     else:
         names, parts = ["hand"], {"hand": hand}
         offsets = np.zeros((n, 1, 3))
-    world = CollisionManager()
-    world.add_object("object", mesh)
+    world = _world(mesh)
     gripper_parts = CollisionManager()
     for name in names:
         gripper_parts.add_object(name, parts[name])

@@ -69,6 +69,33 @@ def default_approach(closing: NDArray[np.float64]) -> NDArray[np.float64]:
 _SHAPE = {"depth": 0.2, "finger_length": 0.5, "finger_thickness": 0.1, "finger_height": 0.2,
           "palm_thickness": 0.1}
 
+#: The optional sizes whose defaults follow from the others (:class:`ParallelJaw`).
+_DERIVED = ("pad_length", "pad_height", "palm_width", "palm_height", "tip_offset",
+            "pad_compliance")
+
+
+def rectangle_mean_radius(length: float, height: float) -> float:
+    """The mean distance from the centre of a ``length`` × ``height`` rectangle to its
+    points: the torsional friction of a uniformly pressed rectangular pad is ``μ`` times
+    it times the normal force.
+
+    With half-sides ``p``, ``q`` and ``d = sqrt(p² + q²)`` the integral of the distance
+    over a quarter is ``(2pqd + p³ ln((q + d)/p) + q³ ln((p + d)/q)) / 6``.
+
+    Examples
+    --------
+    >>> round(rectangle_mean_radius(2.0, 2.0), 6)  # (sqrt 2 + ln(1 + sqrt 2)) / 3
+    0.765196
+    >>> rectangle_mean_radius(1.0, 0.0)  # a segment: a quarter of its length
+    0.25
+    """
+    p, q = 0.5 * float(length), 0.5 * float(height)
+    if p <= 0 or q <= 0:
+        return 0.5 * max(p, q)
+    d = np.hypot(p, q)
+    quarter = (2 * p * q * d + p**3 * np.log((q + d) / p) + q**3 * np.log((p + d) / q)) / 6
+    return float(quarter / (p * q))
+
 
 @dataclass(frozen=True)
 class ParallelJaw:
@@ -78,11 +105,14 @@ class ParallelJaw:
     ----------
     width_max : float
         The widest opening (same units as the object).
-    pad_radius : float
-        Radius of the finger pads. With soft contacts and a positive radius
-        the pads' torsional friction is coupled to the normal force, ``|τ| ≤
-        (2/3) μ a f_n`` (a uniform pressure over a disc of radius ``a``); 0
-        gives the paper's soft finger (uncoupled torque).
+    pad_radius : float, optional
+        How the soft pads resist twisting about their normal. None (the
+        default): as a rectangular pad of ``pad_length`` × ``pad_height``
+        pressed uniformly, ``|τ| ≤ μ r̄ f_n`` with ``r̄`` the pad's mean radius
+        (:func:`rectangle_mean_radius`); an upper bound, since a curved
+        surface touches only part of the pad. A positive radius ``a``: a disc,
+        ``|τ| ≤ (2/3) μ a f_n``. 0: the paper's soft finger (uncoupled,
+        unlimited torque), only when asked for.
     depth, finger_length, finger_thickness, finger_height, palm_thickness : float, optional
         The hand's boxes, for collision checks (:mod:`forceclosure.gripper.collision`),
         in the jaw frame (x the approach axis, y the closing axis, origin the
@@ -92,12 +122,30 @@ class ParallelJaw:
         ``finger_thickness`` thick along y, outside the opening, and
         ``finger_height`` high along z (graspnetAPI's ``height``); the palm
         joins the fingers' bases, ``palm_thickness`` thick along x behind
-        them, as wide as the fully open hand (``width_max + 2
-        finger_thickness``) and as high as the fingers (0: no palm). Defaults,
-        from ``width_max = w``: depth ``0.2 w``, finger length ``0.5 w``,
-        thickness ``0.1 w``, height ``0.2 w``, palm ``0.1 w`` (graspnetAPI's
-        collision model at ``w = 0.1``: height 0.02, finger width 0.01, palm
-        0.02 behind the centre for a depth of 0.02, not its thickness).
+        them (0: no palm). Defaults, from ``width_max = w``: depth ``0.2 w``,
+        finger length ``0.5 w``, thickness ``0.1 w``, height ``0.2 w``, palm
+        ``0.1 w`` (graspnetAPI's collision model at ``w = 0.1``: height
+        0.02, finger width 0.01, palm 0.02 behind the centre for a depth of
+        0.02, not its thickness).
+    name : str
+        What the hand is called (a built-in's name, see
+        :mod:`forceclosure.gripper.grippers`).
+    pad_length, pad_height : float, optional
+        The flat pad at each fingertip, along x from the tip and along z
+        (default: the finger's whole inner face, ``finger_length`` ×
+        ``finger_height``). The jaws touch where their pads first meet the
+        object (:mod:`forceclosure.gripper.pads`).
+    palm_width, palm_height : float, optional
+        The palm's size along y and z (default ``width_max + 2
+        finger_thickness`` and ``finger_height``).
+    tip_offset : float, optional
+        From the hand's base frame (its mounting flange; ACRONYM's gripper
+        frame) to the fingertips, along the approach axis (default
+        ``finger_length + palm_thickness``: the palm's back face).
+    pad_compliance : float, optional
+        How deep a pad presses into its contact past the first touch (default
+        ``0.01 width_max``): the contact is the pressed point nearest the pad's
+        centre (:mod:`forceclosure.gripper.pads`); 0: rigid pads.
 
     Examples
     --------
@@ -105,25 +153,36 @@ class ParallelJaw:
     0.002
     >>> ParallelJaw(0.1).finger_length, ParallelJaw(0.1, depth=0.03).depth
     (0.05, 0.03)
+    >>> ParallelJaw(0.1).pad_length, ParallelJaw(0.1, pad_radius=0).torsion(0.5) is None
+    (0.05, True)
     """
 
     width_max: float
-    pad_radius: float = 0.0
+    pad_radius: float | None = None
     depth: float | None = None
     finger_length: float | None = None
     finger_thickness: float | None = None
     finger_height: float | None = None
     palm_thickness: float | None = None
+    name: str = "parallel-jaw"
+    pad_length: float | None = None
+    pad_height: float | None = None
+    palm_width: float | None = None
+    palm_height: float | None = None
+    tip_offset: float | None = None
+    pad_compliance: float | None = None
 
     def __post_init__(self) -> None:
-        for name in ("width_max", "pad_radius", *_SHAPE):
+        for name in ("width_max", "pad_radius", *_SHAPE, *_DERIVED):
             value = getattr(self, name)
-            if value is None and name in _SHAPE:
+            if value is None and name != "width_max":
                 continue
             if (isinstance(value, bool) or not isinstance(value, Real)
-                    or not np.isfinite(value) or value < 0):
+                    or not np.isfinite(value) or value < 0 or value > 1e150):
                 raise InputError(f"ParallelJaw: '{name}' must be a finite number >= 0, "
                                  f"got {value!r}")
+        if not isinstance(self.name, str) or not self.name.strip():
+            raise InputError(f"ParallelJaw: 'name' must be a non-empty string, got {self.name!r}")
         if self.width_max <= 0:
             raise InputError(f"ParallelJaw: 'width_max' must be positive, got {self.width_max}")
         for name, share in _SHAPE.items():
@@ -131,7 +190,18 @@ class ParallelJaw:
                 object.__setattr__(self, name, round(share * float(self.width_max), 15))
             else:
                 object.__setattr__(self, name, float(getattr(self, name)))
-        for name in ("finger_length", "finger_thickness", "finger_height"):
+        defaults = {"pad_length": self.finger_length, "pad_height": self.finger_height,
+                    "palm_width": round(self.width_max + 2 * self.finger_thickness, 15),
+                    "palm_height": self.finger_height,
+                    "tip_offset": round(self.finger_length + self.palm_thickness, 15),
+                    "pad_compliance": round(0.01 * self.width_max, 15)}
+        for name in _DERIVED:
+            value = getattr(self, name)
+            object.__setattr__(self, name, float(defaults[name] if value is None else value))
+        if self.pad_radius is not None:
+            object.__setattr__(self, "pad_radius", float(self.pad_radius))
+        for name in ("finger_length", "finger_thickness", "finger_height", "pad_length",
+                     "pad_height"):
             if getattr(self, name) <= 0:
                 raise InputError(f"ParallelJaw: '{name}' must be positive, got "
                                  f"{getattr(self, name)}")
@@ -139,11 +209,22 @@ class ParallelJaw:
             raise InputError(f"ParallelJaw: 'depth' ({self.depth}) must not exceed "
                              f"'finger_length' ({self.finger_length}): the tips reach past the "
                              "jaw centre by at most the fingers' length")
+        if self.pad_length > self.finger_length:
+            raise InputError(f"ParallelJaw: 'pad_length' ({self.pad_length}) must not exceed "
+                             f"'finger_length' ({self.finger_length})")
 
     def torsion(self, mu: float) -> float | None:
-        """The soft pads' coupled torsional coefficient at friction ``mu``, or None
-        (uncoupled) for point pads."""
+        """The soft pads' coupled torsional coefficient at friction ``mu`` (the bound on
+        the twisting torque per unit normal force), or None (uncoupled: ``pad_radius``
+        0)."""
+        if self.pad_radius is None:
+            return round(mu * rectangle_mean_radius(self.pad_length, self.pad_height), 15)
         return None if self.pad_radius == 0 else round(2.0 / 3.0 * mu * self.pad_radius, 15)
+
+    def shape(self) -> dict[str, Any]:
+        """Every size of the hand, by field name (what ``ParallelJaw(**shape)`` rebuilds)."""
+        return {name: getattr(self, name) for name in (
+            "width_max", "pad_radius", *_SHAPE, "name", *_DERIVED)}
 
 
 @dataclass(frozen=True, eq=False)

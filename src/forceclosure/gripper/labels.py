@@ -31,6 +31,10 @@ _VERDICTS = np.array(["none", "marginal", "closure"])
 ARRAYS = ("center", "closing_axis", "approach_axis", "width", "points", "normals", "code",
           "least_friction", "epsilon", "collides")
 
+#: The optional arrays of the pose (:func:`grasp_labels` writes them): how far each pose's
+#: fingertips reach past its jaw centre.
+POSE_ARRAYS = ("depth",)
+
 #: The optional arrays of robustness (:meth:`GraspLabels.with_robustness`), saved when present.
 ROBUST_ARRAYS = ("robust_probability", "robust_probability_low", "robust_probability_high",
                  "robust_epsilon", "robust_epsilon_low", "robust_epsilon_high", "robust_missed")
@@ -93,6 +97,10 @@ class GraspLabels:
     task_spare, task_spare_upper : (N,) arrays or None
         The largest multiple of the task wrench resisted: lower bound (inscribed pyramids)
         and upper bound (circumscribed).
+    depth : (N,) array or None
+        How far each pose's fingertips reach past its jaw centre along the approach axis
+        (None: the gripper's ``depth`` for every pose); the hand's base frame is
+        ``meta["tip_offset"] - depth`` behind the centre.
     """
 
     center: NDArray[np.float64]
@@ -120,6 +128,7 @@ class GraspLabels:
     task_verdict: NDArray[np.int8] | None = None
     task_spare: NDArray[np.float64] | None = None
     task_spare_upper: NDArray[np.float64] | None = None
+    depth: NDArray[np.float64] | None = None
 
     def __len__(self) -> int:
         return len(self.code)
@@ -171,9 +180,9 @@ class GraspLabels:
 
     def _arrays(self) -> tuple[str, ...]:
         """The names of the arrays present: :data:`ARRAYS`, then any of :data:`ROBUST_ARRAYS`,
-        :data:`METRIC_ARRAYS` and :data:`TASK_ARRAYS`."""
+        :data:`METRIC_ARRAYS`, :data:`TASK_ARRAYS` and :data:`POSE_ARRAYS`."""
         return ARRAYS + tuple(n for n in ROBUST_ARRAYS + METRIC_ARRAYS + TASK_ARRAYS
-                              if getattr(self, n) is not None)
+                              + POSE_ARRAYS if getattr(self, n) is not None)
 
     def to_dict(self) -> dict[str, Any]:
         """Every array as nested lists (``inf`` μ*, NaN ε and ``inf`` spares as None) and the
@@ -271,24 +280,30 @@ def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str 
 def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: int = 0,
                  contact: str = "soft", progress: Callable[[int], object] | None = None,
                  least_friction: bool = True, collision: bool = True,
-                 clearance: float | None = None, approaches: int = 8,
-                 epsilon: bool = True) -> GraspLabels:
-    """Sample ``count`` antipodal jaw poses on ``obj`` for ``gripper`` and label them.
+                 clearance: float | None = None, approaches: int = 12,
+                 epsilon: bool = True, depths: int = 3, tilt: float = 0.0) -> GraspLabels:
+    """Sample ``count`` jaw poses on ``obj`` that ``gripper`` can take, and label them.
 
-    With ``collision`` (the default) each pose's hand, its fingers opened a
-    ``clearance`` off each contact (default
-    :data:`~forceclosure.gripper.collision.CLEARANCE` × ``width_max``), is checked
-    against the object: ``collides``. ``collision=False`` skips it (None).
+    Closing lines are drawn through surface points along their inward normals
+    (``tilt`` > 0: inside that share of the friction cone); along each the
+    hand's approach (``approaches`` axes about the closing axis) and depth
+    (``depths`` fingertip depths over the pad) are searched for a pose at
+    which the opened hand, its fingers a ``clearance`` off the contacts
+    (default :data:`~forceclosure.gripper.collision.CLEARANCE` ×
+    ``width_max``), clears the object; the contacts are where the flat pads
+    first touch it (:func:`~forceclosure.gripper.hand_poses.search_poses`).
+    ``collides`` marks the lines where no pose tried clears (their first pose
+    with contacts is kept); ``collision=False`` checks nothing (``collides``
+    None) and keeps each line's first pose. The labels (verdict, μ*, ε) are of
+    each kept pose's contacts; ``least_friction=False`` and ``epsilon=False``
+    skip μ* and ε (NaN), as in :func:`label_grasps`. Soft pads resist
+    twisting as ``gripper.torsion`` says (bounded by the pad unless its
+    ``pad_radius`` is 0).
 
-    ``approaches`` approach axes are tried per contact pair: the sampler's
-    (seeded) axis turned about the closing axis in even steps; the first at
-    which the hand is clear is kept as ``approach_axis``, else the sampler's,
-    marked colliding (:func:`~forceclosure.gripper.collision.choose_approach`). The
-    contacts, and so the verdict, μ* and ε, are the same at every approach.
-    Without the collision check there is nothing to choose by: the sampler's
-    axis is kept. ``meta["approaches"]`` records the number tried (None
-    without the check). ``least_friction=False`` and ``epsilon=False`` skip
-    μ* and ε (NaN), as in :func:`label_grasps`.
+    ``meta`` records the gripper (``gripper``, ``tip_offset``, its sizes under
+    ``collision``), ``approaches`` and ``depths`` tried (None without the
+    check), ``tried`` (hand poses checked) and ``warnings`` (an opening far from
+    the object's size).
 
     Examples
     --------
@@ -301,36 +316,44 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
     ...                                     collision=False).collides
     ((20,), None)
     """
-    from .antipodal import sample_antipodal
+    from .hand_poses import search_poses, units_warning
+    from .jaw import surface_mesh
 
+    if not isinstance(gripper, ParallelJaw):
+        raise InputError(f"gripper must be a ParallelJaw, got {type(gripper).__name__}")
     if contact not in ("soft", "hard"):
         raise InputError(f"contact must be 'soft' or 'hard', got {contact!r}")
-    if isinstance(approaches, bool) or not isinstance(approaches, int | np.integer) \
-            or approaches < 1:
-        raise InputError(f"approaches must be a whole number >= 1, got {approaches!r}")
-    samples = sample_antipodal(obj, mu, count, seed, gripper.width_max)
+    try:
+        mu = float(mu)
+    except (TypeError, ValueError):
+        raise InputError(f"mu must be a number, got {mu!r}") from None
+    if not np.isfinite(mu) or mu <= 0:
+        raise InputError(f"mu must be finite and positive, got {mu}")
+    poly, _ = surface_mesh(obj)
+    warning = units_warning(gripper, poly.size)
+    poses = search_poses(poly, gripper, mu, count, seed, approaches if collision else 1,
+                         depths if collision else 1, clearance, collision, tilt)
     torsion = gripper.torsion(mu) if contact == "soft" else None
-    code, mu_star, eps = label_grasps(samples.points, samples.normals, mu, contact, torsion,
+    code, mu_star, eps = label_grasps(poses.points, poses.normals, mu, contact, torsion,
                                       progress, least_friction, epsilon)
-    hits, checked, approach = None, None, samples.approach_axis
+    checked = None
     if collision:
-        from .collision import CLEARANCE, choose_approach
+        from .collision import CLEARANCE
 
-        approach, hits = choose_approach(obj, samples, gripper, int(approaches), clearance)
         c = CLEARANCE * gripper.width_max if clearance is None else float(clearance)
-        checked = {"clearance": c, "depth": gripper.depth,
-                   "finger_length": gripper.finger_length,
-                   "finger_thickness": gripper.finger_thickness,
-                   "finger_height": gripper.finger_height,
-                   "palm_thickness": gripper.palm_thickness}
+        checked = {"clearance": c, **{k: v for k, v in gripper.shape().items()
+                                       if k not in ("width_max", "pad_radius", "name")}}
     name = obj if isinstance(obj, str) else getattr(obj, "name", type(obj).__name__)
     meta = {"object": str(name), "mu": float(mu), "contact": contact, "torsion": torsion,
             "width_max": gripper.width_max, "pad_radius": gripper.pad_radius, "seed": seed,
-            "attempts": samples.attempts, "rejected": samples.rejected, "collision": checked,
-            "approaches": int(approaches) if collision else None}
-    return GraspLabels(samples.center, samples.closing_axis, approach,
-                       samples.width, samples.points, samples.normals, code, mu_star, eps, meta,
-                       collides=hits)
+            "attempts": poses.attempts, "rejected": poses.rejected, "collision": checked,
+            "approaches": int(approaches) if collision else None,
+            "depths": int(depths) if collision else None, "tried": poses.tried,
+            "gripper": gripper.name, "tip_offset": gripper.tip_offset, "tilt": tilt,
+            "contacts": "pads", "warnings": [warning] if warning else []}
+    return GraspLabels(poses.center, poses.closing_axis, poses.approach_axis, poses.width,
+                       poses.points, poses.normals, code, mu_star, eps, meta,
+                       collides=poses.collides, depth=poses.depth)
 
 
 def label_metrics(labels: GraspLabels, progress: Callable[[int], object] | None = None

@@ -42,7 +42,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError
-from .jaw import JawPose, ParallelJaw, jaw_contacts, surface_mesh
+from .jaw import JawPose, ParallelJaw, surface_mesh
 
 __all__ = ["Noise", "Robustness", "robust_labels", "wilson_interval"]
 
@@ -204,6 +204,43 @@ def _turn(v: NDArray, e1: NDArray, e2: NDArray, a1: NDArray, a2: NDArray) -> NDA
     return out / np.linalg.norm(out, axis=1)[:, None]
 
 
+#: (pose, triangle) pairs handed to the pad kernel at a time.
+PAIRS = 1 << 23
+
+
+def _pads_closed(poly, mesh, gripper: ParallelJaw, origin, closing, approach, depth, nominal,
+                 nominal_axis, shift):
+    """The pads' first touches (:func:`~forceclosure.gripper.pads.pad_contacts`) at the
+    perturbed poses, and whether they hold the object within the opening. Each sample's
+    candidate triangles are its nominal line's, within the pad's reach plus a bound on how
+    far the sample's pads stray from that line inside the object."""
+    from .pads import line_candidates, pad_contacts
+
+    m = len(origin)
+    reach = float(np.hypot(np.maximum(np.abs(depth), np.abs(depth - gripper.pad_length)).max()
+                           if m else 0.0, 0.5 * gripper.pad_height))
+    lo, hi = poly.vertices.min(axis=0), poly.vertices.max(axis=0)
+    far = np.linalg.norm(nominal - 0.5 * (lo + hi), axis=1) + np.linalg.norm(hi - lo)
+    stray = (np.linalg.norm(shift, axis=1) + (far + np.linalg.norm(shift, axis=1))
+             * np.linalg.norm(closing - nominal_axis, axis=1))
+    line_of, tri_of = line_candidates(mesh, origin, closing, reach + stray)
+    points, normals = np.zeros((m, 2, 3)), np.zeros((m, 2, 3))
+    held = np.zeros(m, bool)
+    bounds = np.searchsorted(line_of, np.arange(0, m + 1))
+    step = max(1, int(PAIRS // max(1.0, len(line_of) / max(m, 1))))
+    for start in range(0, m, step):
+        stop = min(m, start + step)
+        sl = slice(bounds[start], bounds[stop])
+        pc = pad_contacts(mesh, origin[start:stop], closing[start:stop],
+                          approach[start:stop], depth[start:stop], gripper.pad_length,
+                          gripper.pad_height, line_of[sl] - start, tri_of[sl], poly.size,
+                          gripper.pad_compliance)
+        width = pc.first[:, 1] - pc.first[:, 0]
+        held[start:stop] = pc.touched & (width <= gripper.width_max) & (width >= 1e-6 * poly.size)
+        points[start:stop], normals[start:stop] = pc.points, pc.normals
+    return points, normals, held
+
+
 def robust_labels(obj: Any, poses: Any, gripper: ParallelJaw, mu: float, *,
                   samples: int = 100, seed: int = 0, pose_sigma: float | None = None,
                   angle_sigma: float | tuple[float, float] = 0.05, mu_sigma: float = 0.05,
@@ -231,8 +268,8 @@ def robust_labels(obj: Any, poses: Any, gripper: ParallelJaw, mu: float, *,
         The object the poses were made on.
     poses : JawPose, sequence of JawPose, or GraspLabels / AntipodalSamples
     gripper : ParallelJaw
-        Its ``width_max`` is the opening the jaws close from; soft pads with a
-        ``pad_radius`` couple their torsion to each sample's friction.
+        Its ``width_max`` is the opening the jaws close from; soft pads couple their
+        torsion to each sample's friction (:meth:`~forceclosure.gripper.jaw.ParallelJaw.torsion`).
     mu : float
         Nominal friction coefficient.
     samples : int
@@ -292,6 +329,9 @@ def robust_labels(obj: Any, poses: Any, gripper: ParallelJaw, mu: float, *,
         pose_sigma = 0.01 * gripper.width_max
     noise = Noise(pose_sigma, angle_sigma, mu_sigma, normal_sigma)
     center, closing, approach = _pose_arrays(poses)
+    depth = getattr(poses, "depth", None)
+    depth = (np.full(len(center), gripper.depth) if depth is None
+             else np.asarray(depth, dtype=float).reshape(len(center)))
     binormal = np.cross(approach, closing)
     poly, mesh = surface_mesh(obj)
     n, s = len(center), int(samples)
@@ -310,12 +350,15 @@ def robust_labels(obj: Any, poses: Any, gripper: ParallelJaw, mu: float, *,
         z_n = rng.standard_normal((m, 2, 2))
         c, a, b, centres = (np.repeat(v[part], s, axis=0)
                             for v in (closing, approach, binormal, center))
-        centres = centres + noise.pose_sigma * z_t
+        shift = noise.pose_sigma * z_t
         axes = _turn(c, a, b, sa * z_a[:, 0], sb * z_a[:, 1])
+        turned = a - np.einsum("ij,ij->i", a, axes)[:, None] * axes
+        turned /= np.linalg.norm(turned, axis=1)[:, None]
         friction = np.maximum(0.0, mu + noise.mu_sigma * z_mu)
-        points, normals, _, reasons = jaw_contacts(mesh, poly.size, centres, axes,
-                                                   np.full(m, gripper.width_max))
-        ok = np.flatnonzero(reasons == None)  # noqa: E711
+        points, normals, held = _pads_closed(poly, mesh, gripper, centres + shift, axes,
+                                             turned, np.repeat(depth[part], s), centres, c,
+                                             shift)
+        ok = np.flatnonzero(held)
         P, N = points[ok], normals[ok]
         if noise.normal_sigma > 0 and len(ok):
             flat = N.reshape(-1, 3)
@@ -323,14 +366,14 @@ def robust_labels(obj: Any, poses: Any, gripper: ParallelJaw, mu: float, *,
             z = noise.normal_sigma * z_n[ok].reshape(-1, 2)
             N = _turn(flat, t1, t2, z[:, 0], z[:, 1]).reshape(-1, 2, 3)
         f = friction[ok][:, None]
-        torsion = (2.0 / 3.0 * gripper.pad_radius * f
-                   if contact == "soft" and gripper.pad_radius > 0 else None)
+        per_mu = gripper.torsion(1.0) if contact == "soft" else None
+        torsion = None if per_mu is None else per_mu * f
         code = np.zeros(m, dtype=np.int8)
         if len(ok):
             code[ok] = pair_codes(P, N, f, contact, torsion)
         won = code == 2
         closed[part] = won.reshape(-1, s).sum(axis=1)
-        missed[part] = (reasons != None).reshape(-1, s).sum(axis=1)  # noqa: E711
+        missed[part] = (~held).reshape(-1, s).sum(axis=1)
         if eps is not None:
             values = np.zeros(m)
             sel = np.flatnonzero(won[ok])

@@ -1,0 +1,107 @@
+"""Real parallel-jaw hands, by name: their opening, fingers, pads, palm and base frame.
+
+Each built-in is a :class:`~forceclosure.gripper.jaw.ParallelJaw` whose sizes
+come from a source a user can check (metres, the jaw frame of
+:mod:`forceclosure.gripper.collision`: x the approach axis, y the closing
+axis):
+
+``panda``
+    The Franka Emika Panda hand, as its description ships with
+    ``pybullet_data`` (``franka_panda/panda.urdf`` and its collision meshes
+    ``hand.obj`` and ``finger.obj``): each finger slides 0 to 0.04 m
+    (opening up to 0.08); the fingers are mounted 0.0584 in front of the
+    hand's frame and are 0.0538 long, so the fingertips are 0.1122 in
+    front of it (the ACRONYM gripper frame is this hand frame); the
+    hand's body reaches 0.066 forward, so 0.0462 of each finger stands
+    free of it; the finger is 0.021 across (z) and up to 0.0264 thick (y);
+    its flat pad is the last 0.0175 of the inner face, 0.0175 across; the
+    hand's body is 0.2044 wide (y) and 0.0632 high (z), and reaches
+    0.0259 behind the frame. Its pads are taken to press 1 mm (a rubber
+    fingertip; an assumption, not a datum).
+``graspnet``
+    GraspNet-1Billion's collision model (graspnetAPI
+    ``utils/eval_utils.py``: ``height = 0.02``, ``depth_base = 0.02``,
+    ``finger_width = 0.01``; widths up to 0.1 as its evaluation clips
+    them): fingers 0.01 thick and 0.02 high reaching from the palm, 0.02
+    behind the grasp point, to the tips (depths up to 0.04: 0.06 long), the
+    palm 0.01 thick; the pad is the fingers' whole inner face, pressing 1 mm
+    (an assumption; GraspNet's labels take point contacts).
+
+A built-in's boxes enclose the real hand's parts (never smaller), so a pose
+called clear of the object is clear for the real hand.
+"""
+
+from __future__ import annotations
+
+from ..errors import InputError
+from .jaw import ParallelJaw
+
+__all__ = ["GENERIC", "GRIPPERS", "gripper_named", "make_gripper"]
+
+#: The name of the generic hand, whose sizes follow from its opening (:class:`ParallelJaw`).
+GENERIC = "parallel-jaw"
+
+#: The built-in hands, by name (module text gives each one's sources).
+GRIPPERS: dict[str, ParallelJaw] = {
+    "panda": ParallelJaw(
+        0.08, name="panda", finger_length=0.0462, finger_thickness=0.0264,
+        finger_height=0.021, depth=0.00875, pad_length=0.0175, pad_height=0.0175,
+        palm_thickness=0.0919, palm_width=0.2044, palm_height=0.0632, tip_offset=0.1122,
+        pad_compliance=0.001),
+    "graspnet": ParallelJaw(
+        0.1, name="graspnet", finger_length=0.06, finger_thickness=0.01, finger_height=0.02,
+        depth=0.02, palm_thickness=0.01, palm_width=0.12, palm_height=0.02,
+        pad_compliance=0.001),
+}
+
+
+def gripper_named(name: str) -> ParallelJaw:
+    """The built-in hand called ``name`` (:data:`GRIPPERS`).
+
+    Examples
+    --------
+    >>> hand = gripper_named("panda")
+    >>> hand.width_max, hand.tip_offset, hand.pad_length
+    (0.08, 0.1122, 0.0175)
+    >>> gripper_named("robotiq")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    forceclosure.errors.InputError: unknown gripper 'robotiq'; the built-in grippers are ...
+    """
+    try:
+        return GRIPPERS[name]
+    except (KeyError, TypeError):
+        raise InputError(f"unknown gripper {name!r}; the built-in grippers are "
+                         + ", ".join(sorted(GRIPPERS))) from None
+
+
+def make_gripper(name: str | None = None, width: float | None = None,
+                 pad_radius: float | None = None) -> ParallelJaw:
+    """A hand from what a user names: a built-in by ``name`` (its opening is its own:
+    ``width`` refused), or the generic hand (``name`` None or :data:`GENERIC`) opening
+    ``width``; ``pad_radius`` replaces the pads' torsion model (0: the paper's
+    unlimited torque; see :class:`~forceclosure.gripper.jaw.ParallelJaw`).
+
+    Examples
+    --------
+    >>> make_gripper("panda").name, make_gripper(width=0.1).name
+    ('panda', 'parallel-jaw')
+    >>> make_gripper("panda", pad_radius=0).torsion(0.5) is None
+    True
+    >>> make_gripper("panda", width=0.1)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    forceclosure.errors.InputError: width: the panda gripper opens 0.08 (its own); give ...
+    """
+    from dataclasses import replace
+
+    if name is None or name == GENERIC:
+        if width is None:
+            raise InputError(f"width: the {GENERIC} gripper needs its opening (or name a "
+                             f"built-in gripper: {', '.join(sorted(GRIPPERS))})")
+        return ParallelJaw(width, pad_radius)
+    hand = gripper_named(name)
+    if width is not None:
+        raise InputError(f"width: the {name} gripper opens {hand.width_max:g} (its own); give "
+                         "one or the other")
+    return hand if pad_radius is None else replace(hand, pad_radius=pad_radius)
