@@ -20,6 +20,7 @@ from forceclosure.app.progress import ENVIRONMENT, ProgressLines, duration, ever
 from forceclosure.errors import InputError
 
 SOFT = Job(contact="soft", mu=0.5, top=1)
+QUICK = Job(mode="analyze")   # no hand to check before the run: the driver alone is tested
 COMPILING = "compiling the batch kernels (about a minute, once)"
 #: A kernel with no compiled code cached (as after installing): numba's cache index missing.
 UNCACHED = SimpleNamespace(_cache=SimpleNamespace(_cache_file=SimpleNamespace(
@@ -112,7 +113,7 @@ def test_a_piped_run_prints_progress_lines(tmp_path, monkeypatch, terminal, prog
     monkeypatch.setattr(sys, "stderr", FakeStderr(terminal))
     monkeypatch.setattr(dataset, "process_object", done)
     said: list[str] = []
-    summary = run_dataset(["square", "cube"], tmp_path, SOFT, workers=1,
+    summary = run_dataset(["square", "cube"], tmp_path, QUICK, workers=1,
                           progress=progress, progress_every=every, log=said.append)
     assert summary.done == 2
     progress_lines = [line for line in said if " objects (" in line]
@@ -134,7 +135,7 @@ def test_a_run_in_this_process_says_when_it_compiles(tmp_path, monkeypatch):
         return done(path, job)
 
     monkeypatch.setattr(dataset, "process_object", first_use)
-    summary = run_dataset(["cube", "square"], tmp_path, SOFT, workers=1, progress=False,
+    summary = run_dataset(["cube", "square"], tmp_path, QUICK, workers=1, progress=False,
                           log=order.append)
     assert summary.done == 2
     assert order == [kernels.COMPILING, "object cube", "object square"]  # said once
