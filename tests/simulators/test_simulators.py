@@ -497,6 +497,12 @@ def test_pybullet_fingers_of_a_gripper_on_a_table(client):
     assert len(contacts_from_pybullet(box, client, fingers=[(hand, 0), (hand, 1)])) == 8
     assert [c.point.tolist() for c in contacts_from_pybullet(box, client, other_ids=[hand])] \
         == [c.point.tolist() for c in pads]
+    # Bullet bounds each tangential impulse by mu (a box around the circle): "inner" is "nominal"
+    inner = contacts_from_pybullet(box, client, fingers=[hand], friction="inner")
+    assert [c.mu for c in inner] == [c.mu for c in pads]
+    with pytest.raises(InputError) as e:
+        contacts_from_pybullet(box, client, fingers=[hand], friction="outer")
+    assert one_line(e) == "pybullet: 'friction' must be 'nominal' or 'inner', got 'outer'"
     for c in table:                                       # the bottom face's corners
         assert np.allclose(c.normal, [0, 0, -1], atol=1e-6) and abs(c.point[2]) < 1e-3
         assert np.allclose(np.abs(c.point[:2] - centre[:2]), HALF, atol=1e-3)
