@@ -436,3 +436,196 @@ def test_mujoco_errors():
     with pytest.raises(InputError) as e:
         contacts_from_mujoco(m, d, body="box", friction="outer")
     assert "'friction'" in one_line(e)
+
+
+# ---------------------------------------------------------------- one signature (issue 24)
+
+def gripper_on_table(cid):
+    """A 0.2 kg box (friction 1) on plane.urdf, squeezed by a hand that is one multibody:
+    a palm (its base) 2 cm above the box, not touching it, and two finger pads (links 0
+    and 1, friction 0.5) on prismatic joints along x, 10 N each. Gravity on."""
+    pb.setAdditionalSearchPath(pybullet_data.getDataPath(), physicsClientId=cid)
+    pb.setGravity(0, 0, -10, physicsClientId=cid)
+    plane = pb.loadURDF("plane.urdf", physicsClientId=cid)
+    cube = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=[HALF] * 3, physicsClientId=cid)
+    box = pb.createMultiBody(0.2, cube, basePosition=[0, 0, HALF], physicsClientId=cid)
+    palm = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=[0.08, 0.02, 0.01],
+                                   physicsClientId=cid)
+    pad = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=[0.01, PAD, PAD],
+                                  physicsClientId=cid)
+    drop = 2 * HALF + 0.03 - HALF            # palm centre to box centre, along -z
+    hand = pb.createMultiBody(
+        0, palm, -1, [0, 0, 2 * HALF + 0.03], linkMasses=[0.1, 0.1],
+        linkCollisionShapeIndices=[pad, pad], linkVisualShapeIndices=[-1, -1],
+        linkPositions=[[-HALF - 0.01, 0, -drop], [HALF + 0.01, 0, -drop]],
+        linkOrientations=[[0, 0, 0, 1]] * 2, linkInertialFramePositions=[[0, 0, 0]] * 2,
+        linkInertialFrameOrientations=[[0, 0, 0, 1]] * 2, linkParentIndices=[0, 0],
+        linkJointTypes=[pb.JOINT_PRISMATIC] * 2, linkJointAxis=[[1, 0, 0]] * 2,
+        physicsClientId=cid)
+    pb.changeDynamics(box, -1, lateralFriction=1.0, physicsClientId=cid)
+    for j in (0, 1):
+        pb.changeDynamics(hand, j, lateralFriction=0.5, physicsClientId=cid)
+        pb.setJointMotorControl2(hand, j, pb.VELOCITY_CONTROL, force=0, physicsClientId=cid)
+    squeeze_pybullet(cid, box, hand, 60)
+    return plane, box, hand
+
+
+def test_pybullet_fingers_of_a_gripper_on_a_table(client):
+    """Keeping only the fingers' contacts gives the pads' eight corners on the box's faces
+    x = -0.05 and x = +0.05 (normals -x, +x, friction 0.5 x 1), and closure; one link keeps
+    its own four; the table's are the box's bottom corners (normal down), the one motion
+    they leave is lifting the box straight up; the old name other_ids means fingers."""
+    plane, box, hand = gripper_on_table(client)
+    centre, turn = pb.getBasePositionAndOrientation(box, physicsClientId=client)
+    centre = np.array(centre)
+    axis_x = np.array(pb.getMatrixFromQuaternion(turn, physicsClientId=client))[[0, 3, 6]]
+    everything = contacts_from_pybullet(box, client)
+    pads = contacts_from_pybullet(body=box, client=client, fingers=[hand])
+    table = contacts_from_pybullet(box, client, fingers=[plane])
+    assert len(pads) == 8 and 1 <= len(table) <= 4        # Bullet keeps at most 4 a pair
+    assert len(everything) == len(pads) + len(table)      # the palm touches nothing
+    for c in pads:
+        side = np.sign(c.point[0])
+        assert abs(c.point[0] - centre[0]) == pytest.approx(HALF, abs=1e-3)
+        assert np.allclose(np.abs(c.point[1:] - centre[1:]), PAD, atol=1e-3)
+        # the face's normal, from the pose (Bullet's is from before the last step's motion)
+        assert np.allclose(c.normal, side * axis_x, atol=1e-5)
+        assert c.mu == pytest.approx(0.5)
+    assert analyze(pads).verdict.value == "closure"
+    left = contacts_from_pybullet(box, client, fingers=[(hand, 0)])
+    assert len(left) == 4 and all(c.point[0] < 0 for c in left)
+    assert len(contacts_from_pybullet(box, client, fingers=[(hand, 0), (hand, 1)])) == 8
+    assert [c.point.tolist() for c in contacts_from_pybullet(box, client, other_ids=[hand])] \
+        == [c.point.tolist() for c in pads]
+    # Bullet bounds each tangential impulse by mu (a box around the circle): "inner" is "nominal"
+    inner = contacts_from_pybullet(box, client, fingers=[hand], friction="inner")
+    assert [c.mu for c in inner] == [c.mu for c in pads]
+    with pytest.raises(InputError) as e:
+        contacts_from_pybullet(box, client, fingers=[hand], friction="outer")
+    assert one_line(e) == "pybullet: 'friction' must be 'nominal' or 'inner', got 'outer'"
+    for c in table:                                       # the bottom face's corners
+        assert np.allclose(c.normal, [0, 0, -1], atol=1e-6) and abs(c.point[2]) < 1e-3
+        assert np.allclose(np.abs(c.point[:2] - centre[:2]), HALF, atol=1e-3)
+        assert c.mu == pytest.approx(1.0)
+    lifted = analyze(table)
+    assert lifted.verdict.value == "none" and lifted.motion.kind == "translation"
+    assert np.allclose(lifted.motion.direction, [0, 0, 1], atol=1e-6)
+    with pytest.raises(InputError) as e:
+        contacts_from_pybullet(box, client, fingers=[(hand, 2)])
+    assert one_line(e) == "pybullet: body 2 has no link 2 ('fingers'; its links are -1 to 1)"
+    with pytest.raises(InputError) as e:
+        contacts_from_pybullet(box, client, model="hard", contact_model="hard")
+    assert one_line(e) == ("pybullet: give 'contact_model' or its older name 'model', "
+                           "not both")
+    with pytest.raises(InputError) as e:
+        contacts_from_pybullet(box, client, fingers=[(hand, -1)])   # the palm: not touching
+    assert "has no contacts with bodies 2 (link -1)" in one_line(e)
+
+
+def test_pybullet_soft_fingers_need_spinning_friction(client):
+    """pybullet's default spinningFriction is 0: Bullet then simulates no torsion, so a soft
+    finger is refused in one line naming the bodies; given torsion, or spinning friction on
+    the fingers, it is a soft finger with that coefficient (0.01 x 1 + 0 x 0.5)."""
+    _, box, hand = gripper_on_table(client)
+    with pytest.raises(InputError) as e:
+        contacts_from_pybullet(box, client, fingers=[hand], contact_model="soft")
+    assert one_line(e).startswith(f"pybullet: contact_model='soft' but body {box} and body "
+                                  f"{hand} (link 0) combine to spinning friction 0")
+    given = contacts_from_pybullet(box, client, fingers=[hand], contact_model="soft",
+                                   torsion=0.003)
+    assert {(c.model, c.torsion) for c in given} == {("soft", 0.003)}
+    for j in (0, 1):
+        pb.changeDynamics(hand, j, spinningFriction=0.01, physicsClientId=client)
+    soft = contacts_from_pybullet(box, client, fingers=[hand], contact_model="soft")
+    assert [c.torsion for c in soft] == [pytest.approx(0.01)] * 8
+
+
+GRIPPER = """<mujoco>{option}<worldbody>
+  <geom name="floor" type="plane" size="1 1 .1" friction="0.2 0 0"/>
+  <body name="box" pos="0 0 .05"><freejoint/>
+    <geom name="box" type="box" size=".05 .05 .05" mass="0.2" friction="0.3 0 0"/></body>
+  <body name="palm" pos="0 0 .13"><geom name="palm" type="box" size=".08 .02 .01"/>
+    <body name="left" pos="-.06 0 -.08"><joint name="l" type="slide" axis="1 0 0"/>
+      <geom name="left" type="box" size=".01 {pad} {pad}" mass="0.1" friction="0.5 0 0"/>
+    </body>
+    <body name="right" pos=".06 0 -.08"><joint name="r" type="slide" axis="1 0 0"/>
+      <geom name="right" type="box" size=".01 {pad} {pad}" mass="0.1" friction="0.5 0 0"/>
+    </body></body>
+</worldbody><actuator><motor joint="l"/><motor joint="r"/></actuator></mujoco>"""
+
+
+@needs_mujoco
+def test_mujoco_fingers_of_a_gripper_on_a_table():
+    """As in pybullet: the two finger bodies (or their geoms) give the pads' eight corners,
+    friction max(0.3, 0.5); the floor's geom gives the bottom corners, friction
+    max(0.3, 0.2); the palm touches nothing; names and ids alike."""
+    m = mujoco.MjModel.from_xml_string(GRIPPER.format(option=OPTION.format(g="0 0 -10"),
+                                                      pad=PAD))
+    d = mujoco.MjData(m)
+    squeeze_mujoco(m, d, 200)
+    centre = d.qpos[:3]
+    axis_x = d.xmat[m.body("box").id].reshape(3, 3)[:, 0]
+    everything = contacts_from_mujoco(m, d, body="box")
+    pads = contacts_from_mujoco(m, d, body="box", fingers=["left", "right"])
+    table = contacts_from_mujoco(m, d, body="box", finger_geoms=["floor"])
+    assert len(pads) == 8 and 1 <= len(table) <= 4
+    assert len(everything) == len(pads) + len(table)      # the palm touches nothing
+    for c in pads:
+        side = np.sign(c.point[0])
+        assert abs(c.point[0] - centre[0]) == pytest.approx(HALF, abs=1e-3)
+        assert np.allclose(np.abs(c.point[1:] - centre[1:]), PAD, atol=1e-3)
+        assert np.allclose(c.normal, side * axis_x, atol=1e-9)   # the face's, from the pose
+        assert (c.model, c.mu) == ("hard", 0.5)
+    assert analyze(pads).verdict.value == "closure"
+    ids = [m.body("left").id, m.body("right").id]
+    assert len(contacts_from_mujoco(m, d, body=m.body("box").id, fingers=ids)) == 8
+    left = contacts_from_mujoco(m, d, body="box", finger_geoms=[m.geom("left").id])
+    assert len(left) == 4 and all(c.point[0] < centre[0] for c in left)
+    both = contacts_from_mujoco(m, d, body="box", fingers=["left"], finger_geoms=["right"])
+    assert len(both) == 8
+    for c in table:                                       # the bottom face's corners
+        assert np.allclose(c.normal, [0, 0, -1], atol=1e-9) and c.mu == 0.3
+        assert np.allclose(np.abs(c.point[:2] - centre[:2]), HALF, atol=1e-3)
+    with pytest.raises(InputError) as e:
+        contacts_from_mujoco(m, d, body="box", fingers=["palm"])
+    assert one_line(e).startswith("mujoco: body 'box' has no contacts with bodies ['palm']")
+    with pytest.raises(InputError) as e:
+        contacts_from_mujoco(m, d, body="box", fingers=["thumb"])
+    assert one_line(e) == "mujoco: no body named 'thumb' in the model ('fingers')"
+    with pytest.raises(InputError) as e:
+        contacts_from_mujoco(m, d, body="box", fingers=["left"], contact_model="soft")
+    assert "contact_model='soft' but the contact of geoms" in one_line(e)
+    assert "condim 3" in one_line(e)
+    given = contacts_from_mujoco(m, d, body="box", fingers=["left"], contact_model="soft",
+                                 torsion=0.002)
+    assert {(c.model, c.torsion) for c in given} == {("soft", 0.002)}
+
+
+def test_pybullet_duck_resting_on_a_table_is_lifted_off_it(client):
+    """pybullet_data's duck (duck_vhacd.urdf) settled on plane.urdf: four contacts under it,
+    normals down within 1e-5. Nothing holds it down, so the motion reported is lifting it
+    straight up (before issue 24: "screw motion about the axis through (0.237, 0.181, ...),
+    pitch 1.44e-06", the LP's rotation about an axis 30 cm away). Every friction-cone edge
+    at every contact (written out here) does positive work on that motion."""
+    pb.setAdditionalSearchPath(pybullet_data.getDataPath(), physicsClientId=client)
+    pb.setGravity(0, 0, -10, physicsClientId=client)
+    pb.loadURDF("plane.urdf", physicsClientId=client)
+    duck = pb.loadURDF("duck_vhacd.urdf", [0, 0, 0.05], physicsClientId=client)
+    for _ in range(500):
+        pb.stepSimulation(physicsClientId=client)
+    contacts = contacts_from_pybullet(duck, client)
+    assert len(contacts) >= 3
+    assert all(np.allclose(c.normal, [0, 0, -1], atol=1e-5) for c in contacts)
+    result = analyze(contacts)
+    assert result.verdict.value == "none" and not result.force_direction_closure
+    assert result.motion.kind == "translation" and not result.motion.both_ways
+    assert np.allclose(result.motion.direction, [0, 0, 1], atol=1e-5)
+    assert result.explain().endswith("unresisted: " + result.motion.describe())
+    omega, v = result.twist[:3], result.twist[3:]
+    for c in contacts:
+        t1 = np.cross(c.normal, [1.0, 0, 0])
+        t1 /= np.linalg.norm(t1)
+        t2 = np.cross(c.normal, t1)
+        for a in np.linspace(0, 2 * np.pi, 16, endpoint=False):
+            force = -c.normal + c.mu * (np.cos(a) * t1 + np.sin(a) * t2)
+            assert force @ (v + np.cross(omega, c.point)) > 0.1

@@ -654,6 +654,33 @@ def _decide(contacts: list[Contact], cone: str | Cone, tol: float,
     return marginal, inner_ws, f"exact cones (undecided at {k} edges)", Cone(k, "inscribed")
 
 
+def _translation(W: NDArray[np.float64], tol: float,
+                 ) -> tuple[NDArray[np.float64], bool] | None:
+    """Where force-direction closure fails (Theorem 2), a pure translation no wrench
+    resists, as a twist laid out like ``W``'s rows, and whether its opposite is unresisted
+    too; None if the force parts' own test does not prove one (``marginal``).
+
+    It is what a person reads first ("lifted off the table"), where the LP of Theorem 1
+    may have found a rotation about a far-away axis: the same certificate, as the force
+    parts ``f`` of every wrench do work ``f . v >= 0`` on it and pure torques none.
+    """
+    k = 2 if W.shape[0] == 3 else 3
+    F = W[:k]
+    F = F[:, np.linalg.norm(F, axis=0) > 1e-12]
+    if F.shape[1] == 0:
+        return None
+    found = vector_closure(F, tol)
+    if found.verdict is not Verdict.NONE or found.twist is None:
+        return None
+    y = np.zeros(W.shape[0])
+    y[:k] = found.twist
+    work = (F.T @ found.twist) / np.linalg.norm(W[:, np.linalg.norm(W[:k], axis=0) > 1e-12],
+                                                axis=0)
+    if work.min() < -tol:  # not a certificate after all (rounding): keep Theorem 1's
+        return None
+    return y, bool(np.max(np.abs(work)) <= tol)
+
+
 def _motion(dual: NDArray[np.float64], contacts: list[Contact], both_ways: bool) -> Motion:
     """The motion of a twist found in the grasp's own frame, decoded in units of
     :func:`contacts.binary_unit` (so huge or tiny coordinates neither overflow nor vanish)
@@ -661,7 +688,8 @@ def _motion(dual: NDArray[np.float64], contacts: list[Contact], both_ways: bool)
     ref, scale, unit = own_frame(np.concatenate([c.points for c in contacts]))
     if unit < 1.0:  # tiny coordinates are one point: torques about it, in its own units
         ref, scale, unit = ref * unit, 1.0, 1.0
-    motion = motion_of(shift_twist(dual, ref, scale), both_ways=both_ways, length_scale=scale)
+    motion = motion_of(shift_twist(dual, ref, scale), both_ways=both_ways, length_scale=scale,
+                       reference=ref)
     if unit == 1.0:
         return motion
     k = 1 if len(motion.twist) == 3 else 3
@@ -770,8 +798,11 @@ def _analysis(contacts: list[Contact], cone: str | Cone, tol: float,
         fd = force_direction_closure(ws.wrenches, tol)
         # closure <=> both; so with force-direction closure, torque closure failed
         tc = not fd and torque_closure(ws.wrenches)
-        if vc.twist is not None:
-            motion = _motion(vc.twist, contacts, vc.repelling <= tol)
+        dual, both_ways = vc.twist, vc.repelling <= tol
+        if vc.verdict is Verdict.NONE and not fd:
+            dual, both_ways = _translation(ws.wrenches, tol) or (dual, both_ways)
+        if dual is not None:
+            motion = _motion(dual, contacts, both_ways)
             twist = motion.twist
     return vc.verdict, vc.rank, margin, _Explanation(
         vc.sigma_ratio, fd, tc, forces, twist, motion, vc.reason.replace("vectors", "wrenches"),

@@ -7,6 +7,24 @@ it; ``t`` is *repelling* to ``w`` when that is positive (the contact breaks)
 and *reciprocal* when it is zero (the contact slides). A grasp that is not
 force-closure leaves some twist ``t != 0`` with ``W^T t >= 0``: a motion
 that no contact resists.
+
+**In words.** A twist is told as a translation, a rotation or a screw by one
+rule, with the one tolerance of :mod:`forceclosure.tolerance` (``rtol``,
+:data:`~forceclosure.tolerance.TOLERANCE` = 1e-6 by default), at the
+object's scale: ``L`` its size (``length_scale``) and ``v_c`` the velocity
+of its centre ``c`` (``reference``), so that neither depends on where the
+origin is.
+
+* **translation** when the rotation is negligible: ``|omega| L <= rtol |v_c|``
+  (over the object, the rotation moves no point by more than ``rtol`` times
+  the translation);
+* otherwise, with ``h = omega . v_c / |omega|^2`` the pitch (translation
+  along the axis per radian), a **rotation** when that translation is
+  negligible: ``|h| <= rtol (L + |v_c| / |omega|)`` (``|v_c| / |omega|`` being
+  about the axis's distance from the object), and a **screw** otherwise.
+
+The twist itself is kept whole (a translation keeps its negligible
+rotation), so it stays the certificate it was.
 """
 
 from __future__ import annotations
@@ -17,12 +35,16 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..tolerance import TOLERANCE
+
 __all__ = ["Motion", "motion_of", "shift_twist"]
 
 
-def _fmt(values: ArrayLike) -> str:
+def _fmt(values: ArrayLike, floor: float = 1e-12) -> str:
+    """Coordinates to 3 significant digits, those below ``floor`` times the largest (or
+    than ``floor``) shown as 0."""
     v = np.atleast_1d(np.asarray(values, dtype=float))
-    v = np.where(np.abs(v) < 1e-12 * max(1.0, float(np.max(np.abs(v)))), 0.0, v)
+    v = np.where(np.abs(v) < floor * max(1.0, float(np.max(np.abs(v)))), 0.0, v)
     out = []
     for x in v:
         s = f"{x:.3g}"
@@ -39,7 +61,8 @@ class Motion:
     kind : {"translation", "rotation", "screw"}
     twist : array
         The twist about the origin, normalised (``|omega| = 1`` for a
-        rotation or screw, ``|v| = 1`` for a translation).
+        rotation or screw; for a translation, the velocity of the reference
+        point has length 1).
     point : array or None
         Planar: the centre of rotation; spatial: the point of the axis
         nearest the origin.
@@ -68,7 +91,8 @@ class Motion:
         """
         either = " in either direction" if self.both_ways else ""
         if self.kind == "translation":
-            return f"translation{either} along {_fmt(self.direction)}"
+            # a negligible rotation (up to TOLERANCE) tilts the direction by as little
+            return f"translation{either} along {_fmt(self.direction, TOLERANCE)}"
         if self.direction is None:  # planar rotation
             sense = "counter-clockwise " if self.twist[0] > 0 else "clockwise "
             if self.both_ways:
@@ -81,31 +105,51 @@ class Motion:
 
 
 def motion_of(twist: ArrayLike, *, both_ways: bool = False, length_scale: float = 1.0,
-              rtol: float = 1e-9) -> Motion:
+              reference: ArrayLike | None = None, rtol: float = TOLERANCE) -> Motion:
     """Decode a twist about the origin into a translation, rotation or screw.
+
+    The rule and its tolerance are in the module's notes: a rotation that
+    moves the object's points by at most ``rtol`` times its translation is
+    a translation; a translation along the axis at most ``rtol`` times the
+    motion's scale at the object is no screw.
 
     Parameters
     ----------
     twist : array
-        Planar ``(omega, vx, vy)`` or spatial ``(wx, wy, wz, vx, vy, vz)``.
+        Planar ``(omega, vx, vy)`` or spatial ``(wx, wy, wz, vx, vy, vz)``,
+        ``v`` being the velocity of the point at the origin.
     both_ways : bool
         Whether ``-twist`` is unresisted too.
     length_scale : float
-        Size of the object; a rotation whose centre is farther than
-        ``length_scale / rtol`` away counts as a translation.
+        Size of the object, ``L``.
+    reference : array, optional
+        The object's centre, ``c`` (default: the origin).
+    rtol : float
+        The tolerance of the rule (default: :data:`forceclosure.tolerance.TOLERANCE`).
 
     Examples
     --------
     >>> m = motion_of([1, 0, 0, 0, 0.2, -0.3])   # spin about x through (0, 0.3, 0.2)
     >>> m.describe()
     'rotation about the axis through (0, 0.3, 0.2) with direction (1, 0, 0)'
+
+    Lifting an object of size 0.05 at (0, 0, 0.03) while turning it by 1e-9 rad per
+    metre: the rotation moves its points by 5e-11 per metre lifted, a translation.
+
+    >>> motion_of([1e-9, 0, 0, 0, 0, 1], length_scale=0.05, reference=[0, 0, 0.03]).describe()
+    'translation along (0, 0, 1)'
+    >>> motion_of([1e-3, 0, 0, 0, 0, 1], length_scale=0.05).describe()   # 5e-5 per metre
+    'rotation about the axis through (0, -1e+03, 0) with direction (1, 0, 0)'
     """
     t = np.asarray(twist, dtype=float)
     k = 1 if t.shape[0] == 3 else 3
     omega, v = t[:k], t[k:]
-    w_norm, v_norm = float(np.linalg.norm(omega)), float(np.linalg.norm(v))
-    if w_norm * length_scale <= rtol * v_norm or w_norm == 0.0:
-        return Motion("translation", t / v_norm, None, v / v_norm, 0.0, both_ways)
+    c = np.zeros(t.shape[0] - k) if reference is None else np.asarray(reference, dtype=float)
+    # the velocity of the centre, v_0 + omega x c (planar: omega x c = omega (-cy, cx))
+    v_c = v + (omega[0] * np.array([-c[1], c[0]]) if k == 1 else np.cross(omega, c))
+    w_norm, vc_norm = float(np.linalg.norm(omega)), float(np.linalg.norm(v_c))
+    if w_norm == 0.0 or w_norm * length_scale <= rtol * vc_norm:
+        return Motion("translation", t / vc_norm, None, v_c / vc_norm, 0.0, both_ways)
     t = t / w_norm
     omega, v = t[:k], t[k:]
     if k == 1:
@@ -114,8 +158,9 @@ def motion_of(twist: ArrayLike, *, both_ways: bool = False, length_scale: float 
         return Motion("rotation", t, centre, None, 0.0, both_ways)
     pitch = float(omega @ v)
     point = np.cross(omega, v)
-    kind = "rotation" if abs(pitch) <= rtol * length_scale else "screw"
-    return Motion(kind, t, point, omega.copy(), pitch if kind == "screw" else 0.0, both_ways)
+    screw = abs(pitch) > rtol * (length_scale + vc_norm / w_norm)
+    return Motion("screw" if screw else "rotation", t, point, omega.copy(),
+                  pitch if screw else 0.0, both_ways)
 
 
 def shift_twist(dual: NDArray[np.float64], reference: NDArray[np.float64],

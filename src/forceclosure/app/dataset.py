@@ -83,7 +83,8 @@ from ..errors import InputError
 from ..io.outdir import atomic_file, locked, remove_temporaries, write_atomically
 from ..objects.io import MESH_SUFFIXES, POLYGON_SUFFIXES, ROBOT_SUFFIXES
 from ..objects.urdf import mesh_files
-from .workers import Watchdog, die_with_run
+from .progress import ProgressLines, every_from_environment
+from .workers import Relay, Watchdog, die_with_run, number_worker, tell_compiling, tell_dask_run
 
 __all__ = [
     "COLUMNS",
@@ -734,7 +735,8 @@ class _Run:
 def run_dataset(inputs: Sequence[str | Path], out: str | Path, job: Job = Job(), *,
                 executor: Executor | None = None, workers: int | None = None,
                 retry_failed: bool = False, progress: bool | None = None,
-                log: Callable[[str], object] | None = None) -> Summary:
+                log: Callable[[str], object] | None = None,
+                progress_every: float | None = None) -> Summary:
     """Run ``job`` on every object of ``inputs``, writing results to ``out``; resumable.
 
     Parameters
@@ -754,10 +756,17 @@ def run_dataset(inputs: Sequence[str | Path], out: str | Path, job: Job = Job(),
     retry_failed : bool
         Compute failed and timed-out objects again.
     progress : bool, optional
-        Show a progress bar (default: when standard error is a terminal).
+        True: a progress bar; False: no progress; default: a bar when
+        standard error is a terminal, else a progress line
+        (:class:`forceclosure.app.progress.ProgressLines`: done/total, rate,
+        time left) every ``progress_every`` seconds.
     log : callable, optional
-        Called with a line per failure or warning (default: written above the
-        progress bar).
+        Called with a line per failure or warning, per worker compiling the
+        kernels, and the progress lines (default: written above the progress
+        bar, on standard error).
+    progress_every : float, optional
+        Seconds between progress lines (0: one per object; default:
+        ``FORCECLOSURE_PROGRESS_SECONDS``, else 10).
 
     Returns
     -------
@@ -803,16 +812,30 @@ def run_dataset(inputs: Sequence[str | Path], out: str | Path, job: Job = Job(),
             _check_job(out, job)
         except OSError as e:
             raise InputError(f"--out {out}: cannot write job.json ({e.strerror})") from None
-        return _run_locked(paths, out, job, executor, workers, retry_failed, progress, log)
+        return _run_locked(paths, out, job, executor, workers, retry_failed, progress, log,
+                           progress_every)
+
+
+def _terminal() -> bool:
+    """Whether standard error is a terminal (a progress bar's place)."""
+    try:
+        return sys.stderr.isatty()
+    except (AttributeError, ValueError):
+        return False
 
 
 def _run_locked(paths: list[Path], out: Path, job: Job, executor: Executor | None,
                 workers: int | None, retry_failed: bool, progress: bool | None,
-                log: Callable[[str], object] | None) -> Summary:
+                log: Callable[[str], object] | None,
+                progress_every: float | None = None) -> Summary:
     from tqdm import tqdm
 
     folder = out / "objects"
     names = {record_name(p): p for p in paths}
+    every = every_from_environment() if progress_every is None else float(progress_every)
+    if not every >= 0:
+        raise InputError(f"progress_every must be a number of seconds >= 0, got {every!r}")
+    lines_wanted = progress is None and not _terminal()   # piped: lines instead of a bar
     bar = tqdm(total=0, unit="obj", desc="objects", file=sys.stderr,
                disable=not progress if progress is not None else None, dynamic_ncols=True)
     write = log or (lambda line: bar.write(line, file=sys.stderr))
@@ -832,6 +855,7 @@ def _run_locked(paths: list[Path], out: Path, job: Job, executor: Executor | Non
     computed, interrupted = 0, False
     failure: OSError | None = None
     bar.reset(total=len(run.todo))
+    ticker = ProgressLines(len(run.todo), say, every=every) if lines_wanted else None
 
     def finish(name: str, record: dict[str, Any]) -> None:
         nonlocal computed
@@ -846,18 +870,26 @@ def _run_locked(paths: list[Path], out: Path, job: Job, executor: Executor | Non
         run.todo.pop(name, None)
         computed += 1
         bar.update(1)
+        if ticker is not None:
+            ticker.update(1)
         if record["status"] != "done":
             say(f"forceclosure: {record['status']}: {record['error']}")
 
     table = None
     try:
         if executor is None and workers == 1 and job.timeout is None:
-            for name, path in list(run.todo.items()):
-                finish(name, process_object(path, job))
+            from ..kernels import on_compiling
+
+            before = on_compiling(say)  # this process compiles: said above the bar
+            try:
+                for name, path in list(run.todo.items()):
+                    finish(name, process_object(path, job))
+            finally:
+                on_compiling(before)
         elif executor is None:
             _local_pool(workers, run, job, finish, say)
         else:
-            _drain(executor, run, job, finish)
+            _drain(executor, run, job, finish, say)
     except KeyboardInterrupt:
         interrupted = True
     except _OutputFailed as e:
@@ -904,14 +936,40 @@ def _failed(path: Path, error: str, status: str = "failed") -> dict[str, Any]:
             "seconds": None}
 
 
+def _on_executor(path: Path, job: Job) -> dict[str, Any]:
+    """:func:`process_object` on an executor's worker; a Dask worker first arranges to tell
+    the run when it compiles the kernels (:func:`forceclosure.app.workers.tell_dask_run`)."""
+    tell_dask_run()
+    return process_object(path, job)
+
+
 def _drain(executor: Executor, run: _Run, job: Job,
-           finish: Callable[[str, dict[str, Any]], None]) -> None:
+           finish: Callable[[str, dict[str, Any]], None],
+           say: Callable[[str], object] | None = None) -> None:
     """Submit every pending object to ``executor`` and finish each as its result arrives.
 
     An object whose future fails (Dask's KilledWorker, after the scheduler's
-    own retries) is recorded as failed.
+    own retries) is recorded as failed. On a Dask executor, what its workers
+    tell the run (compiling the kernels) is said with ``say``.
     """
-    futures: dict[Future, str] = {executor.submit(process_object, run.todo[n], job): n
+    client = getattr(executor, "_client", None)  # Dask's Client.get_executor()
+    listening = say is not None and callable(getattr(client, "subscribe_topic", None))
+    if listening:
+        from .workers import TOPIC
+
+        with suppress(Exception):
+            client.subscribe_topic(TOPIC, lambda event: say(str(event[1])))
+    try:
+        _drain_futures(executor, run, job, finish)
+    finally:
+        if listening:
+            with suppress(Exception):
+                client.unsubscribe_topic(TOPIC)
+
+
+def _drain_futures(executor: Executor, run: _Run, job: Job,
+                   finish: Callable[[str, dict[str, Any]], None]) -> None:
+    futures: dict[Future, str] = {executor.submit(_on_executor, run.todo[n], job): n
                                   for n in run.todo}
     for future in as_completed(futures):
         name = futures[future]
@@ -933,15 +991,22 @@ def _context() -> multiprocessing.context.BaseContext:
     return context
 
 
-def _worker_init(job: Job, dims: tuple[int, ...] = (2, 3)) -> None:
+def _worker_init(job: Job, dims: tuple[int, ...] = (2, 3), notices: Any = None,
+                 counter: Any = None) -> None:
     """A pool worker: dies with the run; its kernels run on one thread (the pool already
     uses every core); and they are loaded before its first object, whose time limit would
     otherwise pay for it (seconds: a fresh worker, the one replacing a killed worker too,
-    timed out its first object under a short limit)."""
+    timed out its first object under a short limit). If that compiles them, it tells the
+    run so on ``notices`` (a queue), naming itself by ``counter``'s next number."""
     import numba
 
     die_with_run()
     numba.set_num_threads(1)
+    if notices is not None:
+        notices.cancel_join_thread()  # a line not yet sent never holds up the worker's end
+        who = f"worker {number_worker(counter)}" if counter is not None else (
+            f"worker {os.getpid()}")
+        tell_compiling(notices.put, who)
     _warm_up(job, dims)
 
 
@@ -1000,8 +1065,12 @@ def _local_pool(workers: int, run: _Run, job: Job,
     # their limits. Our workers have nothing to clean up.
     CONSTS.term_timeout = min(CONSTS.term_timeout, 0.2)
     hard = None if job.timeout is None else job.timeout + HARD_GRACE
-    pool = ProcessPool(workers, context=_context(), initializer=_worker_init,
-                       initargs=(job, _dims(run.todo.values())))
+    context = _context()
+    notices, counter = context.Queue(), context.Value("i", 0)
+    relay = Relay(notices, say)
+    relay.start()
+    pool = ProcessPool(workers, context=context, initializer=_worker_init,
+                       initargs=(job, _dims(run.todo.values()), notices, counter))
     arrived: queue.SimpleQueue[tuple[str, Future]] = queue.SimpleQueue()
     pending = 0
 
@@ -1045,3 +1114,5 @@ def _local_pool(workers: int, run: _Run, job: Job,
         pool.stop()  # Ctrl-C, a full disk: end the workers now
         pool.join()
         watchdog.join()
+        relay.stop()
+        notices.close()

@@ -1,4 +1,5 @@
-"""Worker processes that end with their run, and a watchdog for stopped ones.
+"""Worker processes that end with their run, a watchdog for stopped ones, and what
+workers tell their run.
 
 Two faults would otherwise outlive or stall a run of a process pool: a
 worker busy in compiled code when the run is killed goes on computing for
@@ -7,6 +8,12 @@ by ``SIGSTOP`` never finishes its task. :func:`die_with_run` (called in each
 worker as it starts) makes the kernel kill the worker when the run ends,
 however it ends; :class:`Watchdog` (a thread of the run) kills a worker
 that stays stopped, so that the pool replaces it.
+
+A worker compiling the batch kernels on first use (about a minute, once per
+installation) says so to its run in one line, ``forceclosure: worker 2:
+compiling the batch kernels (about a minute, once)``: a pool's workers
+through a queue the run reads (:class:`Relay`), a Dask worker's through the
+cluster's events (:func:`tell_dask_run`, topic :data:`TOPIC`).
 """
 
 from __future__ import annotations
@@ -20,8 +27,113 @@ import threading
 import time
 from collections.abc import Callable
 from contextlib import suppress
+from typing import Any
 
-__all__ = ["Watchdog", "die_with_run", "is_stopped"]
+__all__ = ["COMPILING", "TOPIC", "Relay", "Watchdog", "die_with_run", "is_stopped",
+           "number_worker", "tell_compiling", "tell_dask_run"]
+
+#: What a worker says, after its name, before it compiles the batch kernels.
+COMPILING = "compiling the batch kernels (about a minute, once)"
+#: The Dask event topic a worker tells its run on.
+TOPIC = "forceclosure-notices"
+
+
+def tell_compiling(send: Callable[[str], object], who: str) -> None:
+    """In a worker process: when its kernels are about to compile (the notice of
+    :func:`forceclosure.kernels.announce_compiling`, once per process), ``send`` the run
+    one line, ``forceclosure: <who>: compiling the batch kernels (about a minute, once)``.
+    A line that cannot be sent is dropped: it never stops the work.
+
+    Examples
+    --------
+    >>> from forceclosure import kernels
+    >>> previous = kernels.on_compiling(None)
+    >>> tell_compiling(print, "worker 2")
+    >>> kernels._tell[0](kernels.COMPILING)   # what announce_compiling does
+    forceclosure: worker 2: compiling the batch kernels (about a minute, once)
+    >>> _ = kernels.on_compiling(previous)
+    """
+    from ..kernels import on_compiling
+
+    line = f"forceclosure: {who}: {COMPILING}"
+
+    def tell(_: str) -> None:
+        with suppress(Exception):
+            send(line)
+
+    on_compiling(tell)
+
+
+def number_worker(counter: Any) -> int:
+    """The next number of a shared counter (a ``multiprocessing.Value``): a pool worker's
+    number, 1, 2, ... in the order they start (a replaced worker takes the next)."""
+    with counter.get_lock():
+        counter.value += 1
+        return int(counter.value)
+
+
+_dask_told: list[bool] = []
+
+
+def tell_dask_run() -> None:
+    """On a Dask worker (a no-op elsewhere): have its compile notice sent to the run as a
+    cluster event on :data:`TOPIC` (the run subscribes to it), once per worker process."""
+    if _dask_told:
+        return
+    _dask_told.append(True)
+    try:
+        from distributed import get_worker
+
+        worker = get_worker()
+    except (ImportError, ValueError):  # not on a Dask worker: the logger says it
+        return
+    tell_compiling(lambda line: worker.log_event(TOPIC, line), f"worker {worker.name}")
+
+
+class Relay(threading.Thread):
+    """A thread of the run that says each line its workers put on ``lines`` (a
+    ``multiprocessing`` queue), until :meth:`stop`; lines left then are said too.
+
+    Examples
+    --------
+    >>> import queue
+    >>> lines = queue.Queue()
+    >>> relay = Relay(lines, print); relay.start()
+    >>> lines.put("forceclosure: worker 1: compiling the batch kernels (about a minute, once)")
+    >>> relay.stop()
+    forceclosure: worker 1: compiling the batch kernels (about a minute, once)
+    """
+
+    def __init__(self, lines: Any, say: Callable[[str], object]) -> None:
+        super().__init__(name="forceclosure-relay", daemon=True)
+        self.lines, self.say = lines, say
+        self.halt = threading.Event()
+
+    def run(self) -> None:
+        import queue
+
+        while not self.halt.is_set():
+            try:
+                line = self.lines.get(timeout=0.2)
+            except queue.Empty:
+                continue
+            except (OSError, EOFError, ValueError):  # the queue is closed or broken
+                self.halt.wait(0.2)
+                continue
+            self.say(str(line))
+
+    def stop(self) -> None:
+        """Stop reading, and say what is left."""
+        import queue
+
+        self.halt.set()
+        self.join()
+        while True:
+            try:
+                line = self.lines.get_nowait()
+            except (queue.Empty, OSError, EOFError, ValueError):
+                return
+            self.say(str(line))
 
 
 def die_with_run() -> None:

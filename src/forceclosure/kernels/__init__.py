@@ -10,15 +10,38 @@ from __future__ import annotations
 
 import logging
 import os
+from collections.abc import Callable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["COMPILE_AFTER", "announce_compiling", "cached", "compiling_announced", "kernel_array",
-           "use_compiled"]
+__all__ = ["COMPILE_AFTER", "COMPILING", "announce_compiling", "cached", "compiling_announced",
+           "kernel_array", "on_compiling", "use_compiled"]
 
 _log = logging.getLogger("forceclosure")
 _announced = False
+
+#: What :func:`announce_compiling` says (on the ``forceclosure`` logger, or to the callback
+#: given to :func:`on_compiling`).
+COMPILING = ("forceclosure: warning: compiling the batch kernels for this machine, once "
+             "(about a minute; cached for later runs; `forceclosure warmup` does it ahead)")
+_tell: list[Callable[[str], object]] = []
+
+
+def on_compiling(tell: Callable[[str], object] | None) -> Callable[[str], object] | None:
+    """Have :func:`announce_compiling` call ``tell`` with its line instead of logging it
+    (None: log it again); returns the callback this replaces. A dataset's workers tell
+    their run this way (:mod:`forceclosure.app.workers`).
+
+    Examples
+    --------
+    >>> previous = on_compiling(print)
+    >>> on_compiling(previous) is print
+    True
+    """
+    previous = _tell[0] if _tell else None
+    _tell[:] = [] if tell is None else [tell]
+    return previous
 
 
 def compiling_announced() -> None:
@@ -63,7 +86,8 @@ def use_compiled(*kernels) -> bool:
 
 def announce_compiling(*kernels) -> None:
     """Say once per process, as a warning on the ``forceclosure`` logger (standard error
-    unless configured), that compilation is about to take a while: called just before
+    unless configured; or to the callback of :func:`on_compiling`), that compilation is
+    about to take a while: called just before
     these kernels run, when one has no compiled code cached on disk (numba's cache index),
     as on the first run after installing.
     """
@@ -72,9 +96,10 @@ def announce_compiling(*kernels) -> None:
         return
     if not all(cached(kernel) for kernel in kernels):
         _announced = True
-        _log.warning("forceclosure: warning: compiling the batch kernels for this machine, "
-                     "once (about a minute; cached for later runs; `forceclosure warmup` "
-                     "does it ahead)")
+        if _tell:
+            _tell[0](COMPILING)
+        else:
+            _log.warning(COMPILING)
 
 
 def kernel_array(a: ArrayLike, dtype: type = np.float64) -> NDArray:

@@ -1,4 +1,5 @@
-"""Point contacts read from a simulator, merged when a contact manifold repeats one.
+"""Point contacts read from a simulator, merged when a contact manifold repeats one; and
+the options both adapters share, checked alike.
 
 Both adapters turn each simulator contact into one row: the point on the
 object's surface, the object's outward normal there, and its friction and
@@ -12,18 +13,66 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ..contacts import Contact, Model, point_contact
+from ..contacts import MODELS, Contact, Model, point_contact
 from ..errors import InputError
 
-__all__ = ["MERGE", "contacts_from_rows"]
+__all__ = ["FRICTIONS", "MERGE", "Friction", "check_options", "contacts_from_rows",
+           "one_of"]
+
+#: How the simulator's friction coefficients are read: as reported, or scaled so that the
+#: analysed circular cone lies inside the cone the simulator simulates.
+FRICTIONS = ("nominal", "inner")
+Friction = Literal["nominal", "inner"]
 
 #: Default distance (in the scene's length unit) within which two reported points with the
 #: same normal are one contact; normals are "the same" within ``MERGE`` radians.
 MERGE = 1e-6
+
+
+def one_of(where: str, new: str, old: str, new_value: object, old_value: object) -> object:
+    """The value of an option given by its common name ``new`` or its older name ``old``
+    (both still accepted); refused in one line when both are given.
+
+    Examples
+    --------
+    >>> one_of("pybullet", "contact_model", "model", None, "soft")
+    'soft'
+    """
+    if new_value is not None and old_value is not None:
+        raise InputError(f"{where}: give '{new}' or its older name '{old}', not both")
+    return new_value if new_value is not None else old_value
+
+
+def check_options(where: str, contact_model: object, mu: object, torsion: object,
+                  friction: object, max_distance: object,
+                  model_field: str = "contact_model") -> None:
+    """Refuse, in one line naming the parameter, an option both adapters take
+    (``model_field``: the name the contact model was given by).
+
+    Examples
+    --------
+    >>> check_options("mujoco", "soft", 0.5, None, "inner", 0.0)   # all fine: nothing said
+    >>> check_options("mujoco", "soft", -1, None, "nominal", 0.0)
+    Traceback (most recent call last):
+    ...
+    forceclosure.errors.InputError: mujoco: 'mu' must be a finite number >= 0, got -1
+    """
+    if contact_model is not None and contact_model not in MODELS:
+        raise InputError(f"{where}: '{model_field}' must be one of {', '.join(MODELS)}; "
+                         f"got {contact_model!r}")
+    if friction not in FRICTIONS:
+        raise InputError(f"{where}: 'friction' must be 'nominal' or 'inner', got {friction!r}")
+    for name, value in (("mu", mu), ("torsion", torsion), ("max_distance", max_distance)):
+        if value is not None and (not isinstance(value, int | float) or isinstance(value, bool)
+                                  or not math.isfinite(value)
+                                  or (name != "max_distance" and value < 0)):
+            raise InputError(f"{where}: '{name}' must be a finite number"
+                             f"{'' if name == 'max_distance' else ' >= 0'}, got {value!r}")
 
 
 def contacts_from_rows(points: NDArray[np.float64], normals: NDArray[np.float64],

@@ -27,35 +27,45 @@ coefficients so that the analysed cone lies inside MuJoCo's (pyramidal:
 ``mu / sqrt 2`` for hard fingers, ``mu / (2 sqrt 2)`` and ``gamma / 2`` for
 soft; elliptic: ``mu`` for hard, ``mu / sqrt 2`` and ``gamma / sqrt 2`` for
 soft): a verdict of closure then holds for the cone MuJoCo simulates.
+
+A soft finger forced on a contact (``contact_model="soft"``) whose torsional coefficient
+comes out 0 (condim 1 or 3, or ``friction[2]`` 0) would be a hard finger under another
+name: it is refused in one line unless ``torsion=`` is given. A contact whose own condim
+(4 or 6) makes it soft keeps MuJoCo's coefficient, whatever it is.
+
+Points (``pos``) and normals (``frame``) are in the world frame, not the body's: analyse
+them as they are, or move them into the body's frame with ``data.xpos`` and
+``data.xmat`` first.
 """
 
 from __future__ import annotations
 
 import math
-from typing import Any, Literal
+from collections.abc import Iterable
+from typing import Any
 
 import numpy as np
 
-from ..contacts import MODELS, Contact, Model
+from ..contacts import Contact, Model
 from ..errors import InputError
-from ._merge import MERGE, contacts_from_rows
+from ._merge import MERGE, Friction, check_options, contacts_from_rows
 
 __all__ = ["contacts_from_mujoco"]
 
-Friction = Literal["nominal", "inner"]
 
-
-def _element(mj: Any, model: Any, value: object, kind: str) -> int:
+def _element(mj: Any, model: Any, value: object, kind: str, field: str | None = None) -> int:
     """The id of body or geom ``value`` (an id or a name), or a one-line error."""
     obj = mj.mjtObj.mjOBJ_BODY if kind == "body" else mj.mjtObj.mjOBJ_GEOM
     count = model.nbody if kind == "body" else model.ngeom
+    field = field or kind
     if isinstance(value, str):
         found = mj.mj_name2id(model, obj, value)
         if found < 0:
-            raise InputError(f"mujoco: no {kind} named {value!r} in the model")
+            raise InputError(f"mujoco: no {kind} named {value!r} in the model"
+                             + ("" if field == kind else f" ('{field}')"))
         return int(found)
     if not isinstance(value, int | np.integer) or isinstance(value, bool):
-        raise InputError(f"mujoco: '{kind}' must be an id or a name, got {value!r}")
+        raise InputError(f"mujoco: '{field}' must be an id or a name, got {value!r}")
     if not 0 <= int(value) < count:
         raise InputError(f"mujoco: no {kind} with id {value} (the model has {count})")
     return int(value)
@@ -66,13 +76,20 @@ def _model_of(dim: int) -> Model:
 
 
 def contacts_from_mujoco(model: Any, data: Any, *, body: int | str | None = None,
-                         geom: int | str | None = None, contact_model: Model | None = None,
+                         geom: int | str | None = None,
+                         fingers: Iterable[int | str] | None = None,
+                         finger_geoms: Iterable[int | str] | None = None,
+                         contact_model: Model | None = None,
                          mu: float | None = None, torsion: float | None = None,
                          friction: Friction = "nominal", max_distance: float = 0.0,
                          merge: float = MERGE) -> list[Contact]:
-    """The contacts on a body (all its geoms) or on one geom of a MuJoCo scene.
+    """The contacts on a body (all its geoms) or on one geom of a MuJoCo scene, in the
+    world frame.
 
     Read after ``mj_step`` or ``mj_forward`` (which run collision detection).
+    The keyword options are those of :func:`contacts_from_pybullet`, by the
+    same names: ``body``, ``fingers``, ``contact_model``, ``mu``,
+    ``torsion``, ``friction``, ``max_distance``, ``merge``.
 
     Parameters
     ----------
@@ -80,9 +97,15 @@ def contacts_from_mujoco(model: Any, data: Any, *, body: int | str | None = None
         The scene.
     body, geom : int or str
         The object: a body (id or name) or a single geom; give exactly one.
+    fingers, finger_geoms : iterable of int or str, optional
+        Keep only contacts with these bodies (every geom of each) and these
+        geoms (ids or names): the fingers, say, not the table. Either or
+        both; without them every contact of the object is kept.
     contact_model : {"frictionless", "hard", "soft"}, optional
         Every contact's model; by default each contact's ``dim`` decides
-        (1 frictionless, 3 hard, 4 or 6 soft).
+        (1 frictionless, 3 hard, 4 or 6 soft). ``"soft"`` on a contact with
+        no torsional friction (condim 1 or 3, or ``friction[2]`` 0) is
+        refused unless ``torsion`` is given.
     mu, torsion : float, optional
         Override the contact's sliding (``min(friction[0], friction[1])``) and
         torsional (``friction[2]``) coefficients. Without an override, the
@@ -100,13 +123,14 @@ def contacts_from_mujoco(model: Any, data: Any, *, body: int | str | None = None
     Returns
     -------
     list of Contact
-        Ready for :func:`forceclosure.analyze`.
+        Ready for :func:`forceclosure.analyze`; world coordinates.
 
     Raises
     ------
     InputError
-        No or both of ``body`` and ``geom``, an unknown body or geom, or no
-        contact left after the filters (one line each).
+        No or both of ``body`` and ``geom``, an unknown body or geom, a bad
+        option, a soft finger forced where MuJoCo has no torsional friction,
+        or no contact left after the filters (one line each).
 
     Examples
     --------
@@ -136,27 +160,31 @@ def contacts_from_mujoco(model: Any, data: Any, *, body: int | str | None = None
         ident = _element(mj, model, geom, "geom")
         mine = np.array([ident])
         what = f"geom {geom!r}"
-    if contact_model is not None and contact_model not in MODELS:
-        raise InputError(f"{where}: 'contact_model' must be one of {', '.join(MODELS)}; "
-                         f"got {contact_model!r}")
-    if friction not in ("nominal", "inner"):
-        raise InputError(f"{where}: 'friction' must be 'nominal' or 'inner', got {friction!r}")
-    for name, value in (("mu", mu), ("torsion", torsion), ("max_distance", max_distance)):
-        if value is not None and (not isinstance(value, int | float) or isinstance(value, bool)
-                                  or not math.isfinite(value)
-                                  or (name != "max_distance" and value < 0)):
-            raise InputError(f"{where}: '{name}' must be a finite number"
-                             f"{'' if name == 'max_distance' else ' >= 0'}, got {value!r}")
+    check_options(where, contact_model, mu, torsion, friction, max_distance)
+    theirs = None
+    fingers = None if fingers is None else list(fingers)
+    finger_geoms = None if finger_geoms is None else list(finger_geoms)
+    if fingers is not None or finger_geoms is not None:
+        bodies = [_element(mj, model, b, "body", "fingers") for b in (fingers or ())]
+        geoms = [_element(mj, model, g, "geom", "finger_geoms") for g in (finger_geoms or ())]
+        theirs = np.union1d(np.flatnonzero(np.isin(np.asarray(model.geom_bodyid), bodies)),
+                            np.array(geoms, dtype=int))
     ncon = int(data.ncon)
     con = data.contact
     pairs = (np.asarray(con.geom, dtype=int).reshape(ncon, 2) if hasattr(con, "geom")
              else np.stack([np.asarray(con.geom1), np.asarray(con.geom2)], axis=1))
     first, second = np.isin(pairs[:, 0], mine), np.isin(pairs[:, 1], mine)
     dist = np.asarray(con.dist, dtype=float).reshape(ncon)
-    rows = np.flatnonzero((first != second) & (dist <= max_distance))
+    wanted = (first != second) & (dist <= max_distance)
+    if theirs is not None:  # the other geom of the contact is a finger's
+        wanted &= np.isin(np.where(first, pairs[:, 1], pairs[:, 0]), theirs)
+    rows = np.flatnonzero(wanted)
     if rows.size == 0:
-        raise InputError(f"{where}: {what} has no contacts within distance {max_distance:g} "
-                         "(run mj_forward or mj_step first?)")
+        named = [f"bodies {list(fingers)}"] if fingers is not None else []
+        named += [f"geoms {list(finger_geoms)}"] if finger_geoms is not None else []
+        with_ = f" with {' and '.join(named)}" if named else ""
+        raise InputError(f"{where}: {what} has no contacts{with_} within distance "
+                         f"{max_distance:g} (run mj_forward or mj_step first?)")
     normal = np.asarray(con.frame, dtype=float).reshape(ncon, 9)[rows, :3]
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
     pos = np.asarray(con.pos, dtype=float).reshape(ncon, 3)[rows]
@@ -179,6 +207,13 @@ def contacts_from_mujoco(model: Any, data: Any, *, body: int | str | None = None
             scale_mu = np.where(soft, 1 / (2 * math.sqrt(2)), 1 / math.sqrt(2))
             scale_spin = np.full(len(models), 0.5)
         slide, spin = slide * scale_mu, spin * scale_spin
+    if contact_model == "soft" and torsion is None and np.any(spin <= 0):
+        i = int(np.flatnonzero(spin <= 0)[0])
+        raise InputError(f"{where}: contact_model='soft' but the contact of geoms "
+                         f"{pairs[rows[i], 0]} and {pairs[rows[i], 1]} has no torsional "
+                         f"friction in MuJoCo (condim {dims[i]}, friction[2] "
+                         f"{coef[i, 2]:g}); give torsion=, a condim of 4 or 6 with "
+                         "friction[2] > 0, or another contact_model")
     mus = slide if mu is None else np.full(len(models), float(mu))
     tors = spin if torsion is None else np.full(len(models), float(torsion))
     return contacts_from_rows(points, normals, mus, tors, models, merge, where)

@@ -20,7 +20,21 @@ torsional coefficient is Bullet's combined spinning friction,
 a length: the spin torque is bounded by it times the normal force. (Bullet's
 solver for maximal-coordinate rigid bodies also caps that torque impulse at
 the coefficient itself; multibodies, pybullet's default, have no such cap.)
-Rolling friction is not represented.
+Rolling friction is not represented. Bullet applies spinning friction only where that
+combined coefficient is positive; a soft finger asked for (``contact_model="soft"``) where it
+is 0 (pybullet's default ``spinningFriction`` is 0) would be a hard finger under another
+name, so it is refused in one line naming the bodies (set ``spinningFriction`` with
+``changeDynamics``, give ``torsion=``, or take ``"hard"``).
+
+Bullet bounds the two tangential impulses and the spin impulse each on its own (a box
+around the circle, and an interval), so the analysed cone (a circular cone, times the
+torsion interval for soft fingers) lies inside the one Bullet simulates with the
+coefficients as they are: ``friction="inner"`` (the MuJoCo adapter's option) changes
+nothing here.
+
+Points and normals are in the world frame (``positionOnA/B`` and ``contactNormalOnB`` are),
+not the object's: analyse them as they are, or move them into the object's frame with its
+pose (``getBasePositionAndOrientation``) first.
 
 Bullet keeps at most four points per pair of shapes, not always the whole
 contact face (a box dropped exactly flat on a ``GEOM_PLANE`` had two, on
@@ -35,9 +49,9 @@ from typing import Any
 
 import numpy as np
 
-from ..contacts import MODELS, Contact, Model
+from ..contacts import Contact, Model
 from ..errors import InputError
-from ._merge import MERGE, contacts_from_rows
+from ._merge import MERGE, Friction, check_options, contacts_from_rows, one_of
 
 __all__ = ["contacts_from_pybullet"]
 
@@ -65,33 +79,68 @@ def _body(pb: Any, body: object, client: int, field: str) -> int:
     return int(body)
 
 
-def contacts_from_pybullet(object_id: int, client: int = 0, *,
-                           other_ids: Iterable[int] | None = None, link: int | None = None,
-                           model: Model = "hard", mu: float | None = None,
-                           torsion: float | None = None, max_distance: float = 0.0,
-                           merge: float = MERGE) -> list[Contact]:
-    """The contacts on body ``object_id`` in pybullet client ``client``.
+def _finger(pb: Any, finger: object, client: int, field: str) -> tuple[int, int | None]:
+    """A finger as ``(body, link)``: a body id (every link, ``link`` None) or a pair
+    ``(body id, link index)``, -1 being the base."""
+    if isinstance(finger, tuple | list):
+        if len(finger) != 2:
+            raise InputError(f"pybullet: each of '{field}' must be a body id or a pair "
+                             f"(body id, link index), got {finger!r}")
+        body, link = finger
+        body = _body(pb, body, client, field)
+        links = pb.getNumJoints(body, physicsClientId=client)
+        if (not isinstance(link, int | np.integer) or isinstance(link, bool)
+                or not -1 <= int(link) < links):
+            raise InputError(f"pybullet: body {body} has no link {link!r} ('{field}'; its "
+                             f"links are -1 to {links - 1})")
+        return body, int(link)
+    return _body(pb, finger, client, field), None
+
+
+def contacts_from_pybullet(body: int | None = None, client: int = 0, *,
+                           link: int | None = None,
+                           fingers: Iterable[int | tuple[int, int]] | None = None,
+                           contact_model: Model | None = None, mu: float | None = None,
+                           torsion: float | None = None, friction: Friction = "nominal",
+                           max_distance: float = 0.0, merge: float = MERGE,
+                           object_id: int | None = None, other_ids: Iterable[int] | None = None,
+                           model: Model | None = None) -> list[Contact]:
+    """The contacts on body ``body`` in pybullet client ``client``, in the world frame.
 
     Read after ``stepSimulation`` (or ``performCollisionDetection``): each
     manifold point touching the object becomes a point contact at the point
     on the object's surface, with the object's outward normal there (see the
-    module's notes for the sign of ``contactNormalOnB``).
+    module's notes for the sign of ``contactNormalOnB``). Points and normals
+    are in the world frame, as pybullet reports them.
+
+    The keyword options are those of :func:`contacts_from_mujoco`, by the
+    same names: ``fingers``, ``contact_model``, ``mu``, ``torsion``,
+    ``friction``, ``max_distance``, ``merge``.
 
     Parameters
     ----------
-    object_id : int
-        The body being grasped.
+    body : int
+        The body being grasped (older name: ``object_id``, still accepted).
     client : int
         The physics client (``pybullet.connect``'s result); 0 by default.
-    other_ids : iterable of int, optional
-        Keep only contacts with these bodies (the fingers, say, not the table).
     link : int, optional
         Keep only contacts on this link of the object (-1: its base).
-    model : {"hard", "soft", "frictionless"}
-        The contact model of every contact.
+    fingers : iterable, optional
+        Keep only contacts with these: body ids (every link of the body) or
+        pairs ``(body id, link index)`` (one link: a finger of a hand that is
+        one multibody). Older name: ``other_ids`` (body ids), still accepted.
+    contact_model : {"hard", "soft", "frictionless"}, optional
+        The contact model of every contact (older name: ``model``, still
+        accepted); default ``"hard"`` (Bullet has no per-contact condim). A
+        soft finger takes Bullet's combined spinning friction as its
+        torsional coefficient; where that is 0, ``"soft"`` is refused
+        unless ``torsion`` is given (see the module's notes).
     mu, torsion : float, optional
         Override Bullet's combined friction and (soft fingers) combined
         spinning friction for every contact.
+    friction : {"nominal", "inner"}
+        Accepted for the MuJoCo adapter's sake; the same here (Bullet's
+        cone holds the analysed one already).
     max_distance : float
         Points farther apart than this (``contactDistance``, negative when
         penetrating) are not touching and are left out.
@@ -102,13 +151,15 @@ def contacts_from_pybullet(object_id: int, client: int = 0, *,
     Returns
     -------
     list of Contact
-        Ready for :func:`forceclosure.analyze`.
+        Ready for :func:`forceclosure.analyze`; world coordinates.
 
     Raises
     ------
     InputError
-        The client is not connected, a body id is unknown, or the object has
-        no contact left after the filters (one line each).
+        The client is not connected, a body id or link is unknown, an
+        option is bad or given twice (by both its names), a soft finger has
+        no spinning friction, or the object has no contact left after the
+        filters (one line each).
 
     Examples
     --------
@@ -127,23 +178,31 @@ def contacts_from_pybullet(object_id: int, client: int = 0, *,
     {(0.0, 0.0, -1.0)}
     >>> {c.mu for c in contacts}   # both lateralFriction are pybullet's default 0.5: 0.5 x 0.5
     {0.25}
+    >>> contacts_from_pybullet(box, client, contact_model="soft")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    forceclosure.errors.InputError: pybullet: contact_model='soft' but body 1 and body 0 ...
     >>> pb.disconnect(client)
     """
     import pybullet as pb
 
     where = "pybullet"
+    body = one_of(where, "body", "object_id", body, object_id)
+    fingers = one_of(where, "fingers", "other_ids", fingers, other_ids)
+    model_field = "model" if model is not None else "contact_model"
+    contact_model = one_of(where, "contact_model", "model", contact_model, model)
+    if body is None:
+        raise InputError(f"{where}: give the object's body id ('body')")
     client = _connected(pb, client)
-    obj = _body(pb, object_id, client, "object_id")
-    others = None if other_ids is None else {_body(pb, b, client, "other_ids")
-                                             for b in other_ids}
-    if model not in MODELS:
-        raise InputError(f"{where}: 'model' must be one of {', '.join(MODELS)}; got {model!r}")
-    for name, value in (("mu", mu), ("torsion", torsion), ("max_distance", max_distance)):
-        if value is not None and (not isinstance(value, int | float) or isinstance(value, bool)
-                                  or not np.isfinite(value)
-                                  or (name != "max_distance" and value < 0)):
-            raise InputError(f"{where}: '{name}' must be a finite number"
-                             f"{'' if name == 'max_distance' else ' >= 0'}, got {value!r}")
+    obj = _body(pb, body, client, "body")
+    check_options(where, contact_model, mu, torsion, friction, max_distance, model_field)
+    kind: Model = contact_model or "hard"
+    keep = None if fingers is None else [_finger(pb, f, client, "fingers") for f in fingers]
+
+    def kept(other: int, other_link: int) -> bool:
+        return keep is None or any(b == other and (k is None or k == other_link)
+                                   for b, k in keep)
+
     rows = pb.getContactPoints(bodyA=obj, physicsClientId=client) or ()
     dynamics: dict[tuple[int, int], tuple[float, float]] = {}
 
@@ -163,7 +222,7 @@ def contacts_from_pybullet(object_id: int, client: int = 0, *,
         if on_a == on_b:  # not on the object's link
             continue
         other, other_link = (body_b, link_b) if on_a else (body_a, link_a)
-        if others is not None and other not in others:
+        if not kept(other, other_link):
             continue
         if row[8] > max_distance:
             continue
@@ -178,15 +237,19 @@ def contacts_from_pybullet(object_id: int, client: int = 0, *,
         if mu is None and lateral < 0:
             raise InputError(f"{where}: body {obj} and body {other} (link {other_link}) "
                              f"combine to a negative friction {lateral:g}")
-        if torsion is None and model == "soft" and spin < 0:
-            raise InputError(f"{where}: body {obj} and body {other} (link {other_link}) "
-                             f"combine to a negative spinning friction {spin:g}")
+        if torsion is None and kind == "soft" and spin <= 0:
+            raise InputError(
+                f"{where}: contact_model='soft' but body {obj} and body {other} (link "
+                f"{other_link}) combine to spinning friction {spin:g}: Bullet simulates no "
+                "positive torsion there; set spinningFriction (changeDynamics), give "
+                "torsion=, or take contact_model='hard'")
         mus.append(lateral if mu is None else float(mu))
         tors.append(spin if torsion is None else float(torsion))
     if not points:
-        what = "" if others is None else f" with bodies {sorted(others)}"
+        what = "" if keep is None else " with bodies " + ", ".join(
+            str(b) if k is None else f"{b} (link {k})" for b, k in keep)
         on = "" if link is None else f" (link {link})"
         raise InputError(f"{where}: body {obj}{on} has no contacts{what} within distance "
                          f"{max_distance:g} (step the simulation first?)")
     return contacts_from_rows(np.array(points, dtype=float), np.array(normals), np.array(mus),
-                              np.array(tors), [model] * len(points), merge, where)
+                              np.array(tors), [kind] * len(points), merge, where)
