@@ -315,3 +315,19 @@ def test_a_pinch_the_circular_cones_close_has_positive_epsilon():
     np.testing.assert_array_equal((eps > 0)[clear], closed[clear])
     axes = epsilon_batch(P, N, mu=mu, model="soft", torsion=0.01, orientation="axes")
     assert np.sum(closed & (axes == 0)) > 5
+
+
+def test_the_wrench_hull_volume_turns_with_the_grasp_too():
+    """``grasp_metrics``' volume is of the same hull as epsilon: the same pyramids, so the
+    same value for the turned, moved, scaled, reordered grasp (the singular values never
+    depended on the tangents' turn)."""
+    from forceclosure.analysis.metrics import grasp_metrics
+
+    rng = np.random.default_rng(9)
+    P, N = _triples(rng, 6)
+    Pm, Nm = _moved(P, N, [1.1, 0.2, -0.7], [4.0, 0.0, -9.0], 2.0, [1, 2, 0])
+    a = grasp_metrics(P, N, mu=0.6)
+    b = grasp_metrics(Pm, Nm, mu=0.6)
+    assert np.all(a.volume > 0)
+    np.testing.assert_allclose(b.volume, a.volume, rtol=1e-9)
+    np.testing.assert_allclose(b.sigma_min, a.sigma_min, rtol=1e-9)

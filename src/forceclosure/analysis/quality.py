@@ -17,8 +17,8 @@ reference point and length scale.
   contacts' centroid, with fallbacks), so epsilon does not change when the
   grasp is turned, moved, scaled or its contacts reordered; ``orientation=
   "axes"`` gives the earlier pyramids, oriented by the coordinate axes, whose
-  epsilon changes with the turn (by a factor of 0.3 to 3.6 on sampled duck
-  grasps, docs/analysis.md). Friction above
+  epsilon changes with the turn (by a factor of 0.53 to 4.94 on 53 sampled
+  duck grasps, docs/analysis.md). Friction above
   :data:`forceclosure.analysis.closure.FRICTION_CAP` is measured as that much (a lower
   bound too).
 * **Least friction**: the smallest friction coefficient, the same at every
