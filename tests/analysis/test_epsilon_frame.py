@@ -331,3 +331,15 @@ def test_the_wrench_hull_volume_turns_with_the_grasp_too():
     assert np.all(a.volume > 0)
     np.testing.assert_allclose(b.volume, a.volume, rtol=1e-9)
     np.testing.assert_allclose(b.sigma_min, a.sigma_min, rtol=1e-9)
+
+
+def test_an_unknown_orientation_is_refused_in_one_line():
+    from forceclosure import InputError
+
+    P = np.array([[[-1.0, 0, 0], [1, 0, 0]]])
+    for call in (lambda: epsilon_batch(P, P, mu=0.5, orientation="world"),
+                 lambda: epsilon([point_contact(p, p, "soft", 0.5) for p in P[0]],
+                                 orientation="world")):
+        with pytest.raises(InputError, match="orientation must be 'grasp' or 'axes'") as err:
+            call()
+        assert "\n" not in str(err.value)
