@@ -42,9 +42,16 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .errors import InputError
-from .geometry.cones import friction_forces, pyramid_divisor, pyramid_radius, tangent_basis
+from .geometry.cones import (
+    friction_forces,
+    grasp_tangents,
+    pyramid_divisor,
+    pyramid_radius,
+    tangent_basis,
+)
 
-__all__ = ["MAX_COORDINATE", "MAX_EDGES", "MODELS", "Cone", "Contact", "Fit", "Model", "WrenchSet",
+__all__ = ["MAX_COORDINATE", "MAX_EDGES", "MODELS", "ORIENTATIONS", "Cone", "Contact", "Fit",
+           "Model", "Orientation", "WrenchSet",
            "binary_unit", "check_grasp", "edge_contact", "face_contact", "frame",
            "generating_wrenches", "half_space_wrenches", "make_contact", "own_frame",
            "point_contact", "primitive_wrenches", "tangent_basis", "unit_rows", "vertex_contact"]
@@ -52,6 +59,11 @@ __all__ = ["MAX_COORDINATE", "MAX_EDGES", "MODELS", "Cone", "Contact", "Fit", "M
 MODELS = ("frictionless", "hard", "soft")
 Model = Literal["frictionless", "hard", "soft"]
 Fit = Literal["inscribed", "circumscribed"]
+#: Where a spatial pyramid's first edge lies about its cone: from the coordinate axes
+#: (:func:`tangent_basis`) or from the grasp itself (:func:`forceclosure.geometry.cones.
+#: fill_frame`: unchanged when the grasp is turned, moved, scaled or reordered).
+Orientation = Literal["axes", "grasp"]
+ORIENTATIONS = ("axes", "grasp")
 
 #: Largest contact coordinate accepted: beyond it the axis of an unresisted rotation (up
 #: to 1e9 times the grasp's size away) could overflow.
@@ -403,7 +415,9 @@ def _cross(r: NDArray[np.float64], f: NDArray[np.float64]) -> NDArray[np.float64
 def primitive_wrenches(points: NDArray[np.float64], normals: NDArray[np.float64], model: Model,
                        mu: NDArray[np.float64], torsion: NDArray[np.float64] | None,
                        reference: NDArray[np.float64], scale: NDArray[np.float64],
-                       cone: Cone) -> NDArray[np.float64]:
+                       cone: Cone,
+                       tangents: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
+                       ) -> NDArray[np.float64]:
     """Generating wrenches of one primitive contact in each of ``N`` grasps at once.
 
     Parameters
@@ -421,6 +435,9 @@ def primitive_wrenches(points: NDArray[np.float64], normals: NDArray[np.float64]
         Torque reference point and length scale of each grasp.
     cone : Cone
         Pyramid used for spatial friction cones.
+    tangents : ((N, 3), (N, 3)) arrays, optional
+        The pyramids' ``(t1, t2)`` (default :func:`tangent_basis`, from the
+        coordinate axes).
 
     Returns
     -------
@@ -438,7 +455,7 @@ def primitive_wrenches(points: NDArray[np.float64], normals: NDArray[np.float64]
     else:
         forces = friction_forces(normals, mu / pyramid_divisor(cone.edges,
                                                                cone.fit == "circumscribed"),
-                                 cone.edges)
+                                 cone.edges, tangents)
     arm = (points - reference)[:, None, :]
     lever = scale[:, None, None]
     moments = _cross(np.broadcast_to(arm, forces.shape), forces) / lever
@@ -567,11 +584,18 @@ def check_grasp(contacts: Sequence[Contact]) -> list[Contact]:
 def generating_wrenches(contacts: Sequence[Contact], cone: Cone = Cone(),
                         reference: ArrayLike | None = None,
                         length_scale: float | None = None,
-                        half_space: Sequence[bool] | None = None) -> WrenchSet:
+                        half_space: Sequence[bool] | None = None,
+                        orientation: Orientation = "axes") -> WrenchSet:
     """The generating wrenches of a grasp: the union over its contacts (§2.2).
 
     ``half_space`` marks contacts whose friction cone is taken as the closed
     half-space (the limit of unbounded friction, :func:`half_space_wrenches`).
+    ``orientation`` says where spatial pyramids have their first edge:
+    ``"axes"`` from the coordinate axes (:func:`tangent_basis`; verdicts, which
+    bracket the circular cone, do not depend on it), ``"grasp"`` from the
+    grasp itself (:func:`forceclosure.geometry.cones.fill_frame`, over every
+    (point, normal) pair of every contact), so that the wrenches turn, move
+    and scale with the grasp.
 
     Examples
     --------
@@ -581,13 +605,24 @@ def generating_wrenches(contacts: Sequence[Contact], cone: Cone = Cone(),
     (3, 4)
     """
     contacts = check_grasp(contacts)
+    if orientation not in ORIENTATIONS:
+        raise InputError(f"orientation must be 'axes' or 'grasp', got {orientation!r}")
     ref, scale = frame(contacts, reference, length_scale)
     ref_u, scale_u, unit = _frame_units(contacts, reference, length_scale)
+    tangents = None
+    if orientation == "grasp" and contacts[0].dim == 3:
+        pairs = [(p / unit, n) for c in contacts for p in c.points for n in c.normals]
+        tangents = grasp_tangents(np.array([p for p, _ in pairs]),
+                                  np.array([n for _, n in pairs]))
     columns, owner, two_sided = [], [], []
+    pair = 0
     for i, c in enumerate(contacts):
         pure = c.model == "soft" and c.dim == 3 and c.torsion is None
         for p in c.points:
             for n in c.normals:
+                own = None if tangents is None else (tangents[0][pair:pair + 1],
+                                                     tangents[1][pair:pair + 1])
+                pair += 1
                 tors = None if c.torsion is None else np.array([c.torsion / unit])
                 if half_space is not None and half_space[i] and c.frictional:
                     w = half_space_wrenches(p / unit, n, c.model,
@@ -596,7 +631,7 @@ def generating_wrenches(contacts: Sequence[Contact], cone: Cone = Cone(),
                 else:
                     w = primitive_wrenches(p[None] / unit, n[None], c.model,
                                            np.array([c.mu]), tors, ref_u[None],
-                                           np.array([scale_u]), cone)[0]
+                                           np.array([scale_u]), cone, own)[0]
                 columns.append(w)
                 owner.extend([i] * w.shape[1])
                 flags = [False] * w.shape[1]

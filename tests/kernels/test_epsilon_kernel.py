@@ -101,14 +101,18 @@ def test_exact_rational_planar_hard_fingers():
 
 
 def test_exact_rational_spatial_pyramids():
-    """Cube-face grasps with 4-edge pyramids: the kernel's 6-D hull against exact enumeration."""
+    """Cube-face grasps with 4-edge pyramids: the kernel's 6-D hull against exact enumeration.
+
+    The pyramids on the coordinate axes (``orientation="axes"``), as ``exact.py`` builds them
+    in rationals; the grasp's own orientation is held to Qhull in test_epsilon_frame.py.
+    """
     rng = np.random.default_rng(22)
     axes = np.concatenate([np.eye(3), -np.eye(3)])
     n, k = 200, 3
     N = axes[rng.integers(0, 6, (n, k))]
     twice = rng.integers(-2, 3, (n, k, 3)) * (1 - np.abs(N)).astype(int) + 2 * N.astype(int)
     mus = rng.integers(1, 3, (n, k))
-    ours = epsilon_batch(twice / 2.0, N, mu=mus / 2, edges=4)
+    ours = epsilon_batch(twice / 2.0, N, mu=mus / 2, edges=4, orientation="axes")
     checked = 0
     for g in np.flatnonzero(ours > 0)[:8]:
         points = [[Fraction(int(v), 2) for v in p] for p in twice[g]]

@@ -4,10 +4,11 @@
 ``contacts.primitive_wrenches`` (vectorised NumPy, the reference) are two
 implementations of one contact model; they share its source of truth
 (``geometry.cones``: the pyramid's edge angles, its radius, the tangent
-basis), and this test holds them to it: every column equal to the last bit
-(``np.array_equal``, not ``allclose``), over every model, both dimensions,
-pyramid sizes from 3 to 256 edges, both fits, coupled and uncoupled torsion,
-and random points, normals and friction.
+basis, the grasp's own pyramid frames), and this test holds them to it:
+every column equal to the last bit (``np.array_equal``, not ``allclose``),
+over every model, both dimensions, pyramid sizes from 3 to 256 edges, both
+fits, both orientations, coupled and uncoupled torsion, and random points,
+normals and friction.
 """
 
 from __future__ import annotations
@@ -119,3 +120,33 @@ def test_a_hard_finger_by_hand():
     # moment p x f with p = (1, 0, 0): (0, -f_z, f_y)
     assert np.allclose(W[3:], np.array([np.zeros(4), -W[2], W[1]]))
     assert np.array_equal(W, reference_path(*grasp)[0])
+
+
+@settings(max_examples=100, deadline=None)
+@given(grasps())
+def test_pyramids_oriented_by_the_grasp_build_the_same_bits(grasp):
+    """The grasp's own pyramid frames (``geometry.cones.fill_frame``), compiled and not, and
+    the wrenches built on them: equal to the last bit."""
+    points, normals, models, mu, torsion, cone, reference, scale = grasp
+    if points.shape[1] == 2:
+        return
+    from forceclosure.geometry.cones import grasp_tangents
+    from forceclosure.kernels.quality import grasp_frames
+
+    frames = np.empty((len(points), 2, 3))
+    grasp_frames(points, normals, frames)
+    t1, t2 = grasp_tangents(points, normals)
+    assert np.array_equal(frames[:, 0], t1) and np.array_equal(frames[:, 1], t2)
+    k = len(points)
+    W = np.full((6, columns_per_grasp(k, 3, cone.edges)), np.nan)
+    two = np.zeros(W.shape[1], dtype=np.bool_)
+    m = wrenches(points, normals, mu, torsion, np.array([CODES[x] for x in models]), cone.edges,
+                 pyramid_divisor(cone.edges, cone.fit == "circumscribed"), reference, scale, W,
+                 two, np.zeros((2, cone.edges + 1)), frames)
+    blocks = []
+    for i, model in enumerate(models):
+        tors = None if np.isnan(torsion[i]) else torsion[i:i + 1]
+        blocks.append(primitive_wrenches(points[i:i + 1], normals[i:i + 1], model, mu[i:i + 1],
+                                         tors, reference[None], np.array([scale]), cone,
+                                         (t1[i:i + 1], t2[i:i + 1]))[0])
+    assert np.array_equal(W[:, :m], np.concatenate(blocks, axis=1))

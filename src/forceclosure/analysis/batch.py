@@ -19,7 +19,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..contacts import MODELS, Cone
+from ..contacts import MODELS, ORIENTATIONS, Cone, Orientation
 from ..errors import InputError
 from .batch_analysis import (
     CHUNK,
@@ -43,14 +43,18 @@ def epsilon_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
                   model: str | Sequence[str] = "hard", torsion: ArrayLike | None = None,
                   norm: str = "L1", edges: int = 8, tol: float = TOLERANCE,
                   engine: Engine = "compiled",
-                  progress: Callable[[int], object] | None = None) -> NDArray[np.float64]:
+                  progress: Callable[[int], object] | None = None,
+                  orientation: Orientation = "grasp") -> NDArray[np.float64]:
     """Ferrari–Canny epsilon of each of ``N`` grasps (0 where not force-closure).
 
     The batch form of :func:`forceclosure.analysis.quality.epsilon`, in its default
     frame (torques about the contacts' centroid, divided by their largest
-    distance from it) and with the same ``norm`` and inscribed ``edges``-edge
-    pyramids. Compiled, each closed grasp's wrench hull is built and checked
-    in the kernel (:mod:`forceclosure.kernels.hull`) and the few grasps it
+    distance from it) and with the same ``norm``, inscribed ``edges``-edge
+    pyramids and ``orientation`` (by default each pyramid oriented by the grasp
+    itself, :func:`forceclosure.geometry.cones.fill_frame`, so a turned, moved,
+    scaled or reordered grasp has the same epsilon). Compiled, each closed
+    grasp's wrench hull is built and checked in the kernel
+    (:mod:`forceclosure.kernels.hull`) and the few grasps it
     cannot settle go to the reference (Qhull); values agree with the
     reference to about 1e-9. ``Linf`` always takes the reference path: its
     hulls, of every sum of one wrench per finger, have hundreds of points,
@@ -66,6 +70,9 @@ def epsilon_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
         Edges of the inscribed pyramid standing in for spatial cones.
     engine, progress :
         As in :func:`analyze_batch`.
+    orientation : {"grasp", "axes"}
+        Pyramids oriented by the grasp (default) or, as before, by the
+        coordinate axes (:func:`forceclosure.analysis.quality.epsilon`).
 
     Examples
     --------
@@ -82,6 +89,8 @@ def epsilon_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
     _check_engine(engine)
     if norm not in ("L1", "Linf"):
         raise InputError(f"norm must be 'L1' or 'Linf', got {norm!r}")
+    if orientation not in ORIENTATIONS:
+        raise InputError(f"orientation must be 'grasp' or 'axes', got {orientation!r}")
     cone = Cone(edges, "inscribed")
     tol = check_tolerance(tol)
     grasps = _validate(points, normals, mu, model, torsion)
@@ -104,14 +113,16 @@ def epsilon_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
             P, M = _kernel_inputs(grasps, part, extreme)
             epsilon_kernel(P, kernel_array(grasps.normals[part]), M,
                            kernel_array(grasps.torsion[part]),
-                           model_codes, cone.edges, float(tol), maxm, out[part], deferred[part])
+                           model_codes, cone.edges, float(tol), maxm, out[part], deferred[part],
+                           orientation == "grasp")
             if progress is not None:
                 progress(part.stop - part.start)
         todo = np.flatnonzero(deferred | extreme)
     else:
         todo = ()
     for g in todo:
-        out[g] = epsilon(grasps.contacts(g), norm, edges=cone.edges, tol=tol).value
+        out[g] = epsilon(grasps.contacts(g), norm, edges=cone.edges, tol=tol,
+                         orientation=orientation).value
         if reference and progress is not None:
             progress(1)
     return out

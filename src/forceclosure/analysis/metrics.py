@@ -22,8 +22,9 @@ dimensionless and unchanged by moving, rotating or scaling the grasp.
   direction of wrench is equally easy to apply.
 * **Volume of the wrench hull** (GraspIt!'s volume quality): the volume of
   the convex hull of the generating wrenches (unit normal force, ``edges``-edge
-  inscribed pyramids), the same hull whose inscribed ball is the L1
-  epsilon. It is **0 when the generators do not span the wrench space**
+  inscribed pyramids oriented by the grasp,
+  :func:`forceclosure.geometry.cones.fill_frame`), the same hull whose
+  inscribed ball is the L1 epsilon. It is **0 when the generators do not span the wrench space**
   (their hull is flat, e.g. a hard pair in space), as a flat body has no
   volume.
 """
@@ -37,6 +38,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..contacts import Cone, primitive_wrenches, tangent_basis
+from ..geometry.cones import fill_frame
 
 __all__ = ["GraspMetrics", "grasp_matrix", "grasp_metrics"]
 
@@ -188,9 +190,16 @@ def grasp_metrics(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
         iso = np.where(smax > 0, smin / np.where(smax > 0, smax, 1.0), 0.0)
     volume = np.zeros(n)
     if n:
+        tangents = [None] * P.shape[1]
+        if P.shape[2] == 3:  # the pyramids oriented by each grasp, as epsilon's
+            frames = np.empty((n, P.shape[1], 2, 3))
+            for g in range(n):
+                fill_frame(P[g], N[g], frames[g])
+            tangents = [(frames[:, i, 0], frames[:, i, 1]) for i in range(P.shape[1])]
         W = np.concatenate([
             primitive_wrenches(P[:, i], N[:, i], m, grasps.mu[:, i], grasps.torsion[:, i],
-                               ref, scale, cone) for i, m in enumerate(grasps.models)], axis=2)
+                               ref, scale, cone, tangents[i])
+            for i, m in enumerate(grasps.models)], axis=2)
         for g in range(n):
             volume[g] = _volume(W[g].T)
     return GraspMetrics(smin, smax, iso, volume, ref, scale)

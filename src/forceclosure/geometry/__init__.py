@@ -6,7 +6,8 @@ above may use it.
 
 * :mod:`.clip` — a convex polygon cut by half-planes.
 * :mod:`.cones` — friction cones: the angle between two axes, whether two
-  cones counter-overlap, tangent bases, and the friction pyramid.
+  cones counter-overlap, tangent bases (from the coordinate axes, or from
+  the grasp itself), and the friction pyramid.
 """
 
 from __future__ import annotations
@@ -17,10 +18,12 @@ from .cones import (
     counter_overlap,
     counter_overlap_angle,
     friction_forces,
+    grasp_tangents,
     pyramid_radius,
     pyramid_rim,
     tangent_basis,
 )
 
 __all__ = ["angle_between", "clip", "counter_overlap", "counter_overlap_angle",
-           "friction_forces", "pyramid_radius", "pyramid_rim", "tangent_basis"]
+           "friction_forces", "grasp_tangents", "pyramid_radius", "pyramid_rim",
+           "tangent_basis"]

@@ -11,10 +11,18 @@ radius :func:`pyramid_divisor` are plain arithmetic that the compiled kernels
 (:mod:`forceclosure.kernels.theorem1`) compile from this same source, so that
 both paths build bit-for-bit the same wrenches (tests/kernels/test_wrench_builders.py).
 
-numba keys a cached kernel by its own file only: after editing :func:`fill_rim`
-or :func:`pyramid_divisor`, touch ``kernels/theorem1.py`` (or clear numba's
-cache) and run ``forceclosure warmup``, or the kernels keep the old code (and
-the bit-for-bit test fails, as it should).
+A spatial pyramid has an orientation: where its first edge lies about the
+cone's axis. :func:`tangent_basis` takes it from the coordinate axes (the
+verdicts, which bracket the circular cone, do not depend on it);
+:func:`fill_frame` takes it from the grasp itself, so that a quality measured
+on the pyramids (Ferrari–Canny epsilon) is the same when the grasp is turned,
+moved, scaled or its contacts reordered (see its docstring for the rule, its
+fallbacks and the one case left to a coordinate axis).
+
+numba keys a cached kernel by its own file only: after editing :func:`fill_rim`,
+:func:`pyramid_divisor` or :func:`fill_frame`, touch ``kernels/theorem1.py`` and
+``kernels/quality.py`` (or clear numba's cache) and run ``forceclosure warmup``,
+or the kernels keep the old code (and the bit-for-bit tests fail, as they should).
 """
 
 from __future__ import annotations
@@ -25,9 +33,15 @@ from functools import lru_cache
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["angle_between", "counter_overlap", "counter_overlap_angle", "fill_rim",
-           "friction_forces", "pyramid_divisor", "pyramid_radius", "pyramid_rim",
-           "tangent_basis"]
+__all__ = ["FRAME_TOL", "angle_between", "counter_overlap", "counter_overlap_angle",
+           "fill_frame", "fill_rim", "friction_forces", "grasp_tangents", "pyramid_divisor",
+           "pyramid_radius", "pyramid_rim", "tangent_basis"]
+
+#: Relative size below which a candidate for a pyramid's first tangent counts as absent
+#: (:func:`fill_frame`): far above round-off, so that a turned copy of a grasp takes the
+#: same branch, and a direction taken is accurate to about ``1e-16 / FRAME_TOL`` radians
+#: (times the grasp's distance from the origin over its size).
+FRAME_TOL = 1e-6
 
 
 def angle_between(u: ArrayLike, v: ArrayLike) -> NDArray[np.float64]:
@@ -118,6 +132,205 @@ def tangent_basis(normals: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.f
     return t1, t2
 
 
+def fill_frame(points: NDArray[np.float64], normals: NDArray[np.float64],
+               frames: NDArray[np.float64]) -> None:
+    """Each contact's pyramid frame from the grasp itself: ``frames[i] = (t1, t2)``.
+
+    For ``M`` spatial contacts (rows of ``points`` and unit outward ``normals``,
+    ``(M, 3)``) write unit tangents with ``(t1, t2, n)`` right-handed into
+    ``frames`` (``(M, 2, 3)``). ``t1`` is the first of these found, each taken
+    only when larger than :data:`FRAME_TOL` of its scale (``c`` the contacts'
+    centroid, ``s`` their largest distance from it, ``P`` the projection on
+    the contact's tangent plane):
+
+    A. ``P (c - p)``: towards the centroid — every contact whose normal line
+       misses the centroid;
+    B. the principal axis of ``sum_q P(q - p) P(q - p)^T`` over the other
+       contacts (the centroid is on the normal line, e.g. three fingers around
+       a cylinder pointing at its axis); its sign from the third moment, else
+       from the other normals, else left to the basis;
+    C. ``sum_q P n_q``, the other contacts' normals, else their principal axis
+       and sign as in B (every contact on the normal line: a pinch whose other
+       pad is tilted);
+    D. the coordinate axis least along all the normals together, ``e``, one
+       for every contact: ``t1 ∝ e x n``.
+
+    A, B and C are functions of the grasp alone (they turn with it and do not
+    depend on the contacts' order, units or position), so a pyramid built on
+    them, and a quality measured on it, is the same for a turned, moved,
+    scaled or reordered grasp, to round-off (about ``1e-16 / FRAME_TOL``
+    where a candidate is barely above the threshold). A sign left to the
+    basis does not matter for an even number of edges (the pyramid turned by
+    pi is itself); for an odd number it may (three fingers 120 degrees apart).
+    D is reached, in exact arithmetic, in two cases only:
+
+    1. every contact lies on one line and every normal is along it, ``±a`` (a
+       head-on pinch): the grasp and its torque frame are unchanged by any
+       rotation about the line, and ``e x n`` is ``±(e x a)`` for every
+       contact, so another ``e`` (another turn of the grasp) turns all the
+       pyramids together about the line — a symmetry: the value is the same
+       (for a head-on pair of soft pads it does not even depend on the
+       pyramids' turns, tests/analysis/test_epsilon_frame.py);
+    2. about some contact's normal line, which holds the centroid, the other
+       contacts' offsets and normals both balance to second order (their first
+       and second moments about it vanish). That takes at least four (point,
+       normal) pairs — never two or three point contacts — e.g. four fingers
+       at a regular tetrahedron's vertices pointing at its centre. There the
+       value may change with the turn (by about 2 % there), within the bracket of any
+       inscribed pyramid: between the circular cones' value at friction
+       ``mu cos(pi / k)`` and at ``mu``.
+
+    Plain scalar arithmetic, so that the compiled kernels compile this very
+    function and both paths build the same bits.
+
+    Examples
+    --------
+    Two fingers 2 apart along x, pressing up a little (normals tilted to -z): both
+    first tangents lie in the plane of the pinch, towards the centroid.
+
+    >>> P = np.array([[-1.0, 0, 0], [1.0, 0, 0]])
+    >>> N = np.array([[-0.8, 0, -0.6], [0.8, 0, -0.6]])
+    >>> frames = np.empty((2, 2, 3))
+    >>> fill_frame(P, N, frames)
+    >>> (np.round(frames[:, 0], 12) + 0.0).tolist()
+    [[0.6, 0.0, -0.8], [-0.6, 0.0, -0.8]]
+    """
+    m = points.shape[0]
+    cen = np.zeros(3)
+    for q in range(m):
+        for j in range(3):
+            cen[j] += points[q, j]
+    for j in range(3):
+        cen[j] /= m
+    size = 0.0
+    big = 0.0
+    along = np.zeros(3)  # how much the normals lie along each coordinate axis, together
+    for q in range(m):
+        r = 0.0
+        for j in range(3):
+            r += (points[q, j] - cen[j]) ** 2
+            along[j] += normals[q, j] ** 2
+            big = max(big, abs(points[q, j]))
+        size = max(size, math.sqrt(r))
+    common = 0
+    for j in range(1, 3):
+        if along[j] < along[common]:
+            common = j
+    # points that coincide (to round-off in their centroid) give no direction: A and B skipped
+    near = FRAME_TOL * size if size > 1e-12 * big else math.inf
+    e = np.empty(3)
+    f = np.empty(3)
+    d = np.empty(3)
+    for i in range(m):
+        n = normals[i]
+        # any orthonormal (e, f) of the tangent plane: the tangent found does not depend on it
+        ax = 0
+        for j in range(1, 3):
+            if abs(n[j]) < abs(n[ax]):
+                ax = j
+        a1, a2 = (ax + 1) % 3, (ax + 2) % 3
+        e[ax] = 0.0
+        e[a1] = -n[a2]
+        e[a2] = n[a1]
+        length = math.sqrt(e[0] ** 2 + e[1] ** 2 + e[2] ** 2)
+        for j in range(3):
+            e[j] /= length
+        f[0] = n[1] * e[2] - n[2] * e[1]
+        f[1] = n[2] * e[0] - n[0] * e[2]
+        f[2] = n[0] * e[1] - n[1] * e[0]
+        found = False
+        cx, cy = 0.0, 0.0
+        # A: towards the centroid
+        x = 0.0
+        y = 0.0
+        for j in range(3):
+            x += (cen[j] - points[i, j]) * e[j]
+            y += (cen[j] - points[i, j]) * f[j]
+        r = math.sqrt(x * x + y * y)
+        if r > near:
+            cx, cy, found = x / r, y / r, True
+        for source in range(2):  # B: the other contacts; C: their normals
+            if found:
+                break
+            hx, hy, a, b, m2 = 0.0, 0.0, 0.0, 0.0, 0.0
+            for q in range(m):
+                for j in range(3):
+                    d[j] = points[q, j] - points[i, j] if source == 0 else normals[q, j]
+                x = d[0] * e[0] + d[1] * e[1] + d[2] * e[2]
+                y = d[0] * f[0] + d[1] * f[1] + d[2] * f[2]
+                hx += x
+                hy += y
+                a += x * x - y * y
+                b += 2.0 * x * y
+                m2 += x * x + y * y
+            unit = near if source == 0 else FRAME_TOL * m
+            r = math.sqrt(hx * hx + hy * hy)
+            if source == 1 and r > unit:  # C's first moment (B's is A)
+                cx, cy, found = hx / r, hy / r, True
+                break
+            if m2 <= unit * unit or math.sqrt(a * a + b * b) <= FRAME_TOL * m2:
+                continue
+            phi = 0.5 * math.atan2(b, a)
+            cx, cy, found = math.cos(phi), math.sin(phi), True
+            # the axis's sign: its third moment, else the normals' first
+            third, scale3, first = 0.0, 0.0, 0.0
+            for q in range(m):
+                for j in range(3):
+                    d[j] = points[q, j] - points[i, j] if source == 0 else normals[q, j]
+                x = d[0] * e[0] + d[1] * e[1] + d[2] * e[2]
+                y = d[0] * f[0] + d[1] * f[1] + d[2] * f[2]
+                t = x * cx + y * cy
+                third += t * t * t
+                scale3 += math.sqrt(x * x + y * y) ** 3
+                for j in range(3):
+                    first += normals[q, j] * (cx * e[j] + cy * f[j])
+            if abs(third) > FRAME_TOL * scale3:
+                if third < 0.0:
+                    cx, cy = -cx, -cy
+            elif abs(first) > FRAME_TOL * m and first < 0.0:
+                cx, cy = -cx, -cy
+        t1 = frames[i, 0]
+        if found:
+            for j in range(3):
+                t1[j] = cx * e[j] + cy * f[j]
+        else:  # D: one coordinate axis for every contact (a symmetry makes it immaterial)
+            use = common if abs(n[common]) < 0.8 else ax
+            u1, u2 = (use + 1) % 3, (use + 2) % 3
+            t1[use] = 0.0
+            t1[u1] = -n[u2]
+            t1[u2] = n[u1]
+        length = math.sqrt(t1[0] ** 2 + t1[1] ** 2 + t1[2] ** 2)
+        for j in range(3):
+            t1[j] /= length
+        t2 = frames[i, 1]
+        t2[0] = n[1] * t1[2] - n[2] * t1[1]
+        t2[1] = n[2] * t1[0] - n[0] * t1[2]
+        t2[2] = n[0] * t1[1] - n[1] * t1[0]
+
+
+def grasp_tangents(points: ArrayLike, normals: ArrayLike
+                   ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """:func:`fill_frame` as arrays: ``(t1, t2)``, each ``(M, 3)``, for ``M`` spatial contacts.
+
+    Examples
+    --------
+    A pinch turned by a quarter turn about z: its frames turn with it.
+
+    >>> P = np.array([[-1.0, 0.2, 0], [1.0, 0, 0.1]])
+    >>> N = np.array([[-1.0, 0, 0], [1.0, 0, 0]])
+    >>> R = np.array([[0.0, -1, 0], [1, 0, 0], [0, 0, 1]])
+    >>> t1, t2 = grasp_tangents(P, N)
+    >>> u1, u2 = grasp_tangents(P @ R.T + 5.0, N @ R.T)
+    >>> bool(np.allclose(u1, t1 @ R.T) and np.allclose(u2, t2 @ R.T))
+    True
+    """
+    points = np.ascontiguousarray(points, dtype=float)
+    normals = np.ascontiguousarray(normals, dtype=float)
+    frames = np.empty((len(points), 2, 3))
+    fill_frame(points, normals, frames)
+    return frames[:, 0], frames[:, 1]
+
+
 def fill_rim(rim: NDArray[np.float64], edges: int) -> None:
     """Write the cosines and sines of a ``edges``-edge pyramid's edge angles
     ``2 pi r / edges`` into ``rim[0, :edges]`` and ``rim[1, :edges]``.
@@ -177,8 +390,9 @@ def pyramid_radius(mu: float, edges: int, circumscribed: bool) -> float:
     return mu / pyramid_divisor(edges, circumscribed)
 
 
-def friction_forces(normals: ArrayLike, radius: ArrayLike | None,
-                    edges: int = 8) -> NDArray[np.float64]:
+def friction_forces(normals: ArrayLike, radius: ArrayLike | None, edges: int = 8,
+                    tangents: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
+                    ) -> NDArray[np.float64]:
     """The generating forces of friction cones, ``(N, g, d)``, with unit normal component.
 
     For outward normals ``(N, d)``: ``radius`` None gives the frictionless
@@ -187,7 +401,9 @@ def friction_forces(normals: ArrayLike, radius: ArrayLike | None,
     ``-n + r (cos θ t1 + sin θ t2)`` of a pyramid (:func:`tangent_basis`,
     :func:`pyramid_rim`). ``radius`` (``(N,)`` or a number) is ``mu`` for the
     exact planar cone and the inscribed pyramid, :func:`pyramid_radius` for the
-    circumscribed one.
+    circumscribed one. ``tangents`` (``(t1, t2)``, each ``(N, 3)``) orients
+    spatial pyramids (e.g. :func:`grasp_tangents`); by default
+    :func:`tangent_basis`.
 
     Examples
     --------
@@ -205,7 +421,7 @@ def friction_forces(normals: ArrayLike, radius: ArrayLike | None,
     if normals.shape[-1] == 2:
         tangent = np.stack([-normals[:, 1], normals[:, 0]], axis=-1)
         return inward[:, None, :] + r * np.stack([tangent, -tangent], axis=1)
-    t1, t2 = tangent_basis(normals)
+    t1, t2 = tangent_basis(normals) if tangents is None else tangents
     cos, sin = pyramid_rim(edges)
     rim = cos[None, :, None] * t1[:, None, :] + sin[None, :, None] * t2[:, None, :]
     return inward[:, None, :] + r * rim

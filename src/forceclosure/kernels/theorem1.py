@@ -169,15 +169,17 @@ def _column(W, col, f, arm, scale, d, spin):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, nogil=True)
-def wrenches(P, N, mu, tors, model, edges, radius_divisor, ref, scale, W, two, rim):
+def wrenches(P, N, mu, tors, model, edges, radius_divisor, ref, scale, W, two, rim,
+             frames=None):
     # pragma: no cover - compiled
     """Generating wrenches of one grasp (as ``contacts.primitive_wrenches``); returns ``m``.
 
     The pyramid's edges are at ``mu / radius_divisor`` (``geometry.cones.
     pyramid_divisor``). ``rim`` caches the cosines and sines of the pyramid's
     edge angles (``geometry.cones.fill_rim``); its last column says for how
-    many edges. The columns equal the reference's bit for bit
-    (tests/kernels/test_wrench_builders.py).
+    many edges. ``frames`` (``(k, 2, 3)``, ``geometry.cones.fill_frame``)
+    orients each contact's pyramid; None: from the coordinate axes. The
+    columns equal the reference's bit for bit (tests/kernels/test_wrench_builders.py).
     """
     if rim[0, -1] != edges:
         _fill_rim(rim, edges)
@@ -216,21 +218,25 @@ def wrenches(P, N, mu, tors, model, edges, radius_divisor, ref, scale, W, two, r
                     two[col] = False
                     col += 1
             continue
-        # tangents as contacts.tangent_basis: t1 = e x n from the axis least aligned with n
-        ax = 0
-        for j in range(1, 3):
-            if abs(n[j]) < abs(n[ax]):
-                ax = j
-        a1, a2 = (ax + 1) % 3, (ax + 2) % 3
-        t[0, ax] = 0.0
-        t[0, a1] = -n[a2]
-        t[0, a2] = n[a1]
-        norm = math.sqrt(t[0, 0] ** 2 + t[0, 1] ** 2 + t[0, 2] ** 2)
-        for j in range(3):
-            t[0, j] /= norm
-        t[1, 0] = n[1] * t[0, 2] - n[2] * t[0, 1]
-        t[1, 1] = n[2] * t[0, 0] - n[0] * t[0, 2]
-        t[1, 2] = n[0] * t[0, 1] - n[1] * t[0, 0]
+        if frames is not None:  # the grasp's own (geometry.cones.fill_frame)
+            for j in range(3):
+                t[0, j] = frames[i, 0, j]
+                t[1, j] = frames[i, 1, j]
+        else:  # as contacts.tangent_basis: t1 = e x n from the axis least aligned with n
+            ax = 0
+            for j in range(1, 3):
+                if abs(n[j]) < abs(n[ax]):
+                    ax = j
+            a1, a2 = (ax + 1) % 3, (ax + 2) % 3
+            t[0, ax] = 0.0
+            t[0, a1] = -n[a2]
+            t[0, a2] = n[a1]
+            norm = math.sqrt(t[0, 0] ** 2 + t[0, 1] ** 2 + t[0, 2] ** 2)
+            for j in range(3):
+                t[0, j] /= norm
+            t[1, 0] = n[1] * t[0, 2] - n[2] * t[0, 1]
+            t[1, 1] = n[2] * t[0, 0] - n[0] * t[0, 2]
+            t[1, 2] = n[0] * t[0, 1] - n[1] * t[0, 0]
         radius = mu[i] / radius_divisor
         for side in range(2 if coupled else 1):
             sgn = 1.0 - 2.0 * side
@@ -613,12 +619,14 @@ def _modulo_two_sided(W, two, m, tol, work, twist):  # pragma: no cover - compil
 
 
 @nb.njit(cache=True, nogil=True)
-def _decide(P, N, mu, tors, model, edges, divisor, ref, scale, tol, work, twist):
+def _decide(P, N, mu, tors, model, edges, divisor, ref, scale, tol, work, twist, frames=None):
     # pragma: no cover - compiled
-    """Theorem 1 for one grasp with one pyramid: (code, rank, margin)."""
+    """Theorem 1 for one grasp with one pyramid: (code, rank, margin); ``frames`` as in
+    :func:`wrenches`."""
     d = P.shape[1]
     D = 3 if d == 2 else 6
-    m = wrenches(P, N, mu, tors, model, edges, divisor, ref, scale, work.W, work.two, work.rim)
+    m = wrenches(P, N, mu, tors, model, edges, divisor, ref, scale, work.W, work.two, work.rim,
+                 frames)
     has_two = False
     for col in range(m):
         has_two = has_two or work.two[col]
