@@ -83,7 +83,9 @@ def test_acronym_file_read_back(exported):
         ours = {name: np.array(data["forceclosure"][name]) for name in data["forceclosure"]}
         meta = json.loads(data["forceclosure"].attrs["meta"])
     assert T.shape == (60, 4, 4) and success.dtype == np.int64
-    assert mesh_file == "cube" and scale == 1.0
+    # a bundled object is no file: its surface is written beside the .h5, in its units
+    assert mesh_file == "a.obj" and scale == 1.0
+    assert (paths["acronym"].parent / "a.obj").is_file()
     # the default origin: the hand's base, finger_length - depth + palm = (0.5 - 0.2 + 0.1) w
     assert offset == pytest.approx(0.4 * 2.2)
     np.testing.assert_allclose(T[:, 3], np.broadcast_to([0, 0, 0, 1.0], (60, 4)))
