@@ -34,7 +34,14 @@ import trimesh
 from forceclosure.app.cli import main
 from forceclosure.errors import InputError
 from forceclosure.gripper.jaw import ParallelJaw
-from forceclosure.gripper.labels import ARRAYS, GraspLabels, grasp_labels
+from forceclosure.gripper.labels import (
+    ARRAYS,
+    METRIC_ARRAYS,
+    ROBUST_ARRAYS,
+    TASK_ARRAYS,
+    GraspLabels,
+    grasp_labels,
+)
 from forceclosure.io.export import graspnet_array, save_acronym, save_graspnet
 from forceclosure.objects.io import load_object
 
@@ -131,8 +138,9 @@ def _random_labels(n=7, seed=0):
                   normals=rng.normal(size=(n, 2, 3)), code=rng.integers(0, 3, n).astype(np.int8),
                   least_friction=np.r_[np.inf, np.nan, rng.random(n - 2)],
                   epsilon=np.r_[np.nan, rng.random(n - 1)], collides=rng.random(n) < 0.5)
-    optional = {f.name: rng.random(n) for f in dataclasses.fields(GraspLabels)
-                if f.name not in arrays and f.name != "meta"}
+    names = {f.name for f in dataclasses.fields(GraspLabels)}  # "depth" once it is a field
+    optional = {name: rng.random(n) for name in (*ROBUST_ARRAYS, *METRIC_ARRAYS,
+                                                 *TASK_ARRAYS, "depth") if name in names}
     optional["task_verdict"] = rng.integers(0, 3, n).astype(np.int8)
     if "robust_missed" in optional:
         optional["robust_missed"] = rng.integers(0, 9, n).astype(np.int64)

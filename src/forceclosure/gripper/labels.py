@@ -267,7 +267,8 @@ class GraspLabels:
         from ..errors import first_line
 
         names = set(data.keys()) if hasattr(data, "keys") else set(data)
-        required = [n for n in ARRAYS if n != "collides"] + ["meta"]
+        required = ["center", "closing_axis", "approach_axis", "width", "points", "normals",
+                    "code", "least_friction", "epsilon", "meta"]
         missing = [n for n in required if n not in names]
         if missing:
             raise InputError(f"{where}: not a label file: no {', '.join(map(repr, missing))} "

@@ -33,21 +33,34 @@ graspnetAPI's evaluation scores colliding grasps), so ``array[array[:, 0]
 extra), as its ``acronym_tools/acronym.py`` (``load_grasps``,
 ``load_mesh``) and its example files read it: ``grasps/transforms`` ``(N,
 4, 4)`` gripper poses, ``grasps/qualities/flex/object_in_gripper`` ``(N,)``
-int64 0/1, ``object/file`` (a string), ``object/scale`` (a float). The
-gripper frame there is the Panda's (``data/franka_gripper_collision_mesh.stl``
-and ``create_gripper_marker``): z the approach axis, x the closing axis (the
-fingers at ``x = ±0.041``), y = z × x, the origin at the hand's base, behind
-the palm: the fingertips are 0.112 ahead of it. Here the transform's
-rotation is ``(closing, approach × closing, approach)`` and its origin lies
-``offset`` behind the jaw centre along the approach axis (default: our
-hand's base, the palm's back face, ``finger_length - depth +
-palm_thickness``; for ACRONYM's Panda pass its fingertips' 0.112 less the
-depth at which its pads hold the contacts). ``object_in_gripper`` is 1
-where the verdict is closure and the hand does not collide (collision not
-checked: closure alone). Our labels are under the group ``forceclosure``
-(every array of :data:`~forceclosure.gripper.labels.ARRAYS`, the verdict names, and
-``meta`` as JSON text in its attributes); ``object/friction`` is the
-labels' μ.
+int64 0/1, ``object/file`` (a string), ``object/scale`` (a float).
+``load_mesh(filename, mesh_root_dir)`` does ``trimesh.load(os.path.join(
+mesh_root_dir, object/file)).apply_scale(object/scale)``: ``object/file``
+names a mesh relative to a mesh root and ``object/scale`` the scale that
+makes it the labels' object (:func:`acronym_object`: a mesh file as it is;
+a URDF link of one uniformly scaled mesh at the identity origin, that mesh
+and its scale; anything else, the surface written as an ``.obj`` beside
+the ``.h5``). The gripper frame there is the Panda's
+(``data/franka_gripper_collision_mesh.stl`` and ``create_gripper_marker``:
+the fingers at ``x = ±0.041`` from ``z = 0.066`` to their tips at ``z =
+0.112``): z the approach axis, x the closing axis, y = z × x, the origin
+the hand's base frame. Here the transform's rotation is ``(closing,
+approach × closing, approach)`` and its origin lies ``tip_offset - depth``
+behind the jaw centre along the approach axis (:func:`tip_offset`: the
+gripper's distance from its base frame to its fingertips, 0.112 for the
+Panda, by default our box hand's palm back face; :func:`pose_depths`: the
+pose's depth, by default the gripper's), so the contacts sit on the
+fingers at ``x = ∓width/2, y = 0, z = tip_offset - depth``.
+``object_in_gripper`` is 1 where the verdict is closure and the hand does
+not collide (collision not checked: closure alone). Our labels are under
+the group ``forceclosure`` (every array of
+:data:`~forceclosure.gripper.labels.ARRAYS` and a per-pose ``depth``, the
+verdict names, and ``meta`` as JSON text in its attributes);
+``object/friction`` is the labels' μ, ``gripper/type`` the gripper's name.
+
+Every function here takes the labels as a
+:class:`~forceclosure.gripper.labels.GraspLabels`, a saved label file's
+path, or what ``np.load`` returned for one (:func:`as_labels`).
 """
 
 from __future__ import annotations
