@@ -115,13 +115,37 @@ def duck():
     return obj, labels
 
 
-def panda(labels, depth=None):
-    """The labels as made for ACRONYM's Panda: fingertips 0.11217 ahead of the hand's base
-    frame; optionally a per-pose depth (the contract's optional array)."""
-    meta = {**labels.meta, "gripper": "panda", "tip_offset": PANDA_TIP}
-    if depth is None:
-        return dataclasses.replace(labels, meta=meta)
-    return SimpleNamespace(**{**vars(labels), "meta": meta, "depth": np.asarray(depth)})
+def with_meta_and_depth(labels, depth=None, **meta):
+    """The labels with ``meta`` entries added and, optionally, a per-pose ``depth`` (the
+    contract's optional array), as an object with the same attributes."""
+    fields = {**vars(labels), "meta": {**labels.meta, **meta}}
+    if depth is not None:
+        fields["depth"] = np.asarray(depth, dtype=float)
+    return SimpleNamespace(**fields)
+
+
+def along_approach(labels):
+    """``(N, 2)``: each contact's distance past its jaw centre along the approach axis (0
+    for contacts on the jaws' line; anywhere on a pad for a pad's first touch)."""
+    return np.einsum("nkj,nj->nk", labels.points - labels.center[:, None],
+                     labels.approach_axis)
+
+
+def depths_reaching_past(labels, seed):
+    """Per-pose depths that keep both contacts on pads 0.04 long ending at the tips: the
+    tips 0.001 to 0.02 past the farther contact."""
+    rng = np.random.default_rng(seed)
+    return along_approach(labels).max(axis=1) + rng.uniform(0.001, 0.02, len(labels))
+
+
+def saved_depth(labels, default):
+    depth = getattr(labels, "depth", None)
+    return np.full(len(labels.code), default) if depth is None else np.asarray(depth)
+
+
+def in_frame(T, points):
+    """Points ``(N, 3)`` in the frames of the poses ``T`` ``(N, 4, 4)``."""
+    return np.einsum("nji,nj->ni", T[:, :3, :3], points - T[:, :3, 3])
 
 
 def surface_distance(mesh, points):
@@ -226,27 +250,32 @@ def test_exports_take_a_label_file_or_its_arrays(tmp_path, duck):
 def test_graspnetapi_reads_the_poses_and_scores(tmp_path, duck, graspnet_grasp, per_pose_depth):
     _, labels = duck
     n = len(labels)
-    depth = np.linspace(0.005, 0.03, n) if per_pose_depth else None
-    made = labels if depth is None else SimpleNamespace(**vars(labels), depth=depth)
+    made = (with_meta_and_depth(labels, depths_reaching_past(labels, 0)) if per_pose_depth
+            else labels)
+    depth = saved_depth(made, 0.016)  # ParallelJaw(0.08): tips 0.2 w past the centre
     path = str(tmp_path / "duck.npy")
     save_graspnet(path, made)
     gg = graspnet_grasp.GraspGroup().from_npy(path)
     assert len(gg) == n
-    p1, p2 = labels.points[:, 0], labels.points[:, 1]
-    np.testing.assert_allclose(gg.translations, 0.5 * (p1 + p2), atol=1e-12)
-    np.testing.assert_allclose(gg.widths, np.linalg.norm(p2 - p1, axis=1), atol=1e-12)
+    np.testing.assert_allclose(gg.translations, labels.center, atol=1e-15)
+    np.testing.assert_allclose(gg.widths, labels.width, atol=1e-15)
+    np.testing.assert_allclose(gg.depths, depth)
+    np.testing.assert_allclose(gg.heights, 0.016)  # fingers 0.2 w high
     R = gg.rotation_matrices
     np.testing.assert_allclose(R.transpose(0, 2, 1) @ R, np.broadcast_to(np.eye(3), R.shape),
                                atol=1e-12)
     np.testing.assert_allclose(np.linalg.det(R), 1.0, atol=1e-12)
-    # graspnetAPI's frame: x the approach, the fingers at y = -width/2 and +width/2
     np.testing.assert_allclose(R[:, :, 0], labels.approach_axis, atol=1e-12)
-    half = 0.5 * gg.widths[:, None] * R[:, :, 1]
-    np.testing.assert_allclose(gg.translations - half, p1, atol=1e-12)
-    np.testing.assert_allclose(gg.translations + half, p2, atol=1e-12)
-    # ParallelJaw(0.08): fingers 0.2 w high, tips 0.2 w past the centre, unless per pose
-    np.testing.assert_allclose(gg.heights, 0.016)
-    np.testing.assert_allclose(gg.depths, 0.016 if depth is None else depth)
+    # graspnetAPI's gripper frame: the fingers run along +x to their tips at x = depth, at
+    # y = -width/2 and +width/2, height along z; the contacts must be on their inner faces
+    T = np.zeros((n, 4, 4))
+    T[:, :3, :3], T[:, :3, 3] = R, gg.translations
+    for jaw, side in ((0, -1), (1, 1)):
+        q = in_frame(T, labels.points[:, jaw])
+        np.testing.assert_allclose(q[:, 1], side * gg.widths / 2, atol=1e-12)
+        assert np.all(q[:, 0] <= gg.depths + 1e-12)  # not past the fingertips
+        assert np.all(q[:, 0] >= gg.depths - 0.04 - 1e-12)  # on the 0.5 w finger
+        assert np.all(np.abs(q[:, 2]) <= gg.heights / 2 + 1e-12)
     closed = labels.code == 2
     np.testing.assert_allclose(gg.scores[closed], 1.1 - labels.least_friction[closed])
     assert np.all(gg.scores[~closed] == -1)
@@ -273,9 +302,11 @@ def test_acronym_loads_the_duck_and_puts_the_pandas_fingers_on_the_contacts(
         tmp_path, duck, per_pose_depth):
     obj, labels = duck
     n = len(labels)
-    depth = np.linspace(0.001, 0.04, n) if per_pose_depth else None
+    made = with_meta_and_depth(labels, depths_reaching_past(labels, 1) if per_pose_depth
+                               else None, gripper="panda", tip_offset=PANDA_TIP)
+    depth = saved_depth(made, 0.016)
     h5 = str(tmp_path / "duck.h5")
-    found = save_acronym(h5, panda(labels, depth), DUCK)
+    found = save_acronym(h5, made, DUCK)
     assert found.reason is None and not (tmp_path / "duck.obj").exists()
     mesh, name, scale = acronym_load_mesh(h5, str(tmp_path))  # the default root: the .h5's
     assert isinstance(mesh, trimesh.Trimesh)
@@ -287,38 +318,40 @@ def test_acronym_loads_the_duck_and_puts_the_pandas_fingers_on_the_contacts(
     T, success = acronym_load_grasps(h5)
     assert T.shape == (n, 4, 4) and success.dtype == np.int64
     assert success.tolist() == (labels.code == 2).astype(int).tolist()  # not collision-checked
-    R, t = T[:, :3, :3], T[:, :3, 3]
     np.testing.assert_allclose(T[:, 3], np.broadcast_to([0, 0, 0, 1.0], (n, 4)))
-    np.testing.assert_allclose(np.linalg.det(R), 1.0, atol=1e-12)
-    width = np.linalg.norm(labels.points[:, 1] - labels.points[:, 0], axis=1)
-    assert np.all(width / 2 <= PANDA_X)  # the Panda opens its fingers to x = ±0.041
+    np.testing.assert_allclose(np.linalg.det(T[:, :3, :3]), 1.0, atol=1e-12)
+    assert np.all(labels.width / 2 <= PANDA_X)  # the Panda opens its fingers to x = ±0.041
+    past = along_approach(labels)
     for jaw, side in ((0, -1), (1, 1)):
-        q = np.einsum("nji,nj->ni", R, labels.points[:, jaw] - t)  # in the gripper's frame
-        np.testing.assert_allclose(q[:, 0], side * width / 2, atol=1e-12)  # on the finger
-        np.testing.assert_allclose(q[:, 1], 0.0, atol=1e-12)
-        assert np.all((q[:, 2] >= PANDA_BASE) & (q[:, 2] <= PANDA_TIP)), q[:, 2]
-        np.testing.assert_allclose(q[:, 2], PANDA_TIP - (0.016 if depth is None else depth),
-                                   atol=1e-12)
+        q = in_frame(T, labels.points[:, jaw])  # in the Panda's frame: on its finger
+        np.testing.assert_allclose(q[:, 0], side * labels.width / 2, atol=1e-12)
+        assert np.all(np.abs(q[:, 1]) <= 0.008 + 1e-12)  # within the 0.2 w high pad
+        np.testing.assert_allclose(q[:, 2], PANDA_TIP - depth + past[:, jaw], atol=1e-12)
+        assert np.all(q[:, 2] <= PANDA_TIP + 1e-12), q[:, 2]
+        if not per_pose_depth:  # the pads along the Panda's fingers, z from 0.066 to the tips
+            assert np.all(q[:, 2] >= PANDA_BASE), q[:, 2]
 
 
 def test_acronym_default_hand_frame_puts_our_fingers_on_the_contacts(tmp_path, duck):
-    """Without a tip offset the origin is our box hand's base (the palm's back face): the
-    contacts lie on the fingers' inner faces, between the fingers' bases and tips."""
+    """Without a tip offset of its own the hand's base frame is our box hand's, the palm's
+    back face: the contacts lie on the fingers' inner faces, between bases and tips."""
     _, labels = duck
     h5 = str(tmp_path / "d.h5")
     save_acronym(h5, labels, DUCK)
     T, _ = acronym_load_grasps(h5)
     w = 0.08
-    finger_length, palm, height, depth = 0.5 * w, 0.1 * w, 0.2 * w, 0.2 * w
+    finger_length, palm, height = 0.5 * w, 0.1 * w, 0.2 * w
     tip = finger_length + palm
-    for jaw in (0, 1):
-        q = np.einsum("nji,nj->ni", T[:, :3, :3], labels.points[:, jaw] - T[:, :3, 3])
-        assert np.all(np.abs(q[:, 1]) <= height / 2)
-        assert np.all((q[:, 2] >= tip - finger_length) & (q[:, 2] <= tip))
-        np.testing.assert_allclose(q[:, 2], tip - depth, atol=1e-12)
+    depth, past = saved_depth(labels, 0.2 * w), along_approach(labels)
+    for jaw, side in ((0, -1), (1, 1)):
+        q = in_frame(T, labels.points[:, jaw])
+        np.testing.assert_allclose(q[:, 0], side * labels.width / 2, atol=1e-12)
+        assert np.all(np.abs(q[:, 1]) <= height / 2 + 1e-12)
+        assert np.all((q[:, 2] >= tip - finger_length - 1e-12) & (q[:, 2] <= tip + 1e-12))
+        np.testing.assert_allclose(q[:, 2], tip - depth + past[:, jaw], atol=1e-12)
     with h5py.File(h5, "r") as f:
         assert f["gripper/tip_offset"][()] == pytest.approx(tip)
-        assert f["gripper/offset"][()] == pytest.approx(tip - depth)
+        assert f["gripper/offset"][()] == pytest.approx(tip - 0.2 * w)
 
 
 def _urdf(folder, name, body):

@@ -165,7 +165,8 @@ def tip_offset(labels: Any, gripper: ParallelJaw) -> float:
     >>> from types import SimpleNamespace
     >>> tip_offset(SimpleNamespace(meta={}), ParallelJaw(0.1))
     0.06
-    >>> tip_offset(SimpleNamespace(meta={"tip_offset": 0.1122}), ParallelJaw(0.08))
+    >>> hand = SimpleNamespace(finger_length=0.05, palm_thickness=0.01)  # no tip_offset
+    >>> tip_offset(SimpleNamespace(meta={"tip_offset": 0.1122}), hand)
     0.1122
     """
     tip = getattr(gripper, "tip_offset", None)
