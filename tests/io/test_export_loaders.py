@@ -131,11 +131,13 @@ def along_approach(labels):
                      labels.approach_axis)
 
 
-def depths_reaching_past(labels, seed):
-    """Per-pose depths that keep both contacts on pads 0.04 long ending at the tips: the
-    tips 0.001 to 0.02 past the farther contact."""
-    rng = np.random.default_rng(seed)
-    return along_approach(labels).max(axis=1) + rng.uniform(0.001, 0.02, len(labels))
+def depths_reaching_past(labels, seed, pad_length=0.04):
+    """Per-pose depths that keep both contacts on the pads (``pad_length`` long, ending at
+    the tips): between the farther contact and the nearer one plus the pad's length."""
+    past = along_approach(labels)
+    low, high = past.max(axis=1), past.min(axis=1) + pad_length
+    assert np.all(low < high)
+    return low + np.random.default_rng(seed).uniform(0.05, 0.95, len(labels)) * (high - low)
 
 
 def saved_depth(labels, default):
@@ -327,9 +329,8 @@ def test_acronym_loads_the_duck_and_puts_the_pandas_fingers_on_the_contacts(
         np.testing.assert_allclose(q[:, 0], side * labels.width / 2, atol=1e-12)
         assert np.all(np.abs(q[:, 1]) <= 0.008 + 1e-12)  # within the 0.2 w high pad
         np.testing.assert_allclose(q[:, 2], PANDA_TIP - depth + past[:, jaw], atol=1e-12)
-        assert np.all(q[:, 2] <= PANDA_TIP + 1e-12), q[:, 2]
-        if not per_pose_depth:  # the pads along the Panda's fingers, z from 0.066 to the tips
-            assert np.all(q[:, 2] >= PANDA_BASE), q[:, 2]
+        # on the Panda's fingers, from z = 0.066 to their tips
+        assert np.all((q[:, 2] >= PANDA_BASE) & (q[:, 2] <= PANDA_TIP + 1e-12)), q[:, 2]
 
 
 def test_acronym_default_hand_frame_puts_our_fingers_on_the_contacts(tmp_path, duck):
