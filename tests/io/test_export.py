@@ -55,13 +55,18 @@ def test_graspnet_array_read_back(exported):
     np.testing.assert_allclose(np.linalg.det(R), 1.0, atol=1e-12)
     # graspnetAPI's gripper: fingers along +x (the approach), at y = -w/2 and +w/2
     np.testing.assert_allclose(R[:, :, 0], labels["approach_axis"], atol=1e-12)
-    inner1 = t - 0.5 * width[:, None] * R[:, :, 1]
-    inner2 = t + 0.5 * width[:, None] * R[:, :, 1]
-    np.testing.assert_allclose(inner1, labels["points"][:, 0], atol=1e-9)
-    np.testing.assert_allclose(inner2, labels["points"][:, 1], atol=1e-9)
-    # the default hand: height 0.2 w, depth 0.2 w (w = 2.2)
+    # each contact on its finger's inner face (a pad's first touch may lie off the jaws'
+    # line): y = -w/2, +w/2 in the grasp frame, x from the finger's base to its tip at
+    # x = depth, |z| within half the height
+    for jaw, side in ((0, -1), (1, 1)):
+        q = np.einsum("nji,nj->ni", R, labels["points"][:, jaw] - t)
+        np.testing.assert_allclose(q[:, 1], side * width / 2, atol=1e-9)
+        assert np.all((q[:, 0] <= depth + 1e-9) & (q[:, 0] >= depth - 1.1 - 1e-9))
+        assert np.all(np.abs(q[:, 2]) <= height / 2 + 1e-9)
+    np.testing.assert_allclose(t, labels["center"], atol=1e-12)
+    # the default hand: height 0.2 w, depth 0.2 w (w = 2.2), or the pose's own depth
     np.testing.assert_allclose(height, 0.44)
-    np.testing.assert_allclose(depth, 0.44)
+    np.testing.assert_allclose(depth, labels.get("depth", 0.44))
     assert np.all(object_id == -1)
     ok = _accepted(labels)
     assert 0 < ok.sum() < len(ok)
@@ -83,18 +88,24 @@ def test_acronym_file_read_back(exported):
         ours = {name: np.array(data["forceclosure"][name]) for name in data["forceclosure"]}
         meta = json.loads(data["forceclosure"].attrs["meta"])
     assert T.shape == (60, 4, 4) and success.dtype == np.int64
-    assert mesh_file == "cube" and scale == 1.0
-    # the default origin: the hand's base, finger_length - depth + palm = (0.5 - 0.2 + 0.1) w
-    assert offset == pytest.approx(0.4 * 2.2)
+    # a bundled object is no file: its surface is written beside the .h5, in its units
+    assert mesh_file == "a.obj" and scale == 1.0
+    assert (paths["acronym"].parent / "a.obj").is_file()
+    # the default origin: the hand's base, the fingertips finger_length + palm = 0.6 w ahead
+    # of it, each pose's tips its depth (default 0.2 w) past the jaw centre
+    tip, depth = 0.6 * 2.2, labels.get("depth", np.full(60, 0.2 * 2.2))
+    assert offset == pytest.approx(tip - 0.2 * 2.2)
     np.testing.assert_allclose(T[:, 3], np.broadcast_to([0, 0, 0, 1.0], (60, 4)))
     closing, approach = T[:, :3, 0], T[:, :3, 2]  # ACRONYM: x closing, z approach
-    center = T[:, :3, 3] + offset * approach
+    center = T[:, :3, 3] + (tip - depth)[:, None] * approach
     np.testing.assert_allclose(np.cross(approach, closing), T[:, :3, 1], atol=1e-12)
     np.testing.assert_allclose(center, labels["center"], atol=1e-12)
     np.testing.assert_allclose(closing, labels["closing_axis"], atol=1e-12)
-    half = 0.5 * labels["width"][:, None] * closing
-    np.testing.assert_allclose(center - half, labels["points"][:, 0], atol=1e-9)
-    np.testing.assert_allclose(center + half, labels["points"][:, 1], atol=1e-9)
+    for jaw, side in ((0, -1), (1, 1)):  # on the finger's inner face, between base and tip
+        q = np.einsum("nji,nj->ni", T[:, :3, :3], labels["points"][:, jaw] - T[:, :3, 3])
+        np.testing.assert_allclose(q[:, 0], side * labels["width"] / 2, atol=1e-9)
+        assert np.all((q[:, 2] <= tip + 1e-9) & (q[:, 2] >= tip - 1.1 - 1e-9))
+        assert np.all(np.abs(q[:, 1]) <= 0.22 + 1e-9)
     assert success.tolist() == _accepted(labels).astype(int).tolist()
     assert ours["collides"].tolist() == labels["collides"].tolist()
     assert [v.decode() for v in ours["verdict"]] == [["none", "marginal", "closure"][c]

@@ -927,8 +927,10 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     if task is not None:
         labels, task = _task_stage(obj, labels, task)
     if args.out:
-        labels.save(args.out)
-    _write_exports(args, labels, gripper)
+        from .export_cmd import with_source
+
+        with_source(labels, args).save(args.out)
+    _write_exports(args, labels, gripper, obj)
     if args.plot or args.html:
         from ..pictures.plot import upright_axis
 
@@ -1035,7 +1037,7 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
 def _check_exports(args: argparse.Namespace) -> None:
     """Refuse a bad ``--export`` before any work: its kind, extension, place, and h5py."""
     from ..io.atomic import check_output
-    from ..io.export import KINDS, require_h5py
+    from ..io.export import KINDS, acronym_object, require_h5py
 
     for kind, path in args.export:
         if kind not in KINDS:
@@ -1046,6 +1048,8 @@ def _check_exports(args: argparse.Namespace) -> None:
         check_output(path, inputs=[args.object, *([args.out] if args.out else [])])
         if kind == "acronym":
             require_h5py()
+            acronym_object(args.object, path, part=args.part, load_surface=False,
+                           allow_outside_meshes=args.allow_outside_meshes)
         if kind == "graspnet" and args.graspnet_score == "friction" and args.no_least_friction:
             raise InputError("--export graspnet: the friction score needs the least friction; "
                              "drop --no-least-friction or pass --graspnet-score epsilon")
@@ -1054,14 +1058,17 @@ def _check_exports(args: argparse.Namespace) -> None:
         raise InputError("--export, --out and --plot: each needs its own file")
 
 
-def _write_exports(args: argparse.Namespace, labels, gripper) -> None:
+def _write_exports(args: argparse.Namespace, labels, gripper, obj=None) -> None:
     from ..io.export import save_acronym, save_graspnet
 
     for kind, path in args.export:
         if kind == "graspnet":
             save_graspnet(path, labels, gripper, score=args.graspnet_score)
         else:
-            save_acronym(path, labels, args.object, gripper=gripper)
+            found = save_acronym(path, labels, args.object, gripper=gripper, part=args.part,
+                                 allow_outside_meshes=args.allow_outside_meshes, surface=obj)
+            if found.note:
+                print(f"forceclosure: {printable(path)}: {found.note}", file=sys.stderr)
 
 
 def _cmd_warmup(args: argparse.Namespace) -> int:
@@ -1365,6 +1372,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="skip the Ferrari-Canny epsilon (saved as NaN), most of the labelling "
                         "time: verdicts (and least friction) only")
     g.set_defaults(run=_cmd_grasps)
+    from .export_cmd import add_parser as add_export_parser  # forceclosure export
+
+    add_export_parser(sub)
     parser.epilog = f"Verdicts within {TOLERANCE:g} of the boundary are 'marginal'."
     return parser
 

@@ -214,6 +214,118 @@ class GraspLabels:
         with atomic_write(path) as f:
             np.savez_compressed(f, **arrays)
 
+    @classmethod
+    def load(cls, source: Any) -> GraspLabels:
+        """Read labels written by :meth:`save`: a path to the ``.npz``, or what ``np.load``
+        returned for one (or any mapping of its arrays).
+
+        Every array of :data:`ARRAYS` but ``collides`` is required, with ``meta`` (JSON text
+        of an object); ``collides`` and the arrays of :data:`ROBUST_ARRAYS`,
+        :data:`METRIC_ARRAYS`, :data:`TASK_ARRAYS` (and any other per-grasp array that is a
+        field of the class, such as a per-pose ``depth``) are read when present; arrays
+        that are not fields are left out. A file that is not a label file (not an
+        ``.npz``, an array missing, of the wrong shape, verdict codes other than 0, 1, 2, a
+        ``meta`` that is not a JSON object) is refused in one line naming it.
+
+        Examples
+        --------
+        >>> import os, tempfile
+        >>> labels = grasp_labels("cube", ParallelJaw(3.0), mu=0.3, count=4, collision=False)
+        >>> path = os.path.join(tempfile.mkdtemp(), "l.npz")
+        >>> labels.save(path)
+        >>> back = GraspLabels.load(path)
+        >>> bool(np.array_equal(back.points, labels.points)), back.meta == labels.meta
+        (True, True)
+        >>> GraspLabels.load(np.load(path)).collides is None
+        True
+        """
+        import os
+        from collections.abc import Mapping
+
+        from ..errors import first_line
+
+        if isinstance(source, str | os.PathLike):
+            where = os.fspath(source)
+            if not os.path.exists(where):
+                raise InputError(f"{where}: no such label file")
+            import zipfile
+
+            if os.path.isfile(where) and not zipfile.is_zipfile(where):
+                raise InputError(f"{where}: not a label file: not an .npz archive (the .npz "
+                                 "that GraspLabels.save writes)")
+            try:
+                data = np.load(where, allow_pickle=False)
+            except Exception as e:  # a folder, not a zip, truncated: numpy raises many types
+                raise InputError(f"{where}: not a label file (.npz): {first_line(e)}") from None
+            if not isinstance(data, Mapping | np.lib.npyio.NpzFile):
+                raise InputError(f"{where}: not a label file: one array (.npy), not the .npz "
+                                 "of labels that GraspLabels.save writes")
+            with data:
+                return cls._from_arrays(data, where)
+        if isinstance(source, Mapping | np.lib.npyio.NpzFile):
+            return cls._from_arrays(source, "labels")
+        raise InputError(f"labels: expected a label file's path or its np.load arrays, got "
+                         f"a {type(source).__name__}")
+
+    @classmethod
+    def _from_arrays(cls, data: Any, where: str) -> GraspLabels:
+        """:meth:`load` from a mapping of arrays; ``where`` names the source in errors."""
+        import json
+        from dataclasses import fields
+
+        from ..errors import first_line
+
+        names = set(data.keys()) if hasattr(data, "keys") else set(data)
+        required = ["center", "closing_axis", "approach_axis", "width", "points", "normals",
+                    "code", "least_friction", "epsilon", "meta"]
+        missing = [n for n in required if n not in names]
+        if missing:
+            raise InputError(f"{where}: not a label file: no {', '.join(map(repr, missing))} "
+                             f"array{'s' if len(missing) > 1 else ''} (GraspLabels.save "
+                             f"writes {', '.join(required)})")
+
+        def read(name: str) -> NDArray[Any]:
+            try:
+                return np.asarray(data[name])
+            except Exception as e:  # a damaged member, or one stored as pickled objects
+                raise InputError(f"{where}: cannot read its array {name!r}: "
+                                 f"{first_line(e)}") from None
+
+        raw = read("meta")
+        try:
+            meta = json.loads(str(raw[()])) if raw.shape == () else None
+        except ValueError:
+            meta = None
+        if not isinstance(meta, dict):
+            raise InputError(f"{where}: not a label file: its 'meta' is not the JSON text of "
+                             "an object")
+        n = len(read("code").reshape(-1))
+        shapes = {"center": (n, 3), "closing_axis": (n, 3), "approach_axis": (n, 3),
+                  "points": (n, 2, 3), "normals": (n, 2, 3)}
+        kinds = {"code": np.int8, "collides": np.bool_, "task_verdict": np.int8,
+                 "robust_missed": np.int64}
+        values: dict[str, Any] = {"meta": meta}
+        for f in fields(cls):
+            if f.name == "meta" or f.name not in names:
+                continue
+            a = read(f.name)
+            shape = shapes.get(f.name, (n,))
+            if a.shape != shape:
+                raise InputError(f"{where}: its array {f.name!r} has shape {a.shape}; "
+                                 f"{shape} expected for {n} grasps")
+            kind = kinds.get(f.name, np.float64)
+            if kind is np.bool_ and a.dtype != np.bool_:
+                raise InputError(f"{where}: its array {f.name!r} is {a.dtype}, not bool")
+            if kind in (np.int8, np.int64) and not np.issubdtype(a.dtype, np.integer):
+                raise InputError(f"{where}: its array {f.name!r} is {a.dtype}, not integer")
+            if kind is np.float64 and not (np.issubdtype(a.dtype, np.floating)
+                                           or np.issubdtype(a.dtype, np.integer)):
+                raise InputError(f"{where}: its array {f.name!r} is {a.dtype}, not numbers")
+            if f.name in ("code", "task_verdict") and np.any((a < 0) | (a > 2)):
+                raise InputError(f"{where}: its {f.name!r} codes must be 0, 1 or 2")
+            values[f.name] = a.astype(kind)
+        return cls(**values)
+
 
 #: Grasps labelled at a time (the progress callback is called after each chunk).
 CHUNK = 2048

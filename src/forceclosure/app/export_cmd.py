@@ -1,0 +1,288 @@
+"""``forceclosure export LABELS``: saved labels as files trainers load.
+
+``LABELS`` is a label file (``forceclosure grasps --out FILE.npz``,
+:meth:`~forceclosure.gripper.labels.GraspLabels.save`) or the folder of a
+``forceclosure dataset --gripper parallel-jaw`` run (one file per object
+record done). ``--graspnet`` writes graspnetAPI's GraspGroup array
+(:func:`~forceclosure.io.export.save_graspnet`), ``--acronym`` ACRONYM's
+HDF5 (:func:`~forceclosure.io.export.save_acronym`): for a folder both name
+output folders, each object's files named after its labels file. The
+object an ACRONYM file names (``object/file``, ``object/scale``, relative to
+``--mesh-root``) is the one the labels were made on: a ``grasps --out``
+file records it in ``meta["object_source"]`` (:func:`with_source`), a
+dataset's record holds its path; ``--object FILE`` names it where neither
+does (a label file written before, or moved from another machine).
+
+Every option is checked before anything is written; files are written
+atomically; bad input is one line and exit status 2. In a folder, an
+object whose files cannot be made (its labels file missing or changed, its
+object gone) is reported in one line and skipped; the others are written,
+and the exit status is 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import hashlib
+import json
+import os
+import sys
+from pathlib import Path
+from typing import Any
+
+from ..errors import InputError, printable
+
+__all__ = ["add_parser", "run", "with_source"]
+
+
+def with_source(labels: Any, args: argparse.Namespace) -> Any:
+    """``labels`` with ``meta["object_source"]``: where ``forceclosure grasps`` read its
+    object (``path``, absolute, None for a bundled object; ``name`` as given; ``part``,
+    ``allow_open``, ``allow_outside_meshes``), so that ``export`` finds it again.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> args = SimpleNamespace(object="cube", part=None, allow_open=False,
+    ...                        allow_outside_meshes=False)
+    >>> with_source(SimpleNamespace(meta={}), args).meta["object_source"]["name"]
+    'cube'
+    """
+    source = {"path": os.path.abspath(args.object) if os.path.isfile(args.object) else None,
+              "name": args.object, "part": getattr(args, "part", None),
+              "allow_open": bool(getattr(args, "allow_open", False)),
+              "allow_outside_meshes": bool(getattr(args, "allow_outside_meshes", False))}
+    meta = {**labels.meta, "object_source": source}
+    if dataclasses.is_dataclass(labels):
+        return dataclasses.replace(labels, meta=meta)
+    labels.meta = meta
+    return labels
+
+
+def add_parser(sub: Any) -> None:
+    """Register the ``export`` subcommand on the ``forceclosure`` subparsers ``sub``."""
+    e = sub.add_parser("export", help="turn saved labels into GraspNet and ACRONYM files",
+                       description="Write the labels of a 'grasps --out' file, or of every "
+                                   "object of a 'dataset --gripper parallel-jaw' folder, as "
+                                   "graspnetAPI's GraspGroup array (.npy) and ACRONYM's HDF5 "
+                                   "(.h5), atomically (docs/gripper.md).")
+    e.add_argument("labels", metavar="LABELS",
+                   help="a label file (.npz from 'grasps --out') or a dataset folder")
+    e.add_argument("--graspnet", metavar="F.npy",
+                   help="graspnetAPI's GraspGroup array (a folder for a dataset)")
+    e.add_argument("--acronym", metavar="F.h5",
+                   help="ACRONYM's HDF5 layout, needs the 'export' extra (a folder for a "
+                        "dataset); an object that is not one mesh file is written as an "
+                        ".obj beside it")
+    e.add_argument("--graspnet-score", choices=("friction", "epsilon"), default="friction",
+                   help="the GraspGroup score: 1.1 - least friction (default) or epsilon")
+    e.add_argument("--mesh-root", metavar="DIR",
+                   help="ACRONYM's mesh root: object/file is written relative to it, as "
+                        "load_mesh(filename, mesh_root_dir) joins them (default: the .h5's "
+                        "folder)")
+    e.add_argument("--object", metavar="FILE",
+                   help="the object the labels were made on (mesh, URDF or bundled name), "
+                        "where the labels' meta does not locate it, or to override it")
+    e.add_argument("--part", metavar="NAME", help="with --object: the URDF link")
+    e.add_argument("--allow-outside-meshes", action="store_true",
+                   help="with --object: let a URDF name meshes outside its folder")
+    e.add_argument("--json", action="store_true", help="print the summary as JSON")
+    e.set_defaults(run=run)
+
+
+def _check_folder_out(path: str, flag: str, labels: Path) -> None:
+    """An output folder: an existing, writable folder, or one whose parent is (made later)."""
+    from ..io.atomic import check_output
+
+    if os.path.exists(path) and not os.path.isdir(path):
+        raise InputError(f"{flag} {path}: for a dataset folder, an output folder (this is a "
+                         "file)")
+    if os.path.abspath(path) in (str(labels.resolve()), str((labels / "objects").resolve())):
+        raise InputError(f"{flag} {path}: the dataset's own folder; write elsewhere")
+    probe = os.path.join(path if os.path.isdir(path) else os.path.dirname(
+        os.path.abspath(path)), "probe")
+    check_output(probe)
+
+
+def _check_file_out(path: str, kind: str, flag: str, labels: str) -> None:
+    from ..io.atomic import check_output
+    from ..io.export import KINDS
+
+    if not path.lower().endswith(KINDS[kind]):
+        raise InputError(f"{flag} {path}: written as {' or '.join(KINDS[kind])}")
+    check_output(path, inputs=[labels])
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``forceclosure export``; the exit status."""
+    if not args.graspnet and not args.acronym:
+        raise InputError("nothing to write: give --graspnet and/or --acronym")
+    labels = Path(args.labels)
+    if not labels.exists():
+        raise InputError(f"{args.labels}: no such label file or dataset folder")
+    if args.mesh_root is not None and not os.path.isdir(args.mesh_root):
+        raise InputError(f"--mesh-root {args.mesh_root}: not a folder")
+    if (args.part or args.allow_outside_meshes) and not args.object:
+        raise InputError("--part and --allow-outside-meshes go with --object")
+    if args.object is not None:
+        from ..objects.examples import POLYHEDRA
+
+        if labels.is_dir():
+            raise InputError("--object names one object; a dataset folder's records name "
+                             "theirs")
+        if not os.path.isfile(args.object) and args.object not in POLYHEDRA:
+            raise InputError(f"--object {args.object}: no such file, and no bundled "
+                             "polyhedron of that name")
+    if args.acronym:
+        from ..io.export import require_h5py
+
+        require_h5py()
+    if labels.is_dir():
+        return _run_folder(args, labels)
+    outputs = [p for p in (args.graspnet, args.acronym) if p]
+    if len(set(map(os.path.abspath, outputs))) < len(outputs):
+        raise InputError("--graspnet and --acronym: each needs its own file")
+    if args.graspnet:
+        _check_file_out(args.graspnet, "graspnet", "--graspnet", args.labels)
+    if args.acronym:
+        _check_file_out(args.acronym, "acronym", "--acronym", args.labels)
+    entry = _export_one(args, str(labels), args.graspnet, args.acronym, None)
+    return _report(args, [entry], failed=0)
+
+
+def _source(labels: Any, args: argparse.Namespace, record: dict[str, Any] | None,
+            job: dict[str, Any]) -> tuple[Any, dict[str, Any]]:
+    """The object of ``labels`` and the options to read it with."""
+    from ..io.export import object_source
+
+    if args.object is not None:
+        return args.object, {"part": args.part,
+                             "allow_outside_meshes": args.allow_outside_meshes}
+    if record is not None:
+        return record.get("path"), {"allow_open": bool(job.get("allow_open", False)),
+                                    "allow_outside_meshes":
+                                        bool(job.get("allow_outside_meshes", False))}
+    found = object_source(labels)
+    where = labels.meta.get("object_source") or {}
+    options = {k: where[k] for k in ("part", "allow_open", "allow_outside_meshes")
+               if k in where} if found in (where.get("path"), where.get("name")) else {}
+    return found, options
+
+
+def _export_one(args: argparse.Namespace, labels_file: str, graspnet: str | None,
+                acronym: str | None, record: dict[str, Any] | None,
+                job: dict[str, Any] | None = None) -> dict[str, Any]:
+    """Everything computed, then the files written: the object's summary entry."""
+    import numpy as np
+
+    from ..gripper.labels import GraspLabels
+    from ..io.atomic import atomic_write
+    from ..io.export import acronym_object, graspnet_array, save_acronym
+
+    labels = GraspLabels.load(labels_file)
+    entry: dict[str, Any] = {"labels": labels_file, "poses": len(labels)}
+    array = found = None
+    if graspnet:
+        array = graspnet_array(labels, score=args.graspnet_score)
+    if acronym:
+        source, options = _source(labels, args, record, job or {})
+        if source is None:
+            raise InputError(f"{labels_file}: its meta does not locate the object the labels "
+                             f"were made on (object {labels.meta.get('object')!r}); name it "
+                             "with --object FILE")
+        found = acronym_object(source, acronym, args.mesh_root, **options)
+    if graspnet:
+        with atomic_write(graspnet) as f:
+            np.save(f, array)
+        entry["graspnet"] = {"file": graspnet, "scored": int(np.sum(array[:, 0] >= 0))}
+    if acronym:
+        save_acronym(acronym, labels, found)
+        entry["acronym"] = {"file": acronym, "object_file": found.file, "scale": found.scale,
+                            "mesh_root": found.mesh_root,
+                            "surface_written": found.mesh if found.reason else None,
+                            "note": found.note}
+    return entry
+
+
+def _sha256(path: Path) -> str:
+    digest = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def _run_folder(args: argparse.Namespace, folder: Path) -> int:
+    """A ``dataset --gripper`` folder: one GraspNet and ACRONYM file per object done."""
+    try:
+        job = json.loads((folder / "job.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError, UnicodeDecodeError):
+        job = None
+    if not isinstance(job, dict) or job.get("mode") != "gripper":
+        raise InputError(f"{args.labels}: a folder, but not the output of 'dataset --gripper "
+                         "parallel-jaw' (no job.json of a gripper job)")
+    for path, flag in ((args.graspnet, "--graspnet"), (args.acronym, "--acronym")):
+        if path:
+            _check_folder_out(path, flag, folder)
+    records = []
+    for file in sorted((folder / "objects").glob("*.json")):
+        try:
+            record = json.loads(file.read_text(encoding="utf-8"))
+        except (OSError, ValueError, UnicodeDecodeError):
+            continue
+        if isinstance(record, dict):
+            records.append(record)
+    done = [r for r in records if r.get("status") == "done"
+            and isinstance(r.get("labels_file"), str)]
+    for path in (args.graspnet, args.acronym):
+        if path and not os.path.isdir(path):
+            os.mkdir(path)
+    entries, failed = [], 0
+    for record in done:
+        name = record["labels_file"]
+        labels_file = folder / "objects" / Path(name).name
+        stem = Path(name).stem
+        try:
+            if not labels_file.is_file():
+                raise InputError(f"{name}: its labels file is missing")
+            if _sha256(labels_file) != record.get("labels_sha256"):
+                raise InputError(f"{name}: its labels file changed since its record was "
+                                 "written; run the dataset again")
+            entries.append(_export_one(
+                args, str(labels_file),
+                os.path.join(args.graspnet, stem + ".npy") if args.graspnet else None,
+                os.path.join(args.acronym, stem + ".h5") if args.acronym else None,
+                record, job))
+        except InputError as e:  # this object's: say it, do the others
+            failed += 1
+            print(f"forceclosure: error: {printable(str(e))}", file=sys.stderr)
+    skipped = len(records) - len(done)
+    return _report(args, entries, failed, skipped)
+
+
+def _report(args: argparse.Namespace, entries: list[dict[str, Any]], failed: int,
+            skipped: int = 0) -> int:
+    if args.json:
+        json.dump({"labels": args.labels, "exported": entries, "failed": failed,
+                   "skipped": skipped}, sys.stdout, indent=2, allow_nan=False)
+        sys.stdout.write("\n")
+    else:
+        for entry in entries:
+            parts = [f"{printable(entry['labels'])}: {entry['poses']:,} poses"]
+            if "graspnet" in entry:
+                g = entry["graspnet"]
+                parts.append(f"graspnet {printable(g['file'])} ({g['scored']:,} scored)")
+            if "acronym" in entry:
+                a = entry["acronym"]
+                parts.append(f"acronym {printable(a['file'])} (object/file "
+                             f"{printable(a['object_file'])}, scale {a['scale']:g})")
+            print("; ".join(parts))
+        if skipped:
+            print(f"{skipped:,} records not done (failed or timed out): no labels to export")
+    for entry in entries:
+        note = entry.get("acronym", {}).get("note")
+        if note:
+            print(f"forceclosure: {printable(entry['acronym']['file'])}: {note}",
+                  file=sys.stderr)
+    return 2 if failed else 0
