@@ -439,7 +439,7 @@ def _cmd_inspect(args: argparse.Namespace) -> int:
     if args.plot:
         from ..pictures.plot import plot_object, upright_axis
 
-        plot_object(obj, args.plot, up=upright_axis(args.object))
+        plot_object(obj, args.plot, up=upright_axis(args.object, obj))
         print(f"  picture: {args.plot}", file=sys.stderr if args.json else sys.stdout)
     return 0
 
@@ -551,7 +551,7 @@ def _save_views(args: argparse.Namespace, found: list, corners: list = ()) -> No
         return
     from ..pictures.plot import upright_axis
 
-    up = upright_axis(args.object)
+    up = upright_axis(args.object, drawn[0].object)
     if args.plot:
         from ..pictures.plot import plot_found
 
@@ -903,7 +903,7 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     if args.plot or args.html:
         from ..pictures.plot import upright_axis
 
-        up = upright_axis(args.object)
+        up = upright_axis(args.object, obj)
     if args.plot:
         from ..pictures.grasp_plot import plot_grasps
 
