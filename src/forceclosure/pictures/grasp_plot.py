@@ -31,7 +31,8 @@ from ..errors import InputError
 from ..gripper.jaw import ParallelJaw
 from .grasp_scene import BOX_EDGES, BOX_TRIANGLES, CATEGORY_COLOURS, categories
 
-__all__ = ["COLOURS", "FORMATS", "best_grasps", "check_plot_path", "plot_grasps"]
+__all__ = ["COLOURS", "FORMATS", "best_grasps", "check_plot_path", "grasps_picture",
+           "plot_grasps"]
 
 #: The picture's formats, by file extension.
 FORMATS = (".png", ".svg")
@@ -146,30 +147,42 @@ def _panel(ax: Any, scene: Any, pose: Any, up: str) -> None:
                      "#1d6b2e", pad=0)
 
 
-def plot_grasps(obj: Any, labels: Any, path: str, top: int = 10,
-                gripper: ParallelJaw | None = None, title: str | None = None, *,
-                up: str = "z") -> list[int]:
-    """Draw the ``top`` best labelled poses, one panel each, and save to ``path`` (.png,
-    .svg), with the ``up`` axis upright (:func:`forceclosure.pictures.plot.upright_axis`).
+def grasps_picture(obj: Any, labels: Any, top: int = 10, gripper: ParallelJaw | None = None,
+                   title: str | None = None, *, up: str = "z"):
+    """The figure of the ``top`` best labelled poses, one panel each (best first, rows of
+    :data:`COLUMNS`), the legend above them, with the ``up`` axis upright.
 
-    Returns the indices of the grasps drawn (:func:`best_grasps`), in panel order.
+    Parameters
+    ----------
+    obj : file, bundled name, trimesh.Trimesh or Polyhedron
+    labels : GraspLabels
+    top : int
+        How many of the best poses to draw (:func:`best_grasps`); with none, one panel
+        shows the object alone.
+    gripper : ParallelJaw, optional
+        Default: the labels' gripper, from their ``meta``.
+    title : str, optional
+    up : {"x", "y", "z"}
+        The axis drawn upright (:func:`forceclosure.pictures.plot.upright_axis`).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        A bare figure (no pyplot): its axes are the panels, in rank order.
 
     Examples
     --------
-    >>> import os, tempfile
     >>> from forceclosure.gripper.labels import grasp_labels
     >>> labels = grasp_labels("cube", ParallelJaw(3.0), mu=0.3, count=8, least_friction=False)
-    >>> path = os.path.join(tempfile.mkdtemp(), "grasps.png")
-    >>> len(plot_grasps("cube", labels, path, top=3)), os.path.getsize(path) > 0
-    (3, True)
+    >>> fig = grasps_picture("cube", labels, top=3)
+    >>> len(fig.axes), fig.axes[0].get_title().splitlines()[0]
+    (3, '1. closure, collides')
     """
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
 
-    from ..io.atomic import atomic_write
     from .grasp_scene import grasp_scene
 
-    check_plot_path(path)
     if up not in ("x", "y", "z"):
         raise InputError(f"up must be 'x', 'y' or 'z', got {up!r}")
     chosen = best_grasps(labels, top)
@@ -189,10 +202,35 @@ def plot_grasps(obj: Any, labels: Any, path: str, top: int = 10,
         handles = [Line2D([], [], color=e.colour, lw=3, label=e.text) for e in scene.legend]
         fig.legend(handles=handles, loc="upper center", ncol=min(4, len(handles)),
                    fontsize=8, frameon=False, bbox_to_anchor=(0.5, 1 - 0.38 / height))
+    return fig
+
+
+def plot_grasps(obj: Any, labels: Any, path: str, top: int = 10,
+                gripper: ParallelJaw | None = None, title: str | None = None, *,
+                up: str = "z") -> list[int]:
+    """Draw the ``top`` best labelled poses, one panel each (:func:`grasps_picture`), and
+    save to ``path`` (.png, .svg), atomically, with the ``up`` axis upright
+    (:func:`forceclosure.pictures.plot.upright_axis`).
+
+    Returns the indices of the grasps drawn (:func:`best_grasps`), in panel order.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from forceclosure.gripper.labels import grasp_labels
+    >>> labels = grasp_labels("cube", ParallelJaw(3.0), mu=0.3, count=8, least_friction=False)
+    >>> path = os.path.join(tempfile.mkdtemp(), "grasps.png")
+    >>> len(plot_grasps("cube", labels, path, top=3)), os.path.getsize(path) > 0
+    (3, True)
+    """
+    from ..io.atomic import atomic_write
+
+    check_plot_path(path)
+    fig = grasps_picture(obj, labels, top, gripper, title, up=up)
     fmt = str(path).lower().rsplit(".", 1)[-1]
     try:
         with atomic_write(path) as f:
             fig.savefig(f, format=fmt, dpi=110)
     finally:
         fig.clear()
-    return chosen.tolist()
+    return best_grasps(labels, top).tolist()

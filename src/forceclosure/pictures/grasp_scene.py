@@ -152,7 +152,8 @@ class PoseScene:
         The contacts and their outward normals.
     cones : (2, CONE_SIDES + 1, 3) array
         Per contact, the apex (the contact) and the rim of its friction cone,
-        pointing into the object.
+        pointing into the object (none, ``(0, CONE_SIDES + 1, 3)``, where the labels
+        have no normals).
     closing_axis, approach_axis : (3,) arrays
     """
 
@@ -251,13 +252,19 @@ def _number(x: float, missing: str) -> str:
     return missing if np.isnan(x) else "none closes" if np.isinf(x) else f"{x:.3g}"
 
 
+def _value(labels: Any, name: str, i: int) -> float:
+    """A label's value at pose ``i``; NaN where the labels do not have it."""
+    values = getattr(labels, name, None)
+    return float("nan") if values is None else float(values[i])
+
+
 def _caption(rank: int, labels: Any, i: int) -> str:
     verdict = ("none", "marginal", "closure")[int(labels.code[i])]
     hand = ("hand not checked" if labels.collides is None
             else "collides" if labels.collides[i] else "clear")
     return (f"{rank}. {verdict}, {hand}\n"
-            f"μ* {_number(labels.least_friction[i], '–')}   "
-            f"ε {_number(labels.epsilon[i], '–')}")
+            f"μ* {_number(_value(labels, 'least_friction', i), '–')}   "
+            f"ε {_number(_value(labels, 'epsilon', i), '–')}")
 
 
 def _cone(apex: NDArray, axis: NDArray, mu: float, height: float) -> NDArray[np.float64]:
@@ -331,10 +338,13 @@ def grasp_scene(obj: Any, labels: Any, chosen: NDArray[np.int64],
             base = depth - float(tip_offset)
         stem = np.array([[back, 0.0, 0.0], [base, 0.0, 0.0]]) @ R.T + t
         points = np.asarray(labels.points[i], dtype=float)
-        normals = np.asarray(labels.normals[i], dtype=float)
-        reach = 0.35 * float(np.linalg.norm(points[1] - points[0])) or 0.1 * size
-        cones = np.array([_cone(p, -n / np.linalg.norm(n), mu, reach)
-                          for p, n in zip(points, normals, strict=True)])
+        if getattr(labels, "normals", None) is None:  # no normals, no cones
+            normals, cones = np.full((2, 3), np.nan), np.zeros((0, CONE_SIDES + 1, 3))
+        else:
+            normals = np.asarray(labels.normals[i], dtype=float)
+            reach = 0.35 * float(np.linalg.norm(points[1] - points[0])) or 0.1 * size
+            cones = np.array([_cone(p, -n / np.linalg.norm(n), mu, reach)
+                              for p, n in zip(points, normals, strict=True)])
         poses.append(PoseScene(rank, i, int(kind[i]), CATEGORY_COLOURS[kind[i]],
                                _caption(rank, labels, i), boxes, stem, points, normals, cones,
                                R[:, 1].copy(), R[:, 0].copy()))

@@ -390,7 +390,8 @@ def _pose_mesh(pose) -> tuple[NDArray, NDArray, NDArray, NDArray]:
     ring = np.arange(1, sides + 1)
     one = np.column_stack([np.zeros(sides, int), ring, np.roll(ring, -1)])
     cones = pose.cones.reshape(-1, 3)
-    cone_tri = np.concatenate([one + (sides + 1) * c for c in range(len(pose.cones))])
+    cone_tri = np.concatenate([one + (sides + 1) * c for c in range(len(pose.cones))]
+                              or [np.zeros((0, 3), int)])
     return hand, hand_tri, cones, cone_tri
 
 
