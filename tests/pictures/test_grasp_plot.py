@@ -157,3 +157,37 @@ def test_grasp_pictures_hold_the_up_axis_upright():
     assert (up.x, up.y, up.z) == (0.0, 1.0, 0.0)
     with pytest.raises(InputError, match="up must be"):
         grasps_figure("cube", labels, 2, up="w")
+
+
+def test_the_hand_stands_where_the_pose_puts_it():
+    """The drawn hand of a pose, in the jaw frame (x the approach axis, y the closing
+    axis): its fingers' inner faces at +-(width/2 + clearance), their tips at the pose's
+    own depth past the jaw centre where the labels have one (else the gripper's), and the
+    stem ending tip_offset behind the tips where the labels state one."""
+    from types import SimpleNamespace
+
+    from forceclosure import ParallelJaw
+    from forceclosure.pictures.grasp_scene import grasp_scene
+
+    hand = ParallelJaw(3.0)  # depth 0.6, fingers 1.5 long, 0.3 thick
+    c, x, a = np.array([0.1, 0.2, 0.3]), np.array([1.0, 0, 0]), np.array([0, 0, -1.0])
+    labels = SimpleNamespace(
+        code=np.array([2, 2]), collides=np.array([False, False]), epsilon=np.array([0.2, 0.1]),
+        least_friction=np.array([0.1, 0.2]), center=np.array([c, c]),
+        closing_axis=np.array([x, x]), approach_axis=np.array([a, a]),
+        width=np.array([2.0, 2.0]), points=np.array([[c - x, c + x]] * 2),
+        normals=np.array([[-x, x]] * 2), depth=np.array([0.6, 0.2]),
+        meta={"mu": 0.5, "width_max": 3.0, "collision": {"clearance": 0.05},
+              "tip_offset": 2.5})
+    scene = grasp_scene("cube", labels, np.array([0, 1]), hand)
+    for pose, depth in zip(scene.poses, (0.6, 0.2), strict=True):
+        along = (pose.boxes - c) @ a  # the approach coordinate of every corner
+        across = (pose.boxes - c) @ x
+        fingers = pose.boxes[:2]
+        assert np.isclose(along[:2].max(), depth) and np.isclose(along[:2].min(), depth - 1.5)
+        assert np.isclose(np.abs(across[:2]).min(), 1.0 + 0.05)  # the inner faces
+        assert np.isclose(np.abs(across[:2]).max(), 1.0 + 0.05 + 0.3)
+        assert np.allclose(fingers.mean(axis=1)[:, 1:], c[1:] + [[0, -depth + 0.75]] * 2)
+        assert np.isclose((pose.stem[1] - c) @ a, depth - 2.5)  # the hand's base frame
+        # the cones point into the cube: their rims lie between the contacts
+        assert np.all(np.abs((pose.cones[:, 1:] - c) @ x) < 1.0)

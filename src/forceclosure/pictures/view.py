@@ -456,7 +456,7 @@ def grasps_figure(obj, labels, top: int = 10, gripper=None, title: str | None = 
         line = np.concatenate([_segments(p.boxes, p.stem) for p in poses]).astype(np.float32)
         fig.add_trace(go.Scatter3d(x=line[:, 0], y=line[:, 1], z=line[:, 2], mode="lines",
                                    name=entry.text, legendgroup=entry.words,
-                                   line={"color": entry.colour, "width": 2}, opacity=0.45,
+                                   line={"color": entry.colour, "width": 2}, opacity=0.3,
                                    hoverinfo="skip"))
         dots = np.concatenate([p.points for p in poses]).astype(np.float32)
         fig.add_trace(go.Scatter3d(x=dots[:, 0], y=dots[:, 1], z=dots[:, 2], mode="markers",
