@@ -1,10 +1,11 @@
 """Interactive views: independent regions in a web page that works offline.
 
-:func:`write_html` saves one self-contained HTML file (plotly.js is embedded,
-nothing is fetched) that a browser can turn, zoom and hover: the object, each
-finger's region of contact in its own colour, and at every region the cone of
-forces its finger can push with (the friction cone, drawn on the finger's
-side of the surface; a frictionless finger's single direction is a line).
+:func:`write_html` saves one self-contained HTML file (plotly.js's 3-D bundle
+embedded, compressed, :mod:`forceclosure.pictures.page`; nothing is fetched) that a
+browser can turn, zoom and hover: the object, each finger's region of contact in its
+own colour, and at every region the cone of forces its finger can push with (the
+friction cone, drawn on the finger's side of the surface; a frictionless finger's single
+direction is a line).
 On polyhedra several grasps share one page with a menu to switch between
 them; on polygons they are drawn together, as in the PNG of
 :func:`forceclosure.pictures.plot.plot_regions` (grasps with a soft finger on a convex
@@ -332,7 +333,8 @@ def write_html(found: Sequence[RegionSet], path: str | Path, title: str | None =
         polygon, vertex grasps among them anywhere (:func:`planar_figure`),
         best first.
     path : str or Path
-        Where to write the page (plotly.js is embedded: about 5 MB).
+        Where to write the page, atomically (plotly.js's 3-D bundle is inlined,
+        compressed: :func:`forceclosure.pictures.page.small_page`, about 750 kB).
     title : str, optional
     up : {"x", "y", "z"}
         The axis held upright on a polyhedron (:func:`forceclosure.pictures.plot.upright_axis`).
@@ -348,7 +350,7 @@ def write_html(found: Sequence[RegionSet], path: str | Path, title: str | None =
     >>> from forceclosure.objects import bundled
     >>> from forceclosure.synthesis import soft_pair_regions
     >>> out = pathlib.Path(tempfile.mkdtemp()) / "cube.html"
-    >>> write_html([soft_pair_regions(bundled("cube"), 0, 1, 0.5)], out).stat().st_size > 10**6
+    >>> write_html([soft_pair_regions(bundled("cube"), 0, 1, 0.5)], out).stat().st_size < 10**6
     True
     """
     path = Path(path)
@@ -357,9 +359,13 @@ def write_html(found: Sequence[RegionSet], path: str | Path, title: str | None =
     obj = _one_object(found)
     fig = (spatial_figure(found, title, up=up) if obj.dim == 3
            else planar_figure(found, title))
+    from ..io.atomic import atomic_write
+    from .page import small_page
+
+    page = small_page(fig, title=fig.layout.title.text or obj.name)
     try:
-        fig.write_html(path, include_plotlyjs=True, full_html=True,
-                       config={"displaylogo": False, "responsive": True})
+        with atomic_write(str(path)) as f:
+            f.write(page.encode("utf-8"))
     except OSError as exc:
         raise InputError(f"{path}: cannot write ({exc.strerror})") from None
     return path
