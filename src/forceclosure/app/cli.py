@@ -439,7 +439,7 @@ def _cmd_inspect(args: argparse.Namespace) -> int:
     if args.plot:
         from ..pictures.plot import plot_object, upright_axis
 
-        plot_object(obj, args.plot, up=upright_axis(args.object))
+        plot_object(obj, args.plot, up=upright_axis(args.object, obj))
         print(f"  picture: {args.plot}", file=sys.stderr if args.json else sys.stdout)
     return 0
 
@@ -551,7 +551,7 @@ def _save_views(args: argparse.Namespace, found: list, corners: list = ()) -> No
         return
     from ..pictures.plot import upright_axis
 
-    up = upright_axis(args.object)
+    up = upright_axis(args.object, drawn[0].object)
     if args.plot:
         from ..pictures.plot import plot_found
 
@@ -934,7 +934,7 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     if args.plot or args.html:
         from ..pictures.plot import upright_axis
 
-        up = upright_axis(args.object)
+        up = upright_axis(args.object, obj)
     if args.plot:
         from ..pictures.grasp_plot import plot_grasps
 
@@ -1344,15 +1344,16 @@ def build_parser() -> argparse.ArgumentParser:
                    help="the GraspGroup score: 1.1 - least friction (GraspNet's, default) or "
                         "the Ferrari-Canny epsilon; -1 for grasps that do not close or collide")
     g.add_argument("--plot", metavar="FILE.png",
-                   help="save a picture (.png or .svg) of the object and its best jaw poses "
-                        "drawn as grippers, coloured by label")
+                   help="save a picture (.png or .svg) of the best jaw poses, one panel each: "
+                        "the object, the hand coloured by label, the contacts and their "
+                        "friction cones, a caption")
     g.add_argument("--plot-top", type=int, default=10, metavar="K",
                    help="how many of the best poses the picture and the page draw "
                         "(default 10)")
     g.add_argument("--html", metavar="FILE.html",
-                   help="save an interactive view (.html, self-contained, works offline) of "
-                        "the object and its best jaw poses, coloured by label, with hover "
-                        "text")
+                   help="save an interactive view (.html, self-contained, works offline, "
+                        "under 1 MB) of the object and its best jaw poses, coloured by "
+                        "label, one highlighted at a time")
     # grasp-matrix metrics, the task wrench, skipping epsilon (issue 17; docs/gripper.md)
     g.add_argument("--metrics", action="store_true",
                    help="also the grasp-matrix metrics of every grasp: smallest and largest "

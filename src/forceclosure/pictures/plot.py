@@ -38,7 +38,7 @@ from ..errors import InputError
 from ..objects import Polygon, Polyhedron
 
 __all__ = ["FORMATS", "UP_AXIS", "check_plot_path", "corner_cone", "on_vertex", "plot_found",
-           "plot_object", "plot_regions", "plot_spatial_regions", "upright_axis"]
+           "plot_object", "plot_regions", "plot_spatial_regions", "standing", "upright_axis"]
 
 #: The pictures' formats, by file extension.
 FORMATS = (".png", ".svg")
@@ -54,27 +54,127 @@ _GREY = np.array([0.80, 0.82, 0.86])
 #: says: glTF's specification makes +Y up ("glTF uses a right-handed coordinate system ...
 #: +Y is up"), and OBJ, which states none, is written y-up by the tools that make most
 #: of them (Blender's and Maya's exporters by default; pybullet_data's duck and teddy sit
-#: on y = 0). Every other source (STL and PLY, with no convention; URDF, z-up by ROS REP
-#: 103; bundled objects; objects made in Python) is drawn z-up.
+#: on y = 0). Every other source (STL and PLY, with no convention; bundled objects; objects
+#: made in Python) is drawn z-up; a URDF (z-up by ROS REP 103) as its meshes' format says
+#: when every mesh it places is of a y-up format and unturned (pybullet_data's duck and
+#: teddy: OBJs placed as they are), else z-up.
 UP_AXIS = {".obj": "y", ".glb": "y", ".gltf": "y"}
 
+#: How far (degrees) an object standing on an axis must be tipped before it falls over for
+#: :func:`upright_axis` to call that axis "it stands on it".
+STANDS = 10.0
 
-def upright_axis(source: Any) -> str:
-    """The axis to draw ``source``'s object upright along: ``"y"`` for the y-up formats
-    (:data:`UP_AXIS`: ``.obj``, ``.glb``, ``.gltf``), ``"z"`` for anything else.
+
+def _urdf_axis(path: Path) -> str:
+    """A URDF's up axis: its meshes' format's, when every ``<mesh>`` it places is of a y-up
+    format with no turn in its ``<origin>``; else z (REP 103)."""
+    import xml.etree.ElementTree as ET
+
+    try:
+        root = ET.fromstring(path.read_bytes().lstrip(b" \t\r\n"))
+    except (OSError, ET.ParseError):
+        return "z"
+    axes = set()
+    for element in root.iter():
+        if element.tag not in ("collision", "visual"):
+            continue
+        mesh = element.find("geometry/mesh")
+        origin = element.find("origin")
+        turned = origin is not None and any(
+            float(v) != 0.0 for v in (origin.get("rpy") or "0 0 0").split())
+        if mesh is None:
+            if element.find("geometry") is not None:
+                axes.add("z")  # a box, cylinder or sphere of the URDF itself
+            continue
+        axes.add("z" if turned else UP_AXIS.get(Path(mesh.get("filename", "")).suffix.lower(),
+                                                  "z"))
+    return axes.pop() if len(axes) == 1 else "z"
+
+
+def _convention(source: Any) -> str:
+    if not isinstance(source, str | Path):
+        return "z"
+    path = Path(source)
+    if path.suffix.lower() == ".urdf":
+        return _urdf_axis(path) if path.is_file() else "z"
+    return UP_AXIS.get(path.suffix.lower(), "z")
+
+
+def standing(vertices: NDArray) -> dict[str, float]:
+    """How steadily the object of ``vertices`` stands on each axis: per axis, the larger
+    over its two ends of the angle (degrees) it must be tipped to fall over, resting on a
+    table with that end down; negative where it falls by itself.
+
+    The object is taken as its convex hull, solid and uniform. Resting on the end ``-a``
+    of axis ``a``, it touches the table with the hull's points within 0.5 % of its size of
+    the lowest; it stands when its centre of mass is above their convex hull, and the
+    angle is ``atan(margin / height)`` (the centre's distance inside that hull's edge,
+    over its height above the table).
+
+    Examples
+    --------
+    A box 1 wide, 3 long along y and 1 high stands on x or z by 45° and on its
+    ends by atan(0.5 / 1.5):
+
+    >>> import trimesh
+    >>> {a: round(v, 1) for a, v in standing(trimesh.creation.box((1, 3, 1)).vertices).items()}
+    {'x': 45.0, 'y': 18.4, 'z': 45.0}
+    """
+    import shapely
+    import trimesh
+
+    hull = trimesh.convex.convex_hull(np.asarray(vertices, dtype=float))
+    V, centre = hull.vertices, hull.center_mass
+    size = float(np.ptp(V, axis=0).max())
+    found = {}
+    for k, axis in enumerate("xyz"):
+        plane = [j for j in range(3) if j != k]
+        best = -90.0
+        for sign in (1.0, -1.0):
+            height = sign * V[:, k]
+            low = height.min()
+            base = shapely.MultiPoint(V[height <= low + 0.005 * size][:, plane]).convex_hull
+            above = shapely.Point(centre[plane])
+            margin = (base.exterior.distance(above)
+                      if base.geom_type == "Polygon" and base.contains(above)
+                      else -base.distance(above))
+            best = max(best, float(np.degrees(np.arctan2(margin, sign * centre[k] - low))))
+        found[axis] = best
+    return found
+
+
+def upright_axis(source: Any, obj: Any = None) -> str:
+    """The axis to draw ``source``'s object upright along.
+
+    First the file format's convention (:data:`UP_AXIS`): ``"y"`` for
+    ``.obj``, ``.glb``, ``.gltf`` and for a URDF whose meshes are all of these
+    and placed unturned, ``"z"`` for anything else. Then, given the loaded
+    object ``obj``, its shape: where the object does not stand on the
+    convention's axis (tipped by less than :data:`STANDS` degrees it falls,
+    :func:`standing`) but does on another, the one it stands on most steadily
+    (pybullet_data's mug, an OBJ written z-up).
 
     Parameters
     ----------
     source : path, str or anything else given to :func:`forceclosure.objects.load_object`
+    obj : Polyhedron, trimesh.Trimesh or Polygon, optional
+        The object loaded from ``source`` (a polygon lies in its plane: ``"z"``).
 
     Examples
     --------
     >>> upright_axis("duck_vhacd.obj"), upright_axis("part.STL"), upright_axis("cube")
     ('y', 'z', 'z')
+    >>> import trimesh
+    >>> upright_axis("lying.obj", trimesh.creation.cylinder(radius=1, height=0.5))  # a puck
+    'z'
     """
-    if not isinstance(source, str | Path):
-        return "z"
-    return UP_AXIS.get(Path(source).suffix.lower(), "z")
+    convention = _convention(source)
+    vertices = getattr(obj, "vertices", None)
+    if obj is None or isinstance(obj, Polygon) or vertices is None or len(vertices) < 4:
+        return convention
+    stands = standing(vertices)
+    best = max("xyz", key=lambda a: (stands[a], a == convention))
+    return convention if stands[convention] >= STANDS or stands[best] < STANDS else best
 
 
 def on_vertex(regions: Any) -> bool:

@@ -1,10 +1,11 @@
 """Interactive views: independent regions in a web page that works offline.
 
-:func:`write_html` saves one self-contained HTML file (plotly.js is embedded,
-nothing is fetched) that a browser can turn, zoom and hover: the object, each
-finger's region of contact in its own colour, and at every region the cone of
-forces its finger can push with (the friction cone, drawn on the finger's
-side of the surface; a frictionless finger's single direction is a line).
+:func:`write_html` saves one self-contained HTML file (plotly.js's 3-D bundle
+embedded, compressed, :mod:`forceclosure.pictures.page`; nothing is fetched) that a
+browser can turn, zoom and hover: the object, each finger's region of contact in its
+own colour, and at every region the cone of forces its finger can push with (the
+friction cone, drawn on the finger's side of the surface; a frictionless finger's single
+direction is a line).
 On polyhedra several grasps share one page with a menu to switch between
 them; on polygons they are drawn together, as in the PNG of
 :func:`forceclosure.pictures.plot.plot_regions` (grasps with a soft finger on a convex
@@ -332,7 +333,8 @@ def write_html(found: Sequence[RegionSet], path: str | Path, title: str | None =
         polygon, vertex grasps among them anywhere (:func:`planar_figure`),
         best first.
     path : str or Path
-        Where to write the page (plotly.js is embedded: about 5 MB).
+        Where to write the page, atomically (plotly.js's 3-D bundle is inlined,
+        compressed: :func:`forceclosure.pictures.page.small_page`, about 750 kB).
     title : str, optional
     up : {"x", "y", "z"}
         The axis held upright on a polyhedron (:func:`forceclosure.pictures.plot.upright_axis`).
@@ -348,7 +350,7 @@ def write_html(found: Sequence[RegionSet], path: str | Path, title: str | None =
     >>> from forceclosure.objects import bundled
     >>> from forceclosure.synthesis import soft_pair_regions
     >>> out = pathlib.Path(tempfile.mkdtemp()) / "cube.html"
-    >>> write_html([soft_pair_regions(bundled("cube"), 0, 1, 0.5)], out).stat().st_size > 10**6
+    >>> write_html([soft_pair_regions(bundled("cube"), 0, 1, 0.5)], out).stat().st_size < 10**6
     True
     """
     path = Path(path)
@@ -357,9 +359,13 @@ def write_html(found: Sequence[RegionSet], path: str | Path, title: str | None =
     obj = _one_object(found)
     fig = (spatial_figure(found, title, up=up) if obj.dim == 3
            else planar_figure(found, title))
+    from ..io.atomic import atomic_write
+    from .page import small_page
+
+    page = small_page(fig, title=fig.layout.title.text or obj.name)
     try:
-        fig.write_html(path, include_plotlyjs=True, full_html=True,
-                       config={"displaylogo": False, "responsive": True})
+        with atomic_write(str(path)) as f:
+            f.write(page.encode("utf-8"))
     except OSError as exc:
         raise InputError(f"{path}: cannot write ({exc.strerror})") from None
     return path
@@ -367,24 +373,56 @@ def write_html(found: Sequence[RegionSet], path: str | Path, title: str | None =
 
 # --- labelled parallel-jaw poses (``forceclosure grasps --html``) ---------------------------
 
+#: The drawn mesh's triangle budget on a page
+#: (:func:`~forceclosure.pictures.grasp_scene.drawn_mesh`).
+PAGE_TRIANGLES = 4000
 
-def _number(x: float, missing: str) -> str:
-    """A label's value for hover text: ``missing`` for NaN, "none closes" for inf."""
-    x = float(x)
-    return missing if np.isnan(x) else "none closes" if np.isinf(x) else f"{x:.4g}"
+
+def _segments(boxes: NDArray, stem: NDArray) -> NDArray[np.float64]:
+    """A pose's hand as line segments joined with NaN rows: its boxes' edges and the stem."""
+    from .grasp_scene import BOX_EDGES
+
+    pieces = [box[e] for box in boxes for e in BOX_EDGES] + [stem]
+    return _lines(pieces, closed=False)
+
+
+def _pose_mesh(pose) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """The highlighted pose's hand boxes and its cones as two triangle meshes."""
+    from .grasp_scene import BOX_TRIANGLES
+
+    hand = pose.boxes.reshape(-1, 3)
+    hand_tri = np.concatenate([BOX_TRIANGLES + 8 * b for b in range(len(pose.boxes))])
+    sides = pose.cones.shape[1] - 1
+    ring = np.arange(1, sides + 1)
+    one = np.column_stack([np.zeros(sides, int), ring, np.roll(ring, -1)])
+    cones = pose.cones.reshape(-1, 3)
+    cone_tri = np.concatenate([one + (sides + 1) * c for c in range(len(pose.cones))]
+                              or [np.zeros((0, 3), int)])
+    return hand, hand_tri, cones, cone_tri
+
+
+def _caption_html(scene, pose) -> str:
+    """The page's title with the highlighted pose's caption."""
+    line1, line2 = pose.caption.split("\n")
+    return (f"{scene.title}<br><sub><b style='color:{pose.colour}'>grasp {line1}</b>"
+            f"   {line2}</sub>")
 
 
 def grasps_figure(obj, labels, top: int = 10, gripper=None, title: str | None = None, *,
                   up: str = "z") -> go.Figure:
     """The interactive figure of an object and its ``top`` best labelled jaw poses.
 
-    The same poses as the picture of :func:`forceclosure.pictures.grasp_plot.plot_grasps`
-    (:func:`~forceclosure.pictures.grasp_plot.best_grasps`), each drawn as a gripper
-    outline (its fingers, the palm's bar, the stem) in the colour of its
-    label (:data:`forceclosure.pictures.grasp_plot.COLOURS`), with its contacts as
-    dots. Each pose is one line trace named ``grasp K`` (legend group of the
-    same name, its dots in a second trace of that group); hovering shows the
-    verdict, μ*, ε and whether the hand collides.
+    The same scene as :func:`forceclosure.pictures.grasp_plot.plot_grasps`
+    (:func:`forceclosure.pictures.grasp_scene.grasp_scene`): every pose's hand as a thin
+    outline in the colour of its label and its contacts as dots (hovering one names its
+    pose), one trace per label
+    (named in the legend with the poses drawn and in all, e.g.
+    ``closure and clear: 9 drawn of 9``; clicking it hides them); and one pose
+    highlighted at a time, chosen with the slider under the figure: its hand's
+    boxes, the friction cone at each contact pointing into the object, the line
+    between the contacts, and its caption (rank, verdict, hand clear or colliding,
+    μ*, ε) in the title. The object's mesh is
+    drawn decimated to at most :data:`PAGE_TRIANGLES` triangles, in single precision.
 
     Parameters
     ----------
@@ -395,6 +433,8 @@ def grasps_figure(obj, labels, top: int = 10, gripper=None, title: str | None = 
     gripper : ParallelJaw, optional
         Default: the labels' gripper, from their ``meta``.
     title : str, optional
+    up : {"x", "y", "z"}
+        The axis the camera holds upright (:func:`forceclosure.pictures.plot.upright_axis`).
 
     Examples
     --------
@@ -402,46 +442,75 @@ def grasps_figure(obj, labels, top: int = 10, gripper=None, title: str | None = 
     >>> from forceclosure.gripper.labels import grasp_labels
     >>> labels = grasp_labels("cube", ParallelJaw(3.0), 0.3, 6, least_friction=False)
     >>> fig = grasps_figure("cube", labels, top=4)
-    >>> sorted({t.legendgroup for t in fig.data if t.legendgroup})
-    ['grasp 1', 'grasp 2', 'grasp 3', 'grasp 4']
+    >>> [t.name for t in fig.data if t.showlegend is not False]
+    ['closure, hand collides: 3 drawn of 3', 'none: 1 drawn of 3']
+    >>> len(fig.layout.sliders[0].steps)
+    4
     """
-    from ..gripper.jaw import surface_mesh
-    from ..io.export import labels_gripper
-    from .grasp_plot import COLOURS as LABEL_COLOURS
-    from .grasp_plot import _category, _outline, best_grasps
+    from .grasp_plot import best_grasps
+    from .grasp_scene import grasp_scene
 
-    gripper = labels_gripper(labels) if gripper is None else gripper
-    poly, _ = surface_mesh(obj)
     chosen = best_grasps(labels, top)
-    category = _category(labels)
-    names = list(LABEL_COLOURS)
-    fig = go.Figure(_object_traces(poly))
-    verdicts = np.array(["none", "marginal", "closure"])
-    for rank, i in enumerate(chosen, start=1):
-        kind = names[category[i]]
-        colour, group = LABEL_COLOURS[kind], f"grasp {rank}"
-        hit = ("not checked" if labels.collides is None
-               else "yes" if labels.collides[i] else "no")
-        text = (f"{group}: {verdicts[labels.code[i]]}<br>"
-                f"least friction mu* {_number(labels.least_friction[i], 'not computed')}<br>"
-                f"epsilon {_number(labels.epsilon[i], 'not computed')}<br>"
-                f"hand collides: {hit}<br>width {float(labels.width[i]):.4g}")
-        line = _lines(_outline(labels.center[i], labels.closing_axis[i],
-                               labels.approach_axis[i], labels.width[i], gripper), closed=False)
+    scene = grasp_scene(obj, labels, chosen, gripper, title, most_triangles=PAGE_TRIANGLES)
+    V, T = scene.vertices.astype(np.float32), scene.triangles.astype(np.int32)
+    fig = go.Figure(go.Mesh3d(x=V[:, 0], y=V[:, 1], z=V[:, 2], i=T[:, 0], j=T[:, 1],
+                              k=T[:, 2], color="#b8bcc4", opacity=0.55, flatshading=True,
+                              hoverinfo="skip", name=scene.name, showlegend=False,
+                              lighting={"ambient": 0.55, "diffuse": 0.7, "specular": 0.05}))
+    for entry in scene.legend:  # one trace of outlines and one of contacts per label
+        poses = [p for p in scene.poses if p.colour == entry.colour]
+        line = np.concatenate([_segments(p.boxes, p.stem) for p in poses]).astype(np.float32)
         fig.add_trace(go.Scatter3d(x=line[:, 0], y=line[:, 1], z=line[:, 2], mode="lines",
-                                   name=f"{group}: {kind}", legendgroup=group,
-                                   line={"color": colour, "width": 5}, hovertext=text,
-                                   hoverinfo="text"))
-        dots = np.asarray(labels.points[i], dtype=float)
+                                   name=entry.text, legendgroup=entry.words,
+                                   line={"color": entry.colour, "width": 2}, opacity=0.3,
+                                   hoverinfo="skip"))
+        dots = np.concatenate([p.points for p in poses]).astype(np.float32)
         fig.add_trace(go.Scatter3d(x=dots[:, 0], y=dots[:, 1], z=dots[:, 2], mode="markers",
-                                   legendgroup=group, marker={"size": 4, "color": colour},
-                                   hovertext=text, hoverinfo="text", showlegend=False))
-    fig.update_layout(
-        title={"text": title or f"{poly.name}: the {len(chosen)} best of {len(labels.code):,} "
-                                "labelled jaw poses", "x": 0.02, "font": {"size": 15}},
-        scene={"aspectmode": "data", "xaxis_title": "x", "yaxis_title": "y",
-               "zaxis_title": "z", "camera": _camera(up)},
-        margin={"l": 0, "r": 0, "t": 60, "b": 0}, paper_bgcolor="white")
+                                   legendgroup=entry.words, showlegend=False,
+                                   marker={"size": 3, "color": entry.colour},
+                                   hovertext=[p.caption.replace("\n", "<br>") for p in poses
+                                              for _ in range(2)], hoverinfo="text"))
+    layout = {"scene": {"aspectmode": "data", "xaxis_title": "x", "yaxis_title": "y",
+                        "zaxis_title": "z", "camera": _camera(up)},
+              "margin": {"l": 0, "r": 0, "t": 70, "b": 0}, "paper_bgcolor": "white",
+              "legend": {"x": 0.01, "y": 0.98, "bgcolor": "rgba(255,255,255,0.7)"}}
+    if scene.poses:
+        first = scene.poses[0]
+        hand, hand_tri, cones, cone_tri = _pose_mesh(first)
+        at = len(fig.data)
+        fig.add_trace(go.Mesh3d(x=hand[:, 0], y=hand[:, 1], z=hand[:, 2], i=hand_tri[:, 0],
+                                j=hand_tri[:, 1], k=hand_tri[:, 2], color=first.colour,
+                                opacity=0.35, flatshading=True, hoverinfo="skip",
+                                name="highlighted hand", showlegend=False))
+        fig.add_trace(go.Mesh3d(x=cones[:, 0], y=cones[:, 1], z=cones[:, 2], i=cone_tri[:, 0],
+                                j=cone_tri[:, 1], k=cone_tri[:, 2], color=first.colour,
+                                opacity=0.4, hoverinfo="skip", name="friction cones",
+                                showlegend=False))
+        fig.add_trace(go.Scatter3d(x=first.points[:, 0], y=first.points[:, 1],
+                                   z=first.points[:, 2], mode="lines+markers",
+                                   line={"color": "#222222", "width": 4, "dash": "dash"},
+                                   marker={"size": 5, "color": "#222222"}, hoverinfo="skip",
+                                   name="contacts", showlegend=False))
+        steps = []
+        for pose in scene.poses:
+            hand, _, cones, _ = _pose_mesh(pose)
+            xyz = [hand, cones, pose.points]
+            steps.append({"label": str(pose.rank), "method": "update",
+                          "args": [{"x": [a[:, 0].round(7).tolist() for a in xyz],
+                                    "y": [a[:, 1].round(7).tolist() for a in xyz],
+                                    "z": [a[:, 2].round(7).tolist() for a in xyz],
+                                    # the meshes' colour; the contacts' line keeps its own
+                                    "color": [pose.colour, pose.colour, None]},
+                                   {"title.text": _caption_html(scene, pose)},
+                                   [at, at + 1, at + 2]]})
+        layout["sliders"] = [{"steps": steps, "active": 0, "x": 0.05, "len": 0.9,
+                              "y": 0.02, "currentvalue": {"prefix": "grasp "},
+                              "pad": {"t": 0, "b": 10}}]
+        layout["title"] = {"text": _caption_html(scene, first), "x": 0.02,
+                           "font": {"size": 15}}
+    else:
+        layout["title"] = {"text": scene.title, "x": 0.02, "font": {"size": 15}}
+    fig.update_layout(**layout)
     return fig
 
 
@@ -454,8 +523,10 @@ def check_html_path(path: str | Path) -> None:
 def write_grasps_html(obj, labels, path: str | Path, top: int = 10, gripper=None,
                       title: str | None = None, *, up: str = "z") -> list[int]:
     """Save the object and its ``top`` best labelled jaw poses (:func:`grasps_figure`) as one
-    self-contained, offline HTML page, atomically, with ``up`` upright
-    (:func:`forceclosure.plot.upright_axis`). Returns the indices of the poses drawn.
+    self-contained, offline HTML page (:func:`forceclosure.pictures.page.small_page`:
+    plotly.js's 3-D bundle inlined, compressed; under 1 MB), atomically, with ``up``
+    upright (:func:`forceclosure.pictures.plot.upright_axis`). Returns the indices of the
+    poses drawn.
 
     Examples
     --------
@@ -464,16 +535,16 @@ def write_grasps_html(obj, labels, path: str | Path, top: int = 10, gripper=None
     >>> from forceclosure.gripper.labels import grasp_labels
     >>> labels = grasp_labels("cube", ParallelJaw(3.0), 0.3, 6, least_friction=False)
     >>> out = pathlib.Path(tempfile.mkdtemp()) / "grasps.html"
-    >>> len(write_grasps_html("cube", labels, out, top=3)), out.stat().st_size > 10**6
+    >>> len(write_grasps_html("cube", labels, out, top=3)), out.stat().st_size < 10**6
     (3, True)
     """
     from ..io.atomic import atomic_write
     from .grasp_plot import best_grasps
+    from .page import small_page
 
     check_html_path(path)
     fig = grasps_figure(obj, labels, top, gripper, title, up=up)
-    page = fig.to_html(include_plotlyjs=True, full_html=True,
-                       config={"displaylogo": False, "responsive": True})
+    page = small_page(fig, title=fig.layout.title.text or "grasps")
     with atomic_write(str(path)) as f:
         f.write(page.encode("utf-8"))
     return best_grasps(labels, top).tolist()
