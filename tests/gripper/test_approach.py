@@ -182,6 +182,7 @@ def test_cli_html_draws_the_best_poses_in_their_colours(tmp_path, capsys):
     page, out = tmp_path / "g.html", tmp_path / "l.npz"
     assert main(["grasps", "cube", "--width", "2.2", "--count", "60", "--seed", "3",
                  "--clearance", "0.1", "--no-least-friction", "--approaches", "1",
+                 "--depths", "1", "--tilt", "1",
                  "--out", str(out), "--html", str(page), "--plot-top", "12"]) == 0
     assert "interactive view of the 12 best" in capsys.readouterr().out
     data = _figure_data(page.read_text(encoding="utf-8"))
@@ -209,7 +210,8 @@ def test_cli_html_draws_the_best_poses_in_their_colours(tmp_path, capsys):
             assert np.allclose(xyz, saved["points"][mine].reshape(-1, 3), atol=1e-6)
         for j, i in enumerate(mine):  # hovering a contact names its pose's labels
             text = dot["hovertext"][2 * j]
-            assert text.startswith(f"{order.index(i) + 1}. closure, "
+            verdict = ("none", "marginal", "closure")[code[i]]
+            assert text.startswith(f"{order.index(i) + 1}. {verdict}, "
                                    f"{'collides' if hit[i] else 'clear'}<br>")
             assert "μ* –" in text  # not computed
     assert sum(t["type"] == "mesh3d" for t in data) == 3  # the object, the hand, the cones

@@ -412,10 +412,11 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
     twisting as ``gripper.torsion`` says (bounded by the pad unless its
     ``pad_radius`` is 0).
 
-    ``meta`` records the gripper (``gripper``, ``tip_offset``, its sizes under
-    ``collision``), ``approaches`` and ``depths`` tried (None without the
-    check), ``tried`` (hand poses checked) and ``warnings`` (an opening far from
-    the object's size).
+    ``meta`` records the gripper (``gripper``, ``tip_offset``, every size under
+    ``hand``; with the check, the clearance and sizes under ``collision``),
+    ``approaches`` and ``depths`` tried (None without the check), ``tried`` (hand
+    poses checked), ``tilt`` and ``warnings`` (an opening far from the object's
+    size).
 
     Examples
     --------
@@ -462,6 +463,7 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
             "approaches": int(approaches) if collision else None,
             "depths": int(depths) if collision else None, "tried": poses.tried,
             "gripper": gripper.name, "tip_offset": gripper.tip_offset, "tilt": tilt,
+            "hand": gripper.shape(),
             "contacts": "pads", "warnings": [warning] if warning else []}
     return GraspLabels(poses.center, poses.closing_axis, poses.approach_axis, poses.width,
                        poses.points, poses.normals, code, mu_star, eps, meta,

@@ -116,15 +116,16 @@ def as_labels(labels: Any) -> Any:
 
 
 def labels_gripper(labels: Any) -> ParallelJaw:
-    """The gripper the labels were made with, from their ``meta`` (the hand's boxes when
-    the collision check ran, else the defaults from ``width_max``; its name and
-    ``tip_offset`` when the labels and :class:`ParallelJaw` know them)."""
+    """The gripper the labels were made with, from their ``meta`` (every size under
+    ``hand``; in older files the hand's boxes when the collision check ran, else the
+    defaults from ``width_max``; its name and ``tip_offset`` when the labels know them)."""
     meta = as_labels(labels).meta
     if "width_max" not in meta:
         raise InputError("labels: their meta has no 'width_max' (the gripper's opening)")
     known = {f.name for f in dataclasses.fields(ParallelJaw)}
-    shape = {k: v for k, v in dict(meta.get("collision") or {}).items()
-             if k in known and k != "clearance"}
+    sizes = meta.get("hand") or meta.get("collision") or {}
+    shape = {k: v for k, v in dict(sizes).items()
+             if k in known and k not in ("clearance", "width_max", "pad_radius")}
     if "name" in known and isinstance(meta.get("gripper"), str):
         shape["name"] = meta["gripper"]
     if "tip_offset" in known and meta.get("tip_offset") is not None:

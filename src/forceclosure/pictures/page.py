@@ -1,17 +1,18 @@
-"""Small offline pages: a plotly figure and plotly.js's 3-D bundle in one HTML file under 1 MB.
+"""Smaller offline pages: a plotly figure and plotly.js, packed, in one HTML file.
 
-plotly's own offline page inlines the whole of plotly.js (4.8 MB), which is
-almost all of a page's size: a page of ten grasps on a duck held 32 kB of
-figure. :func:`small_page` inlines instead plotly.js's ``gl3d`` partial
-bundle (the same plotly.js version as the installed plotly's, with the 3-D
-traces ``scatter3d`` and ``mesh3d`` and the sliders and menus: 1.75 MB),
-gzip-compressed (556 kB, :data:`BUNDLE`, shipped with the package under
-its MIT licence) and base64-encoded, and has the browser unpack it
+plotly's own offline page inlines the whole of plotly.js (4.8 MB) as text,
+which is almost all of a page's size: a page of ten grasps on a duck held
+32 kB of figure. :func:`small_page` inlines the same plotly.js, the one the
+installed plotly (Python) ships and writes figures for, gzip-compressed and
+base64-encoded (about 2 MB), and has the browser unpack it
 (``DecompressionStream``: Chrome and Edge 80, Firefox 113, Safari 16.4 and
 later) before drawing. Nothing is fetched: the page works from a file,
 offline. The figure itself is written as plotly writes it
 (``Plotly.newPlot("fc-figure", data, layout, config)``, numbers as base64
 typed arrays).
+
+A page under 1 MB would need plotly.js's 3-D partial bundle, which no
+Python package ships; this package does not carry a copy of it.
 """
 
 from __future__ import annotations
@@ -21,15 +22,8 @@ import functools
 import html
 import json
 import re
-from pathlib import Path
 
-__all__ = ["BUNDLE", "BUNDLE_VERSION", "small_page"]
-
-#: plotly.js's gl3d partial bundle, gzip-compressed (npm's ``plotly.js-gl3d-dist-min``).
-BUNDLE = Path(__file__).with_name("vendor") / "plotly-gl3d.min.js.gz"
-
-#: Its plotly.js version: the one the installed plotly (Python) writes figures for.
-BUNDLE_VERSION = "4.1.1"
+__all__ = ["small_page"]
 
 _LOADER = """(async function () {
   var div = document.getElementById("fc-figure");
@@ -49,7 +43,14 @@ _LOADER = """(async function () {
 
 @functools.cache
 def _packed() -> str:
-    return base64.b64encode(BUNDLE.read_bytes()).decode("ascii")
+    """The installed plotly's plotly.js, gzip-compressed and base64-encoded (once a
+    process)."""
+    import gzip
+
+    import plotly.offline
+
+    packed = gzip.compress(plotly.offline.get_plotlyjs().encode("utf-8"), 9, mtime=0)
+    return base64.b64encode(packed).decode("ascii")
 
 
 def _json(value) -> str:
@@ -63,7 +64,6 @@ def small_page(fig, title: str = "forceclosure", config: dict | None = None) -> 
     Parameters
     ----------
     fig : plotly.graph_objects.Figure
-        Of the traces the gl3d bundle draws (``scatter3d``, ``mesh3d``, ...).
     title : str
         The page's title (markup is dropped).
     config : dict, optional
@@ -73,7 +73,7 @@ def small_page(fig, title: str = "forceclosure", config: dict | None = None) -> 
     --------
     >>> import plotly.graph_objects as go
     >>> page = small_page(go.Figure(go.Scatter3d(x=[0, 1], y=[0, 1], z=[0, 1])))
-    >>> 500_000 < len(page) < 1_000_000, "<script src=" in page
+    >>> 1_000_000 < len(page) < 2_500_000, "<script src=" in page
     (True, False)
     """
     import plotly.io

@@ -524,7 +524,7 @@ def write_grasps_html(obj, labels, path: str | Path, top: int = 10, gripper=None
                       title: str | None = None, *, up: str = "z") -> list[int]:
     """Save the object and its ``top`` best labelled jaw poses (:func:`grasps_figure`) as one
     self-contained, offline HTML page (:func:`forceclosure.pictures.page.small_page`:
-    plotly.js's 3-D bundle inlined, compressed; under 1 MB), atomically, with ``up``
+    plotly.js inlined, compressed; about 2 MB), atomically, with ``up``
     upright (:func:`forceclosure.pictures.plot.upright_axis`). Returns the indices of the
     poses drawn.
 
