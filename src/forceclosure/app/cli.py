@@ -583,9 +583,8 @@ def _dataset_job(args: argparse.Namespace):
         if given:
             raise InputError(f"{given[0]} is for regions (synthesize, --analyze), not for "
                              f"--gripper {args.gripper}")
-        for flag, value in (("--width", args.width), ("--mu", args.mu)):
-            if value is None:
-                raise InputError(f"--gripper {args.gripper} needs {flag}")
+        if args.mu is None:
+            raise InputError(f"--gripper {args.gripper} needs --mu")
         if args.contact == "frictionless":
             raise InputError("--contact frictionless: a parallel-jaw gripper has soft or hard "
                              "contacts")
@@ -594,9 +593,9 @@ def _dataset_job(args: argparse.Namespace):
                              "none (drop it, or --contact soft)")
         return GripperJob(width=args.width, mu=args.mu,
                           count=1000 if args.count is None else args.count,
-                          contact=args.contact or "soft",
-                          pad_radius=args.pad_radius or 0.0,
-                          least_friction=not args.no_least_friction, **common)
+                          contact=args.contact or "soft", pad_radius=args.pad_radius,
+                          least_friction=not args.no_least_friction, hand=args.gripper,
+                          **common)
     given = [flag for flag, value in gripper.items() if value is not None]
     if given:
         raise InputError(f"{given[0]} is for --gripper parallel-jaw")
@@ -1247,17 +1246,19 @@ def build_parser() -> argparse.ArgumentParser:
                    help="compute failed and timed-out objects again")
     t.add_argument("--json", action="store_true", help="print the summary as JSON")
     # parallel-jaw grasps per object (docs/datasets.md, docs/gripper.md)
-    t.add_argument("--gripper", choices=("parallel-jaw",),
-                   help="instead of regions, sample --count jaw poses on every mesh and label "
-                        "them (verdict, least friction, epsilon, collision): an .npz per "
-                        "object and grasps.parquet; needs --width and --mu")
+    t.add_argument("--gripper", choices=("parallel-jaw", "panda", "graspnet"),
+                   help="instead of regions, sample --count jaw poses the hand can take on "
+                        "every mesh and label them (verdict, least friction, epsilon, "
+                        "collision): an .npz per object and grasps.parquet; needs --mu, and "
+                        "--width for the generic 'parallel-jaw' (built-ins: metres)")
     t.add_argument("--width", type=float, default=None,
-                   help="with --gripper: the widest opening (object units)")
+                   help="with --gripper parallel-jaw: the widest opening (object units)")
     t.add_argument("--count", type=int, default=None,
                    help="with --gripper: jaw poses per object (default 1000)")
     t.add_argument("--pad-radius", type=float, default=None,
-                   help="with --gripper and soft contacts: the pads' radius, torsion bounded "
-                        "by (2/3) mu radius times the normal force (default 0)")
+                   help="with --gripper and soft contacts: torsion bounded by (2/3) mu radius "
+                        "times the normal force; 0: the paper's soft finger (unlimited); "
+                        "default: bounded by the hand's rectangular pad")
     t.add_argument("--no-least-friction", action="store_true",
                    help="with --gripper: skip the least friction (saved as NaN)")
     # not given: the job's own defaults (regions: synthesize's; --gripper: soft contacts),

@@ -85,15 +85,19 @@ class GripperJob:
 
     Attributes
     ----------
-    width : float
-        The gripper's widest opening (object units), ``ParallelJaw(width, pad_radius)``.
+    width : float or None
+        The generic gripper's widest opening (object units); None with a built-in ``hand``.
     mu : float
         Friction coefficient of the labels.
     count : int
         Jaw poses sampled per object.
     contact : {"soft", "hard"}
-    pad_radius : float
-        Soft pads' radius (torsion bounded by (2/3) μ radius); 0: the paper's soft finger.
+    pad_radius : float or None
+        Soft pads' torsion: None bounded by the hand's pad, ``a`` by a disc of radius ``a``
+        ((2/3) μ a), 0 the paper's soft finger (unlimited).
+    hand : str
+        The gripper: ``"parallel-jaw"`` (the generic one of ``width``) or a built-in
+        (:mod:`forceclosure.gripper.grippers`).
     seed : int
         The job's seed; each object's is :func:`object_seed` of it.
     least_friction : bool
@@ -114,22 +118,25 @@ class GripperJob:
     20
     """
 
-    width: float
+    width: float | None
     mu: float
     count: int = 1000
     contact: str = "soft"
-    pad_radius: float = 0.0
+    pad_radius: float | None = None
     seed: int = 0
     least_friction: bool = True
     timeout: float | None = None
     allow_open: bool = False
     allow_outside_meshes: bool = False
+    hand: str = "parallel-jaw"
 
     #: The dataset's dispatch key (:func:`forceclosure.app.dataset.process_object`).
     mode = "gripper"
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.width) and self.width > 0):
+        from ..gripper.grippers import make_gripper
+
+        if self.width is not None and not (math.isfinite(self.width) and self.width > 0):
             raise InputError(f"--width must be a finite positive opening, got {self.width}")
         if not (math.isfinite(self.mu) and self.mu > 0):
             raise InputError(f"--mu must be finite and positive, got {self.mu}")
@@ -138,8 +145,14 @@ class GripperJob:
         if self.contact not in ("soft", "hard"):
             raise InputError(f"--contact {self.contact}: a parallel-jaw gripper has soft or "
                              "hard contacts")
-        if not (math.isfinite(self.pad_radius) and self.pad_radius >= 0):
+        if self.pad_radius is not None and not (math.isfinite(self.pad_radius)
+                                                and 0 <= self.pad_radius <= 1e150):
             raise InputError(f"--pad-radius must be finite and >= 0, got {self.pad_radius}")
+        try:
+            make_gripper(self.hand, self.width, self.pad_radius)
+        except InputError as e:
+            raise InputError(f"--gripper {self.hand}: {str(e).replace('width:', '--width:')}"
+                             ) from None
         if self.timeout is not None and not self.timeout > 0:
             raise InputError(f"--timeout must be a positive number of seconds, got "
                              f"{self.timeout:g}")
@@ -148,32 +161,36 @@ class GripperJob:
 
     def identity(self) -> dict[str, Any]:
         """The options that decide the results (the time limit does not)."""
-        return {"mode": "gripper", "gripper": "parallel-jaw", "width": float(self.width),
+        return {"mode": "gripper", "gripper": self.hand, "width": self.gripper().width_max,
                 "mu": float(self.mu), "count": int(self.count), "contact": self.contact,
-                "pad_radius": float(self.pad_radius), "seed": int(self.seed),
+                "pad_radius": self.pad_radius, "seed": int(self.seed),
                 "least_friction": bool(self.least_friction), "collision": True,
                 "allow_open": self.allow_open,
                 "allow_outside_meshes": self.allow_outside_meshes}
+
+    def gripper(self):
+        """The hand (:func:`forceclosure.gripper.grippers.make_gripper`)."""
+        from ..gripper.grippers import make_gripper
+
+        return make_gripper(self.hand, self.width, self.pad_radius)
 
     # -- on a worker ----------------------------------------------------------------------
 
     def label(self, obj: Any, path: Path) -> dict[str, Any]:
         """The record's fields for one loaded object, and its labels under ``"_labels"``
         (taken out and saved by :meth:`store`, in the driver)."""
-        from ..gripper.jaw import ParallelJaw
         from ..gripper.labels import grasp_labels
         from .dataset import fingerprint
 
         if obj.dim != 3:
             raise InputError(f"{path.name}: a polygon; a parallel-jaw gripper grasps meshes")
         seed = object_seed(self.seed, fingerprint(path, self))
-        labels = grasp_labels(obj, ParallelJaw(self.width, self.pad_radius), self.mu,
-                              self.count, seed, self.contact,
+        labels = grasp_labels(obj, self.gripper(), self.mu, self.count, seed, self.contact,
                               least_friction=self.least_friction)
         closed = labels.epsilon[labels.code == 2]
         finite = labels.least_friction[np.isfinite(labels.least_friction)]
         hit = labels.collides
-        return {"contact": self.contact, "mu": self.mu, "width": self.width,
+        return {"contact": self.contact, "mu": self.mu, "width": labels.meta["width_max"],
                 "pad_radius": self.pad_radius, "seed": seed, "grasps": len(labels),
                 **labels.counts(),
                 "epsilon_median": float(np.median(closed)) if len(closed) else None,
@@ -192,7 +209,7 @@ class GripperJob:
         from ..gripper.labels import grasp_labels
 
         grasp_labels("cube", ParallelJaw(3.0, self.pad_radius), self.mu, 4, 0, self.contact,
-                     least_friction=self.least_friction)
+                     least_friction=self.least_friction, approaches=1, depths=1)
 
     # -- in the driver --------------------------------------------------------------------
 

@@ -13,7 +13,7 @@ axis):
     hand's frame and are 0.0538 long, so the fingertips are 0.1122 in
     front of it (the ACRONYM gripper frame is this hand frame); the
     hand's body reaches 0.066 forward, so 0.0462 of each finger stands
-    free of it; the finger is 0.021 across (z) and up to 0.0264 thick (y);
+    free of it; the finger is 0.021 across (z) and up to 0.0266 thick (y);
     its flat pad is the last 0.0175 of the inner face, 0.0175 across; the
     hand's body is 0.2044 wide (y) and 0.0632 high (z), and reaches
     0.0259 behind the frame. Its pads are taken to press 1 mm (a rubber
@@ -44,7 +44,7 @@ GENERIC = "parallel-jaw"
 #: The built-in hands, by name (module text gives each one's sources).
 GRIPPERS: dict[str, ParallelJaw] = {
     "panda": ParallelJaw(
-        0.08, name="panda", finger_length=0.0462, finger_thickness=0.0264,
+        0.08, name="panda", finger_length=0.0462, finger_thickness=0.0266,
         finger_height=0.021, depth=0.00875, pad_length=0.0175, pad_height=0.0175,
         palm_thickness=0.0919, palm_width=0.2044, palm_height=0.0632, tip_offset=0.1122,
         pad_compliance=0.001),

@@ -242,7 +242,9 @@ def _three_hard(max_faces: int = MAX_FACES, samples: int = SAMPLES) -> Construct
 
         P, F = prototype_samples(polyhedron, 3, samples, hand.seed, triple)
         normals = np.array([f.normal for f in polyhedron.faces])
-        eps = epsilon_batch(P, normals[F], mu=narrowed(hand.mu, hand.margin), model="hard")
+        # ranked with the pyramids the search zones are built with (the coordinate axes')
+        eps = epsilon_batch(P, normals[F], mu=narrowed(hand.mu, hand.margin), model="hard",
+                            orientation="axes")
         best = best_prototypes(P, F, eps, 1)
         return _around(polyhedron, best[0], hand.mu, hand.margin) if best else None
 

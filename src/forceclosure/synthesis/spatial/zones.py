@@ -649,7 +649,9 @@ def prototype_grasps(polyhedron: Polyhedron, fingers: int, model: str = "hard",
 
     P, F = prototype_samples(polyhedron, fingers, samples, seed, faces)
     N = np.array([f.normal for f in polyhedron.faces])[F]
-    eps = epsilon_batch(P, N, mu=0.0 if model == "frictionless" else mu, model=model)
+    # ranked with the pyramids the search zones are built with (the coordinate axes')
+    eps = epsilon_batch(P, N, mu=0.0 if model == "frictionless" else mu, model=model,
+                        orientation="axes")
     return best_prototypes(P, F, eps, count)
 
 
