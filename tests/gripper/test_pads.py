@@ -46,7 +46,7 @@ def test_contacts_are_on_the_surface_under_the_pads_and_first_by_dense_rays(duck
     hand = gripper_named("panda")
     size = obj.size
     # on the surface, and on a face whose normal is the contact's
-    closest, distance, tri = trimesh.proximity.closest_point(mesh, labels.points.reshape(-1, 3))
+    _, distance, tri = trimesh.proximity.closest_point(mesh, labels.points.reshape(-1, 3))
     assert distance.max() < 1e-9 * size
     normals = labels.normals.reshape(-1, 3)
     on_face = np.abs(np.einsum("ij,ij->i", mesh.face_normals[tri], normals))
@@ -71,7 +71,7 @@ def test_contacts_are_on_the_surface_under_the_pads_and_first_by_dense_rays(duck
         zs = np.linspace(-0.5 * hand.pad_height, 0.5 * hand.pad_height, k)
         X, Z = (g.ravel() for g in np.meshgrid(xs, zs))
         grid = labels.center[i] + X[:, None] * a + Z[:, None] * b
-        for side, sign in ((0, -1.0), (1, 1.0)):
+        for sign in (-1.0, 1.0):
             start = grid + sign * size * c
             hit, ray, _ = mesh.ray.intersects_location(start, np.repeat(-sign * c[None], k * k, 0),
                                                        multiple_hits=True)
