@@ -24,7 +24,8 @@ import math
 import numba as nb
 import numpy as np
 
-__all__ = ["CLOSURE", "MARGINAL", "NONE", "NON_FINITE", "UNDECIDED", "ZERO_NORMAL", "pair_kernel"]
+__all__ = ["CLOSURE", "MARGINAL", "NONE", "NON_FINITE", "TOO_LARGE", "UNDECIDED", "ZERO_NORMAL",
+           "pair_kernel", "pair_labels_parallel", "pair_labels_serial"]
 
 #: Pair codes, as in :mod:`forceclosure.analysis.two_finger`.
 NONE, MARGINAL, CLOSURE = 0, 1, 2
@@ -33,6 +34,8 @@ NONE, MARGINAL, CLOSURE = 0, 1, 2
 UNDECIDED = 3
 #: A pair with a zero normal, or a non-finite coordinate (the caller reports it).
 ZERO_NORMAL, NON_FINITE = 4, 5
+#: A pair with a point coordinate too large to compute with (the caller reports it).
+TOO_LARGE = 6
 
 
 @nb.njit(inline="always")
@@ -162,6 +165,59 @@ def _soft_verdict(vx, vy, vz, ax, ay, az, bx, by, bz, mp, mq, tol) -> int:
     return MARGINAL
 
 
+@nb.njit(inline="always")
+def _planar_pair(px, py, qx, qy, ax, ay, bx, by, mp, mq, T):
+    """Code and least friction of one planar pair whose inputs passed :func:`_flag`."""
+    vx = qx - px
+    vy = qy - py
+    pq2 = vx * vx + vy * vy
+    scale = max(1.0, abs(px), abs(py), abs(qx), abs(qy))
+    if pq2 <= 1e-24 * scale * scale:  # coincident points: nothing closes them
+        return NONE, np.inf
+    cp = -(vx * ax + vy * ay)
+    cq = vx * bx + vy * by
+    sp = abs(vx * ay - vy * ax)
+    sq = abs(vx * by - vy * bx)
+    return _verdict(cp, sp, cq, sq, mp, mq, T), _least(cp, sp, cq, sq)
+
+
+@nb.njit(inline="always")
+def _spatial_pair(px, py, pz, qx, qy, qz, ax, ay, az, bx, by, bz, mp, mq, T, tol):
+    """Code (``UNDECIDED`` where the closed form is ill-conditioned) and least friction of
+    one spatial soft pair whose inputs passed :func:`_flag`."""
+    vx = qx - px
+    vy = qy - py
+    vz = qz - pz
+    pq2 = vx * vx + vy * vy + vz * vz
+    np2 = ax * ax + ay * ay + az * az
+    nq2 = bx * bx + by * by + bz * bz
+    cp = -(vx * ax + vy * ay + vz * az)
+    cq = vx * bx + vy * by + vz * bz
+    scale = max(1.0, abs(px), abs(py), abs(pz), abs(qx), abs(qy), abs(qz))
+    if pq2 <= 1e-24 * scale * scale:
+        return NONE, np.inf
+    sp = math.sqrt((vy * az - vz * ay) ** 2 + (vz * ax - vx * az) ** 2
+                   + (vx * ay - vy * ax) ** 2)
+    sq = math.sqrt((vy * bz - vz * by) ** 2 + (vz * bx - vx * bz) ** 2
+                   + (vx * by - vy * bx) ** 2)
+    c = _verdict(cp, sp, cq, sq, mp, mq, T)
+    # Corollary 3 is only sufficient in space unless the normals are antiparallel
+    inv_p = 1.0 / math.sqrt(np2)
+    inv_q = 1.0 / math.sqrt(nq2)
+    ax, ay, az, bx, by, bz = ax * inv_p, ay * inv_p, az * inv_p, bx * inv_q, by * inv_q, \
+        bz * inv_q
+    antiparallel = (ax + bx) ** 2 + (ay + by) ** 2 + (az + bz) ** 2 <= 1e-18
+    if c != CLOSURE and not antiparallel:
+        c = _soft_verdict(vx, vy, vz, ax, ay, az, bx, by, bz, mp, mq, tol)
+    if antiparallel:
+        least = _least(cp, sp, cq, sq)
+    elif (ax - bx) ** 2 + (ay - by) ** 2 + (az - bz) ** 2 <= 1e-18:
+        least = np.inf  # parallel normals: both fingers push the same way
+    else:
+        least = _least_soft(vx, vy, vz, ax, ay, az, bx, by, bz)
+    return c, least
+
+
 @nb.njit(parallel=True, cache=True, nogil=True)
 def pair_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, code, least):  # pragma: no cover - compiled
     """Fill ``code`` (int8) and ``least`` (float64) for ``(N, d)`` pairs, ``d`` = 2 or 3.
@@ -178,23 +234,14 @@ def pair_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, code, least):  # pragma: no cov
             vx = q[i, 0] - p[i, 0]
             vy = q[i, 1] - p[i, 1]
             ax, ay, bx, by = n_p[i, 0], n_p[i, 1], n_q[i, 0], n_q[i, 1]
-            pq2 = vx * vx + vy * vy
-            np2 = ax * ax + ay * ay
-            nq2 = bx * bx + by * by
-            cp = -(vx * ax + vy * ay)
-            cq = vx * bx + vy * by
-            if _flag(code, least, i, pq2, np2, nq2, cp, cq):
+            if _flag(code, least, i, vx * vx + vy * vy, ax * ax + ay * ay, bx * bx + by * by,
+                     -(vx * ax + vy * ay), vx * bx + vy * by):
                 flagged += 1
                 continue
-            scale = max(1.0, abs(p[i, 0]), abs(p[i, 1]), abs(q[i, 0]), abs(q[i, 1]))
-            if pq2 <= 1e-24 * scale * scale:  # coincident points: nothing closes them
-                code[i] = NONE
-                least[i] = np.inf
-                continue
-            sp = abs(vx * ay - vy * ax)
-            sq = abs(vx * by - vy * bx)
-            code[i] = _verdict(cp, sp, cq, sq, mu_p[i * step_p], mu_q[i * step_q], T)
-            least[i] = _least(cp, sp, cq, sq)
+            c, m = _planar_pair(p[i, 0], p[i, 1], q[i, 0], q[i, 1], ax, ay, bx, by,
+                                mu_p[i * step_p], mu_q[i * step_q], T)
+            code[i] = c
+            least[i] = m
         return flagged
     for i in nb.prange(p.shape[0]):
         vx = q[i, 0] - p[i, 0]
@@ -202,43 +249,112 @@ def pair_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, code, least):  # pragma: no cov
         vz = q[i, 2] - p[i, 2]
         ax, ay, az = n_p[i, 0], n_p[i, 1], n_p[i, 2]
         bx, by, bz = n_q[i, 0], n_q[i, 1], n_q[i, 2]
-        pq2 = vx * vx + vy * vy + vz * vz
-        np2 = ax * ax + ay * ay + az * az
-        nq2 = bx * bx + by * by + bz * bz
-        cp = -(vx * ax + vy * ay + vz * az)
-        cq = vx * bx + vy * by + vz * bz
-        if _flag(code, least, i, pq2, np2, nq2, cp, cq):
+        if _flag(code, least, i, vx * vx + vy * vy + vz * vz, ax * ax + ay * ay + az * az,
+                 bx * bx + by * by + bz * bz, -(vx * ax + vy * ay + vz * az),
+                 vx * bx + vy * by + vz * bz):
             flagged += 1
             continue
-        scale = 1.0
-        for j in range(3):
-            scale = max(scale, abs(p[i, j]), abs(q[i, j]))
-        if pq2 <= 1e-24 * scale * scale:
-            code[i] = NONE
-            least[i] = np.inf
-            continue
-        sp = math.sqrt((vy * az - vz * ay) ** 2 + (vz * ax - vx * az) ** 2
-                       + (vx * ay - vy * ax) ** 2)
-        sq = math.sqrt((vy * bz - vz * by) ** 2 + (vz * bx - vx * bz) ** 2
-                       + (vx * by - vy * bx) ** 2)
-        c = _verdict(cp, sp, cq, sq, mu_p[i * step_p], mu_q[i * step_q], T)
-        # Corollary 3 is only sufficient in space unless the normals are antiparallel
-        inv_p = 1.0 / math.sqrt(np2)
-        inv_q = 1.0 / math.sqrt(nq2)
-        ax, ay, az, bx, by, bz = ax * inv_p, ay * inv_p, az * inv_p, bx * inv_q, by * inv_q, \
-            bz * inv_q
-        antiparallel = (ax + bx) ** 2 + (ay + by) ** 2 + (az + bz) ** 2 <= 1e-18
-        if c != CLOSURE and not antiparallel:
-            c = _soft_verdict(vx, vy, vz, ax, ay, az, bx, by, bz, mu_p[i * step_p],
-                              mu_q[i * step_q], tol)
-            if c == UNDECIDED:
-                flagged += 1
+        c, m = _spatial_pair(p[i, 0], p[i, 1], p[i, 2], q[i, 0], q[i, 1], q[i, 2],
+                             ax, ay, az, bx, by, bz, mu_p[i * step_p], mu_q[i * step_q], T, tol)
+        if c == UNDECIDED:
+            flagged += 1
         code[i] = c
-        if antiparallel:
-            least[i] = _least(cp, sp, cq, sq)
-        elif (ax - bx) ** 2 + (ay - by) ** 2 + (az - bz) ** 2 <= 1e-18:
-            least[i] = np.inf  # parallel normals: both fingers push the same way
-        else:
-            least[i] = _least_soft(vx, vy, vz, ax, ay, az, bx, by, bz)
+        least[i] = m
     return flagged
 
+
+# --- labels of (N, 2, d) pairs as a user calls them: conditioning inside, one pass ----------
+
+@nb.njit(inline="always")
+def _unit(x, y, z):
+    """``(x, y, z)`` divided by its length and the length, without overflow (as
+    :func:`forceclosure.contacts.unit_rows`); length 0 for a zero vector."""
+    big = max(abs(x), abs(y), abs(z))
+    if big == 0.0:
+        return x, y, z, 0.0
+    x, y, z = x / big, y / big, z / big
+    small = math.sqrt(x * x + y * y + z * z)
+    return x / small, y / small, z / small, big * small
+
+
+@nb.njit(inline="always")
+def _label_row(points, normals, i, mu, T, tol, hard, mu_max, max_coordinate, code, least):
+    """Condition, check and label pair ``i`` of ``(N, 2, d)`` arrays; whether it is flagged
+    (a code other than the three verdicts: bad input, or ``UNDECIDED``)."""
+    d = points.shape[2]
+    big = 0.0
+    finite = True
+    for k in range(2):
+        for j in range(d):
+            x = points[i, k, j]
+            y = normals[i, k, j]
+            finite = finite and math.isfinite(x) and math.isfinite(y)
+            big = max(big, abs(x))
+    if not finite:
+        code[i] = NON_FINITE
+        least[i] = np.nan
+        return True
+    if big > max_coordinate:
+        code[i] = TOO_LARGE
+        least[i] = np.nan
+        return True
+    s = 1.0
+    if big > 2.0**64:  # units of a power of two: exact, and the verdict does not change
+        s = 1.0 / math.ldexp(1.0, min(math.frexp(big)[1], 1023))
+    if d == 2:
+        ax, ay, _, la = _unit(normals[i, 0, 0], normals[i, 0, 1], 0.0)
+        bx, by, _, lb = _unit(normals[i, 1, 0], normals[i, 1, 1], 0.0)
+        if la <= 1e-12 or lb <= 1e-12:
+            code[i] = ZERO_NORMAL
+            least[i] = np.inf
+            return True
+        c, m = _planar_pair(points[i, 0, 0] * s, points[i, 0, 1] * s, points[i, 1, 0] * s,
+                            points[i, 1, 1] * s, ax, ay, bx, by, mu, mu, T)
+    else:
+        ax, ay, az, la = _unit(normals[i, 0, 0], normals[i, 0, 1], normals[i, 0, 2])
+        bx, by, bz, lb = _unit(normals[i, 1, 0], normals[i, 1, 1], normals[i, 1, 2])
+        if la <= 1e-12 or lb <= 1e-12:
+            code[i] = ZERO_NORMAL
+            least[i] = np.inf
+            return True
+        if hard:  # two hard fingers in space: rank 5, never force-closure
+            code[i] = NONE
+            least[i] = np.inf
+            return False
+        c, m = _spatial_pair(points[i, 0, 0] * s, points[i, 0, 1] * s, points[i, 0, 2] * s,
+                             points[i, 1, 0] * s, points[i, 1, 1] * s, points[i, 1, 2] * s,
+                             ax, ay, az, bx, by, bz, mu, mu, T, tol)
+    code[i] = c
+    least[i] = np.inf if m > mu_max else m
+    return c == UNDECIDED
+
+
+@nb.njit(cache=True, nogil=True)
+def pair_labels_serial(points, normals, mu, tol, hard, mu_max, max_coordinate, code,
+                       least):  # pragma: no cover - compiled
+    """:func:`pair_labels_parallel` on the calling thread (no pool to wake)."""
+    T = math.tan(tol)
+    flagged = 0
+    for i in range(points.shape[0]):
+        if _label_row(points, normals, i, mu, T, tol, hard, mu_max, max_coordinate, code,
+                      least):
+            flagged += 1
+    return flagged
+
+
+@nb.njit(parallel=True, cache=True, nogil=True)
+def pair_labels_parallel(points, normals, mu, tol, hard, mu_max, max_coordinate, code,
+                         least):  # pragma: no cover - compiled
+    """Fill ``code`` (int8) and ``least`` (float64, ``inf`` beyond ``mu_max``) for the
+    ``(N, 2, d)`` contact pairs ``points``, ``normals`` (any lengths) at one friction ``mu``,
+    in one pass: each row's normals made unit, coordinates beyond ``2**64`` divided by a
+    power of two, bad rows flagged (``NON_FINITE``, ``TOO_LARGE`` beyond
+    ``max_coordinate``, ``ZERO_NORMAL``). ``hard`` spatial pairs are never closed.
+    Returns how many pairs have a code other than the three verdicts."""
+    T = math.tan(tol)
+    flagged = 0
+    for i in nb.prange(points.shape[0]):
+        if _label_row(points, normals, i, mu, T, tol, hard, mu_max, max_coordinate, code,
+                      least):
+            flagged += 1
+    return flagged
