@@ -219,10 +219,9 @@ def pair_codes(points: ArrayLike, normals: ArrayLike, mu: ArrayLike, model: str 
     return analyze_batch(points, normals, mu=mu, model=model, torsion=torsion).code
 
 
-#: Pairs below which :func:`pair_labels` runs on the calling thread; at and above it, one
-#: dispatch to the thread pool for all of them (a wake-up of the pool costs about as much
-#: CPU as labelling this many pairs on one thread).
-SERIAL_BELOW = 1 << 16
+#: Pairs below which :func:`pair_labels` runs on the calling thread (about 3 ms of work);
+#: at and above it, one slice per thread, in threads that sleep between calls.
+SERIAL_BELOW = 1 << 14
 
 
 def pair_labels(points: ArrayLike, normals: ArrayLike, mu: float, model: str = "soft",
@@ -239,8 +238,8 @@ def pair_labels(points: ArrayLike, normals: ArrayLike, mu: float, model: str = "
     conditioning (unit normals, huge coordinates in units of a power of two) run inside
     the kernel: a row that cannot be decided raises one
     :class:`~forceclosure.errors.InputError` naming the first such pair. Below
-    :data:`SERIAL_BELOW` pairs it runs on the calling thread, above it in one
-    dispatch to the thread pool. The few spatial pairs whose closed form is
+    :data:`SERIAL_BELOW` pairs it runs on the calling thread, above it on one slice
+    per thread (numba's thread count). The few spatial pairs whose closed form is
     ill-conditioned (nearly parallel normals) are decided by Theorem 1.
 
     Examples
@@ -278,10 +277,9 @@ def pair_labels(points: ArrayLike, normals: ArrayLike, mu: float, model: str = "
     least = np.empty(n)
     if n == 0:
         return code, least
-    run = kernel.pair_labels_serial if n < SERIAL_BELOW else kernel.pair_labels_parallel
-    announce_compiling(run)
-    flagged = run(points, normals, mu, float(tol), model == "hard", MU_MAX, MAX_COORDINATE,
-                  code, least)
+    announce_compiling(kernel.pair_labels_kernel)
+    flagged = kernel.pair_labels(points, normals, mu, float(tol), model == "hard", MU_MAX,
+                                 MAX_COORDINATE, code, least, SERIAL_BELOW)
     if not flagged:
         return code, least
     bad = np.flatnonzero(code >= kernel.ZERO_NORMAL)

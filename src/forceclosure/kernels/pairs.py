@@ -19,13 +19,14 @@ Spatial soft pairs have their least friction in closed form too
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numba as nb
 import numpy as np
 
 __all__ = ["CLOSURE", "MARGINAL", "NONE", "NON_FINITE", "TOO_LARGE", "UNDECIDED", "ZERO_NORMAL",
-           "pair_kernel", "pair_labels_parallel", "pair_labels_serial"]
+           "pair_kernel", "pair_labels", "pair_labels_kernel"]
 
 #: Pair codes, as in :mod:`forceclosure.analysis.two_finger`.
 NONE, MARGINAL, CLOSURE = 0, 1, 2
@@ -83,28 +84,66 @@ def _least(cp: float, sp: float, cq: float, sq: float) -> float:
 
 
 @nb.njit(inline="always")
-def _least_soft(vx, vy, vz, ax, ay, az, bx, by, bz) -> float:
+def _least_soft(vx, vy, vz, ax, ay, az, bx, by, bz):
     """The least friction of two spatial soft fingers (uncoupled torques), exactly.
 
     ``v = Q - P``; ``a``, ``b`` unit outward normals, not parallel. With
     ``beta`` the angle between ``b`` and ``-a``, ``c = b - a`` their bisector
     and ``psi`` the angle between the lines of ``c`` and of ``v`` projected on
     the plane of ``a`` and ``b``, the pair is force-closure iff the cones'
-    half-angle exceeds ``beta / 2 + psi`` (docs/analysis.md).
+    half-angle exceeds ``beta / 2 + psi`` (docs/analysis.md). Returns that least friction,
+    ``tan(beta / 2)``, and whether :func:`_soft_verdict` would find the pair
+    well-conditioned (not ``UNDECIDED``).
     """
     mx, my, mz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
     sin_b = math.sqrt(mx * mx + my * my + mz * mz)
-    beta = math.atan2(sin_b, -(ax * bx + ay * by + az * bz))
+    one_plus_cos = 1.0 - (ax * bx + ay * by + az * bz)  # cos beta = -a . b
+    if one_plus_cos <= 0.0:
+        return np.inf, np.inf, False  # parallel to round-off: both fingers push the same way
+    tan_half_beta = sin_b / one_plus_cos
     mx, my, mz = mx / sin_b, my / sin_b, mz / sin_b
     along = vx * mx + vy * my + vz * mz
     wx, wy, wz = vx - along * mx, vy - along * my, vz - along * mz
-    if wx * wx + wy * wy + wz * wz <= 1e-24 * (vx * vx + vy * vy + vz * vz):
-        return np.inf  # PQ along a x b: the rotation about PQ is free
+    w2, v2 = wx * wx + wy * wy + wz * wz, vx * vx + vy * vy + vz * vz
+    well = sin_b > 1e-6 and w2 > 1e-12 * v2
+    if w2 <= 1e-24 * v2:
+        return np.inf, tan_half_beta, well  # PQ along a x b: the rotation about PQ is free
     cx, cy, cz = bx - ax, by - ay, bz - az
     cross = math.sqrt((wy * cz - wz * cy) ** 2 + (wz * cx - wx * cz) ** 2
                       + (wx * cy - wy * cx) ** 2)
-    angle = 0.5 * beta + math.atan2(cross, abs(wx * cx + wy * cy + wz * cz))
-    return math.tan(angle) if angle < 0.5 * math.pi else np.inf
+    dot = abs(wx * cx + wy * cy + wz * cz)
+    # tan(beta / 2 + psi), tan psi = cross / dot, by the addition formula (no inverse
+    # trigonometry); beta / 2 + psi >= 90 degrees where the denominator is not positive
+    denominator = dot - tan_half_beta * cross
+    if denominator <= 0.0:
+        return np.inf, tan_half_beta, well
+    return (tan_half_beta * dot + cross) / denominator, tan_half_beta, well
+
+
+@nb.njit(inline="always")
+def _screen(least, tan_half_beta, mu, tol) -> int:
+    """The verdict of :func:`_soft_verdict` for equal friction ``mu`` at both fingers, read
+    from the pair's least friction where it is far from the boundary (no inverse
+    trigonometry); ``UNDECIDED`` near it.
+
+    With ``alpha = atan(mu)``, the margin of :func:`_soft_verdict` is
+    ``alpha - beta / 2 - psi`` while the wedges leave lines free (``tan(beta / 2) < mu``),
+    else ``2 alpha - beta``; ``least = tan(beta / 2 + psi)``. Since ``atan`` has slope at
+    least ``1 / (1 + x**2)`` up to ``x``, ``(mu - least) / (1 + mu**2)`` bounds the first
+    margin from below, ``(least - mu) / (1 + least**2)`` its opposite, and
+    ``(tan(beta / 2) - mu) / (1 + tan(beta / 2)**2)`` half the opposite of the second:
+    past ``2 tol + 1e-4`` the code is certain."""
+    band = 2.0 * tol + 1e-4
+    if least < mu:
+        return CLOSURE if (mu - least) / (1.0 + mu * mu) > band else UNDECIDED
+    if tan_half_beta < mu:  # lines left free: the margin is alpha - beta / 2 - psi
+        if math.isinf(least):  # beta / 2 + psi >= 90 degrees: the margin <= -atan(1 / mu)
+            return NONE if mu / (1.0 + mu * mu) > band else UNDECIDED
+        return NONE if (least - mu) / (1.0 + least * least) > band else UNDECIDED
+    if math.isinf(tan_half_beta):
+        return UNDECIDED
+    return NONE if (tan_half_beta - mu) / (1.0 + tan_half_beta * tan_half_beta) > band \
+        else UNDECIDED
 
 
 @nb.njit(inline="always")
@@ -122,7 +161,8 @@ def _flag(code, least, i, pq2, np2, nq2, cp, cq) -> bool:
 
 
 @nb.njit(inline="always")
-def _soft_verdict(vx, vy, vz, ax, ay, az, bx, by, bz, mp, mq, tol) -> int:
+def _soft_verdict(vx, vy, vz, ax, ay, az, bx, by, bz, mp, mq, tol, atan_p=-1.0,
+                  atan_q=-1.0) -> int:
     """Two spatial soft fingers (uncoupled torques), decided in closed form.
 
     ``a``, ``b`` unit normals. In the plane ``Π`` of ``-a`` and ``b`` (angle
@@ -131,7 +171,8 @@ def _soft_verdict(vx, vy, vz, ax, ay, az, bx, by, bz, mp, mq, tol) -> int:
     line of ``(a x b) x (Q - P)``; the grasp's margin is the angle by which
     it misses it (docs/analysis.md).
     ``UNDECIDED`` where that is ill-conditioned: nearly parallel normals, or
-    ``PQ`` nearly along ``a x b``.
+    ``PQ`` nearly along ``a x b``. ``atan_p``, ``atan_q``: ``atan(mp)``, ``atan(mq)`` when
+    the caller has them (negative: computed here).
     """
     mx, my, mz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
     sin_b = math.sqrt(mx * mx + my * my + mz * mz)
@@ -149,8 +190,8 @@ def _soft_verdict(vx, vy, vz, ax, ay, az, bx, by, bz, mp, mq, tol) -> int:
     beta = math.atan2(ux * bx + uy * by + uz * bz, -(ax * bx + ay * by + az * bz))
     ex, ey, ez = my * wz - mz * wy, mz * wx - mx * wz, mx * wy - my * wx  # m x w
     phi = math.atan2(ux * ex + uy * ey + uz * ez, -(ax * ex + ay * ey + az * ez))
-    g_p = 0.5 * math.pi - math.atan(mp)
-    g_q = 0.5 * math.pi - math.atan(mq)
+    g_p = 0.5 * math.pi - (math.atan(mp) if atan_p < 0.0 else atan_p)
+    g_q = 0.5 * math.pi - (math.atan(mq) if atan_q < 0.0 else atan_q)
     low, high = min(-g_p, beta - g_q), max(g_p, beta + g_q)  # the wedges' hull
     free = math.pi - (high - low)  # the arc of lines it leaves
     if free <= 0.0:
@@ -163,6 +204,23 @@ def _soft_verdict(vx, vy, vz, ax, ay, az, bx, by, bz, mp, mq, tol) -> int:
     if margin < -tol:
         return NONE
     return MARGINAL
+
+
+@nb.njit(inline="always")
+def _same_side(ax, ay, az, bx, by, bz, atan_p, atan_q) -> bool:
+    """Whether every force of both cones (unit normals ``a``, ``b`` at most 90 degrees
+    apart) has a positive component along ``-(a + b)``, by more than 0.1 radian: then no
+    positive combination of the wrenches has zero force (the pure torques have none), and
+    the pair is not force-closure, far from the marginal band. It settles nearly parallel
+    normals at friction below about 9, where the closed form of :func:`_soft_verdict` is
+    ill-conditioned (Theorem 1 decides the rest)."""
+    dot = ax * bx + ay * by + az * bz
+    if dot <= 0.0:
+        return False
+    cross = math.sqrt((ay * bz - az * by) ** 2 + (az * bx - ax * bz) ** 2
+                      + (ax * by - ay * bx) ** 2)
+    half = 0.5 * math.atan2(cross, dot)  # each normal's angle from the bisector
+    return half + max(atan_p, atan_q) < 0.5 * math.pi - 0.1
 
 
 @nb.njit(inline="always")
@@ -182,9 +240,11 @@ def _planar_pair(px, py, qx, qy, ax, ay, bx, by, mp, mq, T):
 
 
 @nb.njit(inline="always")
-def _spatial_pair(px, py, pz, qx, qy, qz, ax, ay, az, bx, by, bz, mp, mq, T, tol):
+def _spatial_pair(px, py, pz, qx, qy, qz, ax, ay, az, bx, by, bz, mp, mq, T, tol,
+                  atan_p=-1.0, atan_q=-1.0):
     """Code (``UNDECIDED`` where the closed form is ill-conditioned) and least friction of
-    one spatial soft pair whose inputs passed :func:`_flag`."""
+    one spatial soft pair whose inputs passed :func:`_flag`; ``atan_p``, ``atan_q`` as in
+    :func:`_soft_verdict`."""
     vx = qx - px
     vy = qy - py
     vz = qz - pz
@@ -207,14 +267,24 @@ def _spatial_pair(px, py, pz, qx, qy, qz, ax, ay, az, bx, by, bz, mp, mq, T, tol
     ax, ay, az, bx, by, bz = ax * inv_p, ay * inv_p, az * inv_p, bx * inv_q, by * inv_q, \
         bz * inv_q
     antiparallel = (ax + bx) ** 2 + (ay + by) ** 2 + (az + bz) ** 2 <= 1e-18
-    if c != CLOSURE and not antiparallel:
-        c = _soft_verdict(vx, vy, vz, ax, ay, az, bx, by, bz, mp, mq, tol)
+    screened = UNDECIDED
     if antiparallel:
         least = _least(cp, sp, cq, sq)
     elif (ax - bx) ** 2 + (ay - by) ** 2 + (az - bz) ** 2 <= 1e-18:
         least = np.inf  # parallel normals: both fingers push the same way
     else:
-        least = _least_soft(vx, vy, vz, ax, ay, az, bx, by, bz)
+        least, tan_half_beta, well = _least_soft(vx, vy, vz, ax, ay, az, bx, by, bz)
+        if c != CLOSURE and well and mp == mq:
+            screened = _screen(least, tan_half_beta, mp, tol)
+    if c != CLOSURE and not antiparallel:
+        if screened != UNDECIDED:
+            c = screened
+        else:
+            c = _soft_verdict(vx, vy, vz, ax, ay, az, bx, by, bz, mp, mq, tol, atan_p, atan_q)
+            if c == UNDECIDED and _same_side(ax, ay, az, bx, by, bz,
+                                             math.atan(mp) if atan_p < 0.0 else atan_p,
+                                             math.atan(mq) if atan_q < 0.0 else atan_q):
+                c = NONE
     return c, least
 
 
@@ -278,7 +348,8 @@ def _unit(x, y, z):
 
 
 @nb.njit(inline="always")
-def _label_row(points, normals, i, mu, T, tol, hard, mu_max, max_coordinate, code, least):
+def _label_row(points, normals, i, mu, atan_mu, T, tol, hard, mu_max, max_coordinate, code,
+               least):
     """Condition, check and label pair ``i`` of ``(N, 2, d)`` arrays; whether it is flagged
     (a code other than the three verdicts: bad input, or ``UNDECIDED``)."""
     d = points.shape[2]
@@ -323,38 +394,51 @@ def _label_row(points, normals, i, mu, T, tol, hard, mu_max, max_coordinate, cod
             return False
         c, m = _spatial_pair(points[i, 0, 0] * s, points[i, 0, 1] * s, points[i, 0, 2] * s,
                              points[i, 1, 0] * s, points[i, 1, 1] * s, points[i, 1, 2] * s,
-                             ax, ay, az, bx, by, bz, mu, mu, T, tol)
+                             ax, ay, az, bx, by, bz, mu, mu, T, tol, atan_mu, atan_mu)
     code[i] = c
     least[i] = np.inf if m > mu_max else m
     return c == UNDECIDED
 
 
 @nb.njit(cache=True, nogil=True)
-def pair_labels_serial(points, normals, mu, tol, hard, mu_max, max_coordinate, code,
+def pair_labels_kernel(points, normals, mu, tol, hard, mu_max, max_coordinate, code,
                        least):  # pragma: no cover - compiled
-    """:func:`pair_labels_parallel` on the calling thread (no pool to wake)."""
-    T = math.tan(tol)
-    flagged = 0
-    for i in range(points.shape[0]):
-        if _label_row(points, normals, i, mu, T, tol, hard, mu_max, max_coordinate, code,
-                      least):
-            flagged += 1
-    return flagged
-
-
-@nb.njit(parallel=True, cache=True, nogil=True)
-def pair_labels_parallel(points, normals, mu, tol, hard, mu_max, max_coordinate, code,
-                         least):  # pragma: no cover - compiled
     """Fill ``code`` (int8) and ``least`` (float64, ``inf`` beyond ``mu_max``) for the
     ``(N, 2, d)`` contact pairs ``points``, ``normals`` (any lengths) at one friction ``mu``,
-    in one pass: each row's normals made unit, coordinates beyond ``2**64`` divided by a
-    power of two, bad rows flagged (``NON_FINITE``, ``TOO_LARGE`` beyond
+    in one pass on the calling thread (it releases the GIL: :func:`pair_labels` runs it on
+    slices in threads): each row's normals made unit, coordinates beyond ``2**64`` divided
+    by a power of two, bad rows flagged (``NON_FINITE``, ``TOO_LARGE`` beyond
     ``max_coordinate``, ``ZERO_NORMAL``). ``hard`` spatial pairs are never closed.
     Returns how many pairs have a code other than the three verdicts."""
     T = math.tan(tol)
+    atan_mu = math.atan(mu)
     flagged = 0
-    for i in nb.prange(points.shape[0]):
-        if _label_row(points, normals, i, mu, T, tol, hard, mu_max, max_coordinate, code,
-                      least):
+    for i in range(points.shape[0]):
+        if _label_row(points, normals, i, mu, atan_mu, T, tol, hard, mu_max, max_coordinate,
+                      code, least):
             flagged += 1
     return flagged
+
+
+_POOL: list = []
+
+
+def pair_labels(points, normals, mu, tol, hard, mu_max, max_coordinate, code, least,
+                serial_below):
+    """:func:`pair_labels_kernel` on the calling thread for fewer than ``serial_below``
+    pairs; else on one contiguous slice per thread (numba's thread count), in a pool of
+    Python threads that sleep between calls (no spinning, no per-chunk wake-ups)."""
+    n = points.shape[0]
+    threads = max(1, int(nb.config.NUMBA_NUM_THREADS))
+    if n < serial_below or threads == 1:
+        return pair_labels_kernel(points, normals, mu, tol, hard, mu_max, max_coordinate,
+                                  code, least)
+    if not _POOL:
+        from concurrent.futures import ThreadPoolExecutor
+
+        _POOL.append(ThreadPoolExecutor(threads, thread_name_prefix="forceclosure-pairs"))
+    bounds = np.linspace(0, n, threads + 1).astype(np.int64)
+    jobs = [_POOL[0].submit(pair_labels_kernel, points[a:b], normals[a:b], mu, tol, hard,
+                            mu_max, max_coordinate, code[a:b], least[a:b])
+            for a, b in itertools.pairwise(bounds)]
+    return sum(job.result() for job in jobs)
