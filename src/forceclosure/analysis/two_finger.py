@@ -219,6 +219,10 @@ def pair_codes(points: ArrayLike, normals: ArrayLike, mu: ArrayLike, model: str 
     return analyze_batch(points, normals, mu=mu, model=model, torsion=torsion).code
 
 
+#: Largest friction coefficient tried; beyond it cones are numerically half-spaces
+#: (:func:`forceclosure.analysis.friction.least_friction` and the μ* here: ``inf`` above it).
+MU_MAX = 1e4
+
 #: Pairs below which :func:`pair_labels` runs on the calling thread (about 3 ms of work);
 #: at and above it, one slice per thread, in threads that sleep between calls.
 SERIAL_BELOW = 1 << 14
@@ -254,7 +258,6 @@ def pair_labels(points: ArrayLike, normals: ArrayLike, mu: float, model: str = "
     """
     from ..kernels import announce_compiling, kernel_array
     from ..kernels import pairs as kernel
-    from .friction import MU_MAX
 
     points = kernel_array(_array(points, "points"))
     normals = kernel_array(_array(normals, "normals"))
