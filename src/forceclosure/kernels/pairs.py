@@ -160,7 +160,7 @@ def _flag(code, least, i, pq2, np2, nq2, cp, cq) -> bool:
     return False
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def _soft_verdict(vx, vy, vz, ax, ay, az, bx, by, bz, mp, mq, tol, atan_p=-1.0,
                   atan_q=-1.0) -> int:
     """Two spatial soft fingers (uncoupled torques), decided in closed form.
@@ -206,7 +206,7 @@ def _soft_verdict(vx, vy, vz, ax, ay, az, bx, by, bz, mp, mq, tol, atan_p=-1.0,
     return MARGINAL
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def _same_side(ax, ay, az, bx, by, bz, atan_p, atan_q) -> bool:
     """Whether every force of both cones (unit normals ``a``, ``b`` at most 90 degrees
     apart) has a positive component along ``-(a + b)``, by more than 0.1 radian: then no
@@ -239,7 +239,7 @@ def _planar_pair(px, py, qx, qy, ax, ay, bx, by, mp, mq, T):
     return _verdict(cp, sp, cq, sq, mp, mq, T), _least(cp, sp, cq, sq)
 
 
-@nb.njit(inline="always")
+@nb.njit(cache=True)
 def _spatial_pair(px, py, pz, qx, qy, qz, ax, ay, az, bx, by, bz, mp, mq, T, tol,
                   atan_p=-1.0, atan_q=-1.0):
     """Code (``UNDECIDED`` where the closed form is ill-conditioned) and least friction of
