@@ -23,10 +23,12 @@ def test_batch_benchmark_runs(tmp_path):
 
 @pytest.mark.long
 def test_gripper_benchmark_runs():
-    """The labelling benchmark against the Dex-Net/graspnetAPI pipeline, on a few poses."""
+    """The labelling benchmark against GraspNet's and Dex-Net's labellers, on a few poses."""
     pytest.importorskip("cvxopt")
     bench = Path(__file__).parents[1] / "benchmarks" / "bench_gripper.py"
     run = subprocess.run([sys.executable, str(bench), "--poses", "300", "--baseline", "20"],
                          capture_output=True, text=True, timeout=600)
     assert run.returncode == 0, run.stderr[-2000:]
-    assert "bunny.obj" in run.stdout and "Dex-Net's own epsilon" in run.stdout
+    assert "bunny.obj" in run.stdout and "GraspNet" in run.stdout
+    assert "ferrari_canny_L1" in run.stdout and "closes every pair GraspNet's passes: True" \
+        in run.stdout

@@ -35,12 +35,9 @@ from .batch_analysis import (
     _validate,
 )
 from .closure import TOLERANCE, Verdict, check_rtol, check_tolerance, decide
-from .two_finger import pair_least_friction, two_finger_closure
+from .two_finger import MU_MAX, pair_least_friction, two_finger_closure
 
 __all__ = ["MU_MAX", "least_friction", "least_friction_batch", "least_friction_reference"]
-
-#: Largest friction coefficient tried; beyond it cones are numerically half-spaces.
-MU_MAX = 1e4
 
 def _closes(contacts: list[Contact], mu: float, cone: str | Cone, tol: float) -> bool:
     grasp = [c.with_friction(mu) for c in contacts]

@@ -32,6 +32,7 @@ Everything here is vectorised over any number of pairs.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -43,7 +44,8 @@ from ..geometry.cones import angle_between as _angle
 from .batch_analysis import _CODES, Engine, VerdictCodes, analyze_batch
 from .closure import TOLERANCE, analyze, check_tolerance
 
-__all__ = ["PairClosure", "pair_codes", "pair_least_friction", "two_finger_closure"]
+__all__ = ["SERIAL_BELOW", "PairClosure", "pair_codes", "pair_labels", "pair_least_friction",
+           "two_finger_closure"]
 
 
 
@@ -215,6 +217,87 @@ def pair_codes(points: ArrayLike, normals: ArrayLike, mu: ArrayLike, model: str 
         return two_finger_closure(points[:, 0], normals[:, 0], points[:, 1], normals[:, 1],
                                   mu[:, 0], mu[:, 1], model=model).code
     return analyze_batch(points, normals, mu=mu, model=model, torsion=torsion).code
+
+
+#: Largest friction coefficient tried; beyond it cones are numerically half-spaces
+#: (:func:`forceclosure.analysis.friction.least_friction` and the μ* here: ``inf`` above it).
+MU_MAX = 1e4
+
+#: Pairs below which :func:`pair_labels` runs on the calling thread (about 3 ms of work);
+#: at and above it, one slice per thread, in threads that sleep between calls.
+SERIAL_BELOW = 1 << 14
+
+
+def pair_labels(points: ArrayLike, normals: ArrayLike, mu: float, model: str = "soft",
+                tol: float = TOLERANCE) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
+    """Verdict codes and least friction of ``(N, 2, d)`` contact pairs, in one compiled pass.
+
+    The verdict (0 none, 1 marginal, 2 closure; exact cones) at friction ``mu`` and
+    μ*, the least friction closing each pair (``inf``: none up to
+    :data:`~forceclosure.analysis.friction.MU_MAX` does), of soft fingers with the
+    paper's uncoupled torque (spatial) or of any two fingers in the plane, in closed
+    form (Corollary 3, and its exact spatial form); ``model="hard"`` spatial pairs are
+    never closed (rank 5). The same answers as :func:`pair_codes` and
+    :func:`~forceclosure.analysis.batch.least_friction_batch` give, but validation and
+    conditioning (unit normals, huge coordinates in units of a power of two) run inside
+    the kernel: a row that cannot be decided raises one
+    :class:`~forceclosure.errors.InputError` naming the first such pair. Below
+    :data:`SERIAL_BELOW` pairs it runs on the calling thread, above it on one slice
+    per thread (numba's thread count). The few spatial pairs whose closed form is
+    ill-conditioned (nearly parallel normals) are decided by Theorem 1.
+
+    Examples
+    --------
+    >>> P = np.array([[[-1, 0, 0], [1, 0.2, 0]], [[-1, 0, 0], [1, 0.5, 0.3]]])
+    >>> N = np.array([[[-1.0, 0, 0], [1, 0, 0]], [[-1, 0.2, 0], [1, 0, 0.1]]])
+    >>> code, least = pair_labels(P, N, 0.3)
+    >>> code.tolist(), least.round(4).tolist()
+    ([2, 0], [0.1, 0.4951])
+    >>> pair_labels(P, N, 0.3, "hard")[0].tolist()
+    [0, 0]
+    """
+    from ..kernels import announce_compiling, kernel_array
+    from ..kernels import pairs as kernel
+
+    points = kernel_array(_array(points, "points"))
+    normals = kernel_array(_array(normals, "normals"))
+    if points.ndim != 3 or points.shape[1] != 2 or points.shape[2] not in (2, 3):
+        raise InputError(f"points must have shape (N, 2, 2 or 3); got {points.shape}")
+    if normals.shape != points.shape:
+        raise InputError(f"normals must have the shape of points, {points.shape}; got "
+                         f"{normals.shape}")
+    try:
+        mu = float(mu)
+    except (TypeError, ValueError):
+        raise InputError(f"'mu' must be one number, got {mu!r}") from None
+    if not math.isfinite(mu) or mu < 0:
+        raise InputError(f"'mu' must be finite and >= 0, got {mu!r}")
+    if model not in ("soft", "hard"):
+        raise InputError(f"model must be 'soft' or 'hard' for Corollary 3, got {model!r}")
+    tol = check_tolerance(tol)
+    n = len(points)
+    code = np.empty(n, dtype=np.int8)
+    least = np.empty(n)
+    if n == 0:
+        return code, least
+    announce_compiling(kernel.pair_labels_kernel)
+    flagged = kernel.pair_labels(points, normals, mu, float(tol), model == "hard", MU_MAX,
+                                 MAX_COORDINATE, code, least, SERIAL_BELOW)
+    if not flagged:
+        return code, least
+    bad = np.flatnonzero(code >= kernel.ZERO_NORMAL)
+    if len(bad):
+        i = int(bad[0])
+        what = {kernel.ZERO_NORMAL: "a normal is a zero vector",
+                kernel.TOO_LARGE: f"a point has a coordinate beyond {MAX_COORDINATE:g}, too "
+                                  "large to compute with"}.get(
+            int(code[i]), "a point or normal has a non-finite coordinate")
+        raise InputError(f"pair at index {i}: {what}")
+    undecided = np.flatnonzero(code == kernel.UNDECIDED)
+    if len(undecided):  # spatial soft pairs beyond the closed form: Theorem 1, compiled
+        code[undecided] = analyze_batch(points[undecided], normals[undecided], mu=mu,
+                                        model="soft", tol=tol).code
+    return code, least
 
 
 def pair_least_friction(p: NDArray[np.float64], n_p: NDArray[np.float64],

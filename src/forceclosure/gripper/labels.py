@@ -344,10 +344,11 @@ def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str 
     rotation about the line through them). μ* is computed with ``torsion``
     held at the value given. ``progress`` is called with the number of
     grasps just labelled, after every :data:`CHUNK` of them. Soft pads with
-    the paper's torque (``torsion`` None) have their verdict and μ* in closed
-    form, a few µs a pair (:func:`forceclosure.analysis.two_finger.pair_codes`); with
-    a coupled ``torsion``, or hard contacts, μ* is a bisection of verdicts,
-    milliseconds a pair; ``least_friction=False`` skips it (NaN). ε (about
+    the paper's torque (``torsion`` None) and hard contacts have their verdict and μ*
+    in closed form, all pairs in one compiled pass, under a µs a pair
+    (:func:`forceclosure.analysis.two_finger.pair_labels`); with a coupled
+    ``torsion``, μ* is a bisection of verdicts, milliseconds a pair;
+    ``least_friction=False`` skips it (NaN). ε (about
     130 µs a closed soft pair) is most of the rest: ``epsilon=False`` skips
     it (NaN for every grasp).
 
@@ -365,7 +366,7 @@ def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str 
     [nan]
     """
     from ..analysis.batch import epsilon_batch, least_friction_batch
-    from ..analysis.two_finger import pair_codes
+    from ..analysis.two_finger import pair_codes, pair_labels
 
     if contact not in ("soft", "hard"):
         raise InputError(f"contact must be 'soft' or 'hard', got {contact!r}")
@@ -374,12 +375,18 @@ def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str 
     n = len(points)
     code = np.zeros(n, np.int8)
     mu_star, eps = np.full(n, np.nan), np.zeros(n) if epsilon else np.full(n, np.nan)
+    closed_form = torsion is None  # verdict and μ* of every pair in one compiled pass
+    if closed_form:
+        code, least = pair_labels(points, normals, mu, contact)
+        if least_friction:
+            mu_star = least
     for lo in range(0, n, CHUNK):
         part = slice(lo, min(n, lo + CHUNK))
         P, N = points[part], normals[part]
-        code[part] = pair_codes(P, N, mu, contact, torsion)
-        if least_friction:
-            mu_star[part] = least_friction_batch(P, N, model=contact, torsion=torsion)
+        if not closed_form:  # coupled torsion: Theorem 1 and a bisection
+            code[part] = pair_codes(P, N, mu, contact, torsion)
+            if least_friction:
+                mu_star[part] = least_friction_batch(P, N, model=contact, torsion=torsion)
         closed = np.flatnonzero(code[part] == 2) if epsilon else np.zeros(0, np.int64)
         if len(closed):
             eps[lo + closed] = epsilon_batch(P[closed], N[closed], mu=mu, model=contact,

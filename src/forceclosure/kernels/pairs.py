@@ -19,12 +19,14 @@ Spatial soft pairs have their least friction in closed form too
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numba as nb
 import numpy as np
 
-__all__ = ["CLOSURE", "MARGINAL", "NONE", "NON_FINITE", "UNDECIDED", "ZERO_NORMAL", "pair_kernel"]
+__all__ = ["CLOSURE", "MARGINAL", "NONE", "NON_FINITE", "TOO_LARGE", "UNDECIDED", "ZERO_NORMAL",
+           "pair_kernel", "pair_labels", "pair_labels_kernel"]
 
 #: Pair codes, as in :mod:`forceclosure.analysis.two_finger`.
 NONE, MARGINAL, CLOSURE = 0, 1, 2
@@ -33,6 +35,8 @@ NONE, MARGINAL, CLOSURE = 0, 1, 2
 UNDECIDED = 3
 #: A pair with a zero normal, or a non-finite coordinate (the caller reports it).
 ZERO_NORMAL, NON_FINITE = 4, 5
+#: A pair with a point coordinate too large to compute with (the caller reports it).
+TOO_LARGE = 6
 
 
 @nb.njit(inline="always")
@@ -80,28 +84,66 @@ def _least(cp: float, sp: float, cq: float, sq: float) -> float:
 
 
 @nb.njit(inline="always")
-def _least_soft(vx, vy, vz, ax, ay, az, bx, by, bz) -> float:
+def _least_soft(vx, vy, vz, ax, ay, az, bx, by, bz):
     """The least friction of two spatial soft fingers (uncoupled torques), exactly.
 
     ``v = Q - P``; ``a``, ``b`` unit outward normals, not parallel. With
     ``beta`` the angle between ``b`` and ``-a``, ``c = b - a`` their bisector
     and ``psi`` the angle between the lines of ``c`` and of ``v`` projected on
     the plane of ``a`` and ``b``, the pair is force-closure iff the cones'
-    half-angle exceeds ``beta / 2 + psi`` (docs/analysis.md).
+    half-angle exceeds ``beta / 2 + psi`` (docs/analysis.md). Returns that least friction,
+    ``tan(beta / 2)``, and whether :func:`_soft_verdict` would find the pair
+    well-conditioned (not ``UNDECIDED``).
     """
     mx, my, mz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
     sin_b = math.sqrt(mx * mx + my * my + mz * mz)
-    beta = math.atan2(sin_b, -(ax * bx + ay * by + az * bz))
+    one_plus_cos = 1.0 - (ax * bx + ay * by + az * bz)  # cos beta = -a . b
+    if one_plus_cos <= 0.0:
+        return np.inf, np.inf, False  # parallel to round-off: both fingers push the same way
+    tan_half_beta = sin_b / one_plus_cos
     mx, my, mz = mx / sin_b, my / sin_b, mz / sin_b
     along = vx * mx + vy * my + vz * mz
     wx, wy, wz = vx - along * mx, vy - along * my, vz - along * mz
-    if wx * wx + wy * wy + wz * wz <= 1e-24 * (vx * vx + vy * vy + vz * vz):
-        return np.inf  # PQ along a x b: the rotation about PQ is free
+    w2, v2 = wx * wx + wy * wy + wz * wz, vx * vx + vy * vy + vz * vz
+    well = sin_b > 1e-6 and w2 > 1e-12 * v2
+    if w2 <= 1e-24 * v2:
+        return np.inf, tan_half_beta, well  # PQ along a x b: the rotation about PQ is free
     cx, cy, cz = bx - ax, by - ay, bz - az
     cross = math.sqrt((wy * cz - wz * cy) ** 2 + (wz * cx - wx * cz) ** 2
                       + (wx * cy - wy * cx) ** 2)
-    angle = 0.5 * beta + math.atan2(cross, abs(wx * cx + wy * cy + wz * cz))
-    return math.tan(angle) if angle < 0.5 * math.pi else np.inf
+    dot = abs(wx * cx + wy * cy + wz * cz)
+    # tan(beta / 2 + psi), tan psi = cross / dot, by the addition formula (no inverse
+    # trigonometry); beta / 2 + psi >= 90 degrees where the denominator is not positive
+    denominator = dot - tan_half_beta * cross
+    if denominator <= 0.0:
+        return np.inf, tan_half_beta, well
+    return (tan_half_beta * dot + cross) / denominator, tan_half_beta, well
+
+
+@nb.njit(inline="always")
+def _screen(least, tan_half_beta, mu, tol) -> int:
+    """The verdict of :func:`_soft_verdict` for equal friction ``mu`` at both fingers, read
+    from the pair's least friction where it is far from the boundary (no inverse
+    trigonometry); ``UNDECIDED`` near it.
+
+    With ``alpha = atan(mu)``, the margin of :func:`_soft_verdict` is
+    ``alpha - beta / 2 - psi`` while the wedges leave lines free (``tan(beta / 2) < mu``),
+    else ``2 alpha - beta``; ``least = tan(beta / 2 + psi)``. Since ``atan`` has slope at
+    least ``1 / (1 + x**2)`` up to ``x``, ``(mu - least) / (1 + mu**2)`` bounds the first
+    margin from below, ``(least - mu) / (1 + least**2)`` its opposite, and
+    ``(tan(beta / 2) - mu) / (1 + tan(beta / 2)**2)`` half the opposite of the second:
+    past ``2 tol + 1e-4`` the code is certain."""
+    band = 2.0 * tol + 1e-4
+    if least < mu:
+        return CLOSURE if (mu - least) / (1.0 + mu * mu) > band else UNDECIDED
+    if tan_half_beta < mu:  # lines left free: the margin is alpha - beta / 2 - psi
+        if math.isinf(least):  # beta / 2 + psi >= 90 degrees: the margin <= -atan(1 / mu)
+            return NONE if mu / (1.0 + mu * mu) > band else UNDECIDED
+        return NONE if (least - mu) / (1.0 + least * least) > band else UNDECIDED
+    if math.isinf(tan_half_beta):
+        return UNDECIDED
+    return NONE if (tan_half_beta - mu) / (1.0 + tan_half_beta * tan_half_beta) > band \
+        else UNDECIDED
 
 
 @nb.njit(inline="always")
@@ -118,8 +160,9 @@ def _flag(code, least, i, pq2, np2, nq2, cp, cq) -> bool:
     return False
 
 
-@nb.njit(inline="always")
-def _soft_verdict(vx, vy, vz, ax, ay, az, bx, by, bz, mp, mq, tol) -> int:
+@nb.njit(cache=True)
+def _soft_verdict(vx, vy, vz, ax, ay, az, bx, by, bz, mp, mq, tol, atan_p=-1.0,
+                  atan_q=-1.0) -> int:
     """Two spatial soft fingers (uncoupled torques), decided in closed form.
 
     ``a``, ``b`` unit normals. In the plane ``Π`` of ``-a`` and ``b`` (angle
@@ -128,7 +171,8 @@ def _soft_verdict(vx, vy, vz, ax, ay, az, bx, by, bz, mp, mq, tol) -> int:
     line of ``(a x b) x (Q - P)``; the grasp's margin is the angle by which
     it misses it (docs/analysis.md).
     ``UNDECIDED`` where that is ill-conditioned: nearly parallel normals, or
-    ``PQ`` nearly along ``a x b``.
+    ``PQ`` nearly along ``a x b``. ``atan_p``, ``atan_q``: ``atan(mp)``, ``atan(mq)`` when
+    the caller has them (negative: computed here).
     """
     mx, my, mz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
     sin_b = math.sqrt(mx * mx + my * my + mz * mz)
@@ -146,8 +190,8 @@ def _soft_verdict(vx, vy, vz, ax, ay, az, bx, by, bz, mp, mq, tol) -> int:
     beta = math.atan2(ux * bx + uy * by + uz * bz, -(ax * bx + ay * by + az * bz))
     ex, ey, ez = my * wz - mz * wy, mz * wx - mx * wz, mx * wy - my * wx  # m x w
     phi = math.atan2(ux * ex + uy * ey + uz * ez, -(ax * ex + ay * ey + az * ez))
-    g_p = 0.5 * math.pi - math.atan(mp)
-    g_q = 0.5 * math.pi - math.atan(mq)
+    g_p = 0.5 * math.pi - (math.atan(mp) if atan_p < 0.0 else atan_p)
+    g_q = 0.5 * math.pi - (math.atan(mq) if atan_q < 0.0 else atan_q)
     low, high = min(-g_p, beta - g_q), max(g_p, beta + g_q)  # the wedges' hull
     free = math.pi - (high - low)  # the arc of lines it leaves
     if free <= 0.0:
@@ -160,6 +204,88 @@ def _soft_verdict(vx, vy, vz, ax, ay, az, bx, by, bz, mp, mq, tol) -> int:
     if margin < -tol:
         return NONE
     return MARGINAL
+
+
+@nb.njit(cache=True)
+def _same_side(ax, ay, az, bx, by, bz, atan_p, atan_q) -> bool:
+    """Whether every force of both cones (unit normals ``a``, ``b`` at most 90 degrees
+    apart) has a positive component along ``-(a + b)``, by more than 0.1 radian: then no
+    positive combination of the wrenches has zero force (the pure torques have none), and
+    the pair is not force-closure, far from the marginal band. It settles nearly parallel
+    normals at friction below about 9, where the closed form of :func:`_soft_verdict` is
+    ill-conditioned (Theorem 1 decides the rest)."""
+    dot = ax * bx + ay * by + az * bz
+    if dot <= 0.0:
+        return False
+    cross = math.sqrt((ay * bz - az * by) ** 2 + (az * bx - ax * bz) ** 2
+                      + (ax * by - ay * bx) ** 2)
+    half = 0.5 * math.atan2(cross, dot)  # each normal's angle from the bisector
+    return half + max(atan_p, atan_q) < 0.5 * math.pi - 0.1
+
+
+@nb.njit(inline="always")
+def _planar_pair(px, py, qx, qy, ax, ay, bx, by, mp, mq, T):
+    """Code and least friction of one planar pair whose inputs passed :func:`_flag`."""
+    vx = qx - px
+    vy = qy - py
+    pq2 = vx * vx + vy * vy
+    scale = max(1.0, abs(px), abs(py), abs(qx), abs(qy))
+    if pq2 <= 1e-24 * scale * scale:  # coincident points: nothing closes them
+        return NONE, np.inf
+    cp = -(vx * ax + vy * ay)
+    cq = vx * bx + vy * by
+    sp = abs(vx * ay - vy * ax)
+    sq = abs(vx * by - vy * bx)
+    return _verdict(cp, sp, cq, sq, mp, mq, T), _least(cp, sp, cq, sq)
+
+
+@nb.njit(cache=True)
+def _spatial_pair(px, py, pz, qx, qy, qz, ax, ay, az, bx, by, bz, mp, mq, T, tol,
+                  atan_p=-1.0, atan_q=-1.0):
+    """Code (``UNDECIDED`` where the closed form is ill-conditioned) and least friction of
+    one spatial soft pair whose inputs passed :func:`_flag`; ``atan_p``, ``atan_q`` as in
+    :func:`_soft_verdict`."""
+    vx = qx - px
+    vy = qy - py
+    vz = qz - pz
+    pq2 = vx * vx + vy * vy + vz * vz
+    np2 = ax * ax + ay * ay + az * az
+    nq2 = bx * bx + by * by + bz * bz
+    cp = -(vx * ax + vy * ay + vz * az)
+    cq = vx * bx + vy * by + vz * bz
+    scale = max(1.0, abs(px), abs(py), abs(pz), abs(qx), abs(qy), abs(qz))
+    if pq2 <= 1e-24 * scale * scale:
+        return NONE, np.inf
+    sp = math.sqrt((vy * az - vz * ay) ** 2 + (vz * ax - vx * az) ** 2
+                   + (vx * ay - vy * ax) ** 2)
+    sq = math.sqrt((vy * bz - vz * by) ** 2 + (vz * bx - vx * bz) ** 2
+                   + (vx * by - vy * bx) ** 2)
+    c = _verdict(cp, sp, cq, sq, mp, mq, T)
+    # Corollary 3 is only sufficient in space unless the normals are antiparallel
+    inv_p = 1.0 / math.sqrt(np2)
+    inv_q = 1.0 / math.sqrt(nq2)
+    ax, ay, az, bx, by, bz = ax * inv_p, ay * inv_p, az * inv_p, bx * inv_q, by * inv_q, \
+        bz * inv_q
+    antiparallel = (ax + bx) ** 2 + (ay + by) ** 2 + (az + bz) ** 2 <= 1e-18
+    screened = UNDECIDED
+    if antiparallel:
+        least = _least(cp, sp, cq, sq)
+    elif (ax - bx) ** 2 + (ay - by) ** 2 + (az - bz) ** 2 <= 1e-18:
+        least = np.inf  # parallel normals: both fingers push the same way
+    else:
+        least, tan_half_beta, well = _least_soft(vx, vy, vz, ax, ay, az, bx, by, bz)
+        if c != CLOSURE and well and mp == mq:
+            screened = _screen(least, tan_half_beta, mp, tol)
+    if c != CLOSURE and not antiparallel:
+        if screened != UNDECIDED:
+            c = screened
+        else:
+            c = _soft_verdict(vx, vy, vz, ax, ay, az, bx, by, bz, mp, mq, tol, atan_p, atan_q)
+            if c == UNDECIDED and _same_side(ax, ay, az, bx, by, bz,
+                                             math.atan(mp) if atan_p < 0.0 else atan_p,
+                                             math.atan(mq) if atan_q < 0.0 else atan_q):
+                c = NONE
+    return c, least
 
 
 @nb.njit(parallel=True, cache=True, nogil=True)
@@ -178,23 +304,14 @@ def pair_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, code, least):  # pragma: no cov
             vx = q[i, 0] - p[i, 0]
             vy = q[i, 1] - p[i, 1]
             ax, ay, bx, by = n_p[i, 0], n_p[i, 1], n_q[i, 0], n_q[i, 1]
-            pq2 = vx * vx + vy * vy
-            np2 = ax * ax + ay * ay
-            nq2 = bx * bx + by * by
-            cp = -(vx * ax + vy * ay)
-            cq = vx * bx + vy * by
-            if _flag(code, least, i, pq2, np2, nq2, cp, cq):
+            if _flag(code, least, i, vx * vx + vy * vy, ax * ax + ay * ay, bx * bx + by * by,
+                     -(vx * ax + vy * ay), vx * bx + vy * by):
                 flagged += 1
                 continue
-            scale = max(1.0, abs(p[i, 0]), abs(p[i, 1]), abs(q[i, 0]), abs(q[i, 1]))
-            if pq2 <= 1e-24 * scale * scale:  # coincident points: nothing closes them
-                code[i] = NONE
-                least[i] = np.inf
-                continue
-            sp = abs(vx * ay - vy * ax)
-            sq = abs(vx * by - vy * bx)
-            code[i] = _verdict(cp, sp, cq, sq, mu_p[i * step_p], mu_q[i * step_q], T)
-            least[i] = _least(cp, sp, cq, sq)
+            c, m = _planar_pair(p[i, 0], p[i, 1], q[i, 0], q[i, 1], ax, ay, bx, by,
+                                mu_p[i * step_p], mu_q[i * step_q], T)
+            code[i] = c
+            least[i] = m
         return flagged
     for i in nb.prange(p.shape[0]):
         vx = q[i, 0] - p[i, 0]
@@ -202,43 +319,126 @@ def pair_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, code, least):  # pragma: no cov
         vz = q[i, 2] - p[i, 2]
         ax, ay, az = n_p[i, 0], n_p[i, 1], n_p[i, 2]
         bx, by, bz = n_q[i, 0], n_q[i, 1], n_q[i, 2]
-        pq2 = vx * vx + vy * vy + vz * vz
-        np2 = ax * ax + ay * ay + az * az
-        nq2 = bx * bx + by * by + bz * bz
-        cp = -(vx * ax + vy * ay + vz * az)
-        cq = vx * bx + vy * by + vz * bz
-        if _flag(code, least, i, pq2, np2, nq2, cp, cq):
+        if _flag(code, least, i, vx * vx + vy * vy + vz * vz, ax * ax + ay * ay + az * az,
+                 bx * bx + by * by + bz * bz, -(vx * ax + vy * ay + vz * az),
+                 vx * bx + vy * by + vz * bz):
             flagged += 1
             continue
-        scale = 1.0
-        for j in range(3):
-            scale = max(scale, abs(p[i, j]), abs(q[i, j]))
-        if pq2 <= 1e-24 * scale * scale:
-            code[i] = NONE
-            least[i] = np.inf
-            continue
-        sp = math.sqrt((vy * az - vz * ay) ** 2 + (vz * ax - vx * az) ** 2
-                       + (vx * ay - vy * ax) ** 2)
-        sq = math.sqrt((vy * bz - vz * by) ** 2 + (vz * bx - vx * bz) ** 2
-                       + (vx * by - vy * bx) ** 2)
-        c = _verdict(cp, sp, cq, sq, mu_p[i * step_p], mu_q[i * step_q], T)
-        # Corollary 3 is only sufficient in space unless the normals are antiparallel
-        inv_p = 1.0 / math.sqrt(np2)
-        inv_q = 1.0 / math.sqrt(nq2)
-        ax, ay, az, bx, by, bz = ax * inv_p, ay * inv_p, az * inv_p, bx * inv_q, by * inv_q, \
-            bz * inv_q
-        antiparallel = (ax + bx) ** 2 + (ay + by) ** 2 + (az + bz) ** 2 <= 1e-18
-        if c != CLOSURE and not antiparallel:
-            c = _soft_verdict(vx, vy, vz, ax, ay, az, bx, by, bz, mu_p[i * step_p],
-                              mu_q[i * step_q], tol)
-            if c == UNDECIDED:
-                flagged += 1
+        c, m = _spatial_pair(p[i, 0], p[i, 1], p[i, 2], q[i, 0], q[i, 1], q[i, 2],
+                             ax, ay, az, bx, by, bz, mu_p[i * step_p], mu_q[i * step_q], T, tol)
+        if c == UNDECIDED:
+            flagged += 1
         code[i] = c
-        if antiparallel:
-            least[i] = _least(cp, sp, cq, sq)
-        elif (ax - bx) ** 2 + (ay - by) ** 2 + (az - bz) ** 2 <= 1e-18:
-            least[i] = np.inf  # parallel normals: both fingers push the same way
-        else:
-            least[i] = _least_soft(vx, vy, vz, ax, ay, az, bx, by, bz)
+        least[i] = m
     return flagged
 
+
+# --- labels of (N, 2, d) pairs as a user calls them: conditioning inside, one pass ----------
+
+@nb.njit(inline="always")
+def _unit(x, y, z):
+    """``(x, y, z)`` divided by its length and the length, without overflow (as
+    :func:`forceclosure.contacts.unit_rows`); length 0 for a zero vector."""
+    big = max(abs(x), abs(y), abs(z))
+    if big == 0.0:
+        return x, y, z, 0.0
+    x, y, z = x / big, y / big, z / big
+    small = math.sqrt(x * x + y * y + z * z)
+    return x / small, y / small, z / small, big * small
+
+
+@nb.njit(inline="always")
+def _label_row(points, normals, i, mu, atan_mu, T, tol, hard, mu_max, max_coordinate, code,
+               least):
+    """Condition, check and label pair ``i`` of ``(N, 2, d)`` arrays; whether it is flagged
+    (a code other than the three verdicts: bad input, or ``UNDECIDED``)."""
+    d = points.shape[2]
+    big = 0.0
+    finite = True
+    for k in range(2):
+        for j in range(d):
+            x = points[i, k, j]
+            y = normals[i, k, j]
+            finite = finite and math.isfinite(x) and math.isfinite(y)
+            big = max(big, abs(x))
+    if not finite:
+        code[i] = NON_FINITE
+        least[i] = np.nan
+        return True
+    if big > max_coordinate:
+        code[i] = TOO_LARGE
+        least[i] = np.nan
+        return True
+    s = 1.0
+    if big > 2.0**64:  # units of a power of two: exact, and the verdict does not change
+        s = 1.0 / math.ldexp(1.0, min(math.frexp(big)[1], 1023))
+    if d == 2:
+        ax, ay, _, la = _unit(normals[i, 0, 0], normals[i, 0, 1], 0.0)
+        bx, by, _, lb = _unit(normals[i, 1, 0], normals[i, 1, 1], 0.0)
+        if la <= 1e-12 or lb <= 1e-12:
+            code[i] = ZERO_NORMAL
+            least[i] = np.inf
+            return True
+        c, m = _planar_pair(points[i, 0, 0] * s, points[i, 0, 1] * s, points[i, 1, 0] * s,
+                            points[i, 1, 1] * s, ax, ay, bx, by, mu, mu, T)
+    else:
+        ax, ay, az, la = _unit(normals[i, 0, 0], normals[i, 0, 1], normals[i, 0, 2])
+        bx, by, bz, lb = _unit(normals[i, 1, 0], normals[i, 1, 1], normals[i, 1, 2])
+        if la <= 1e-12 or lb <= 1e-12:
+            code[i] = ZERO_NORMAL
+            least[i] = np.inf
+            return True
+        if hard:  # two hard fingers in space: rank 5, never force-closure
+            code[i] = NONE
+            least[i] = np.inf
+            return False
+        c, m = _spatial_pair(points[i, 0, 0] * s, points[i, 0, 1] * s, points[i, 0, 2] * s,
+                             points[i, 1, 0] * s, points[i, 1, 1] * s, points[i, 1, 2] * s,
+                             ax, ay, az, bx, by, bz, mu, mu, T, tol, atan_mu, atan_mu)
+    code[i] = c
+    least[i] = np.inf if m > mu_max else m
+    return c == UNDECIDED
+
+
+@nb.njit(cache=True, nogil=True)
+def pair_labels_kernel(points, normals, mu, tol, hard, mu_max, max_coordinate, code,
+                       least):  # pragma: no cover - compiled
+    """Fill ``code`` (int8) and ``least`` (float64, ``inf`` beyond ``mu_max``) for the
+    ``(N, 2, d)`` contact pairs ``points``, ``normals`` (any lengths) at one friction ``mu``,
+    in one pass on the calling thread (it releases the GIL: :func:`pair_labels` runs it on
+    slices in threads): each row's normals made unit, coordinates beyond ``2**64`` divided
+    by a power of two, bad rows flagged (``NON_FINITE``, ``TOO_LARGE`` beyond
+    ``max_coordinate``, ``ZERO_NORMAL``). ``hard`` spatial pairs are never closed.
+    Returns how many pairs have a code other than the three verdicts."""
+    T = math.tan(tol)
+    atan_mu = math.atan(mu)
+    flagged = 0
+    for i in range(points.shape[0]):
+        if _label_row(points, normals, i, mu, atan_mu, T, tol, hard, mu_max, max_coordinate,
+                      code, least):
+            flagged += 1
+    return flagged
+
+
+_POOL: list = []
+
+
+def pair_labels(points, normals, mu, tol, hard, mu_max, max_coordinate, code, least,
+                serial_below):
+    """:func:`pair_labels_kernel` on the calling thread for fewer than ``serial_below``
+    pairs; else on one contiguous slice per thread (numba's thread count), in a pool of
+    Python threads that sleep between calls (no spinning, no per-chunk wake-ups)."""
+    n = points.shape[0]
+    threads = max(1, int(nb.config.NUMBA_NUM_THREADS))
+    if n < serial_below or threads == 1:
+        return pair_labels_kernel(points, normals, mu, tol, hard, mu_max, max_coordinate,
+                                  code, least)
+    if not _POOL:
+        from concurrent.futures import ThreadPoolExecutor
+
+        _POOL.append(ThreadPoolExecutor(threads, thread_name_prefix="forceclosure-pairs"))
+    bounds = np.linspace(0, n, threads + 1).astype(np.int64)
+    jobs = [_POOL[0].submit(pair_labels_kernel, points[a:b], normals[a:b], mu, tol, hard,
+                            mu_max, max_coordinate, code[a:b], least[a:b])
+            for a, b in itertools.pairwise(bounds)]
+    return sum(job.result() for job in jobs)
