@@ -188,12 +188,12 @@ def test_pad_torsion_is_the_rectangles_mean_radius():
 
 
 def test_contacts_on_a_convex_decomposition_are_on_its_outer_surface(duck):
-    # the duck's URDF is four overlapping convex pieces (V-HACD): read here from the OBJ with
+    # the duck's URDF is overlapping convex pieces (V-HACD): read here from the OBJ with
     # trimesh, scaled as the URDF says (0.05), no contact lies inside any piece
     _, labels = duck
     pieces = trimesh.load(os.path.join(D, "duck_vhacd.obj"), force="mesh").split(
         only_watertight=False)
-    assert len(pieces) == 4
+    assert len(pieces) >= 4
     points = labels.points.reshape(-1, 3)
     for piece in pieces:
         piece.apply_scale(0.05)

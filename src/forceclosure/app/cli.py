@@ -583,6 +583,9 @@ def _dataset_job(args: argparse.Namespace):
         if given:
             raise InputError(f"{given[0]} is for regions (synthesize, --analyze), not for "
                              f"--gripper {args.gripper}")
+        if args.gripper == "parallel-jaw" and args.width is None:
+            raise InputError("--gripper parallel-jaw needs --width (or name a built-in hand: "
+                             "--gripper panda or graspnet)")
         if args.mu is None:
             raise InputError(f"--gripper {args.gripper} needs --mu")
         if args.contact == "frictionless":

@@ -536,7 +536,7 @@ def label_task(labels: GraspLabels, wrench: ArrayLike, f_max: float, edges: int 
     >>> from forceclosure.analysis.task import gravity_wrench
     >>> w = gravity_wrench(1.0, [0, 0, 0], g=[0, 0, -10])
     >>> code, spare, upper = label_task(labels, w, f_max=1.0)
-    >>> code.tolist(), bool(np.all(spare <= upper)), bool(np.all(upper < 1))
+    >>> code.tolist(), bool(np.all(spare <= upper + 1e-12)), bool(np.all(upper < 1))
     ([0, 0, 0], True, True)
     """
     from ..analysis.task import resist_wrench_batch

@@ -296,13 +296,14 @@ def robust_labels(obj: Any, poses: Any, gripper: ParallelJaw, mu: float, *,
 
     Examples
     --------
-    A head-on pinch across the 2-unit cube stays closed under small noise;
-    a pose beside the cube never meets it:
+    A head-on pinch across the 2-unit cube with small pads stays closed under
+    small noise; a pose beside the cube never meets it:
 
     >>> poses = [JawPose([0, 0, 0], [1, 0, 0], [0, 0, 1], 2.0),
     ...          JawPose([0, 5, 0], [1, 0, 0], [0, 0, 1], 2.0)]
-    >>> r = robust_labels("cube", poses, ParallelJaw(3.0), mu=0.5, samples=50,
-    ...                   angle_sigma=0.05, mu_sigma=0.02)
+    >>> hand = ParallelJaw(3.0, pad_length=0.2, pad_height=0.2, depth=0.1)
+    >>> r = robust_labels("cube", poses, hand, mu=0.5, samples=50, angle_sigma=0.05,
+    ...                   mu_sigma=0.02)
     >>> r.probability.tolist(), r.missed.tolist(), bool(r.epsilon[0] > 0)
     ([1.0, 0.0], [0, 50], True)
     """

@@ -176,7 +176,7 @@ def grasps_picture(obj: Any, labels: Any, top: int = 10, gripper: ParallelJaw | 
     >>> labels = grasp_labels("cube", ParallelJaw(3.0), mu=0.3, count=8, least_friction=False)
     >>> fig = grasps_picture("cube", labels, top=3)
     >>> len(fig.axes), fig.axes[0].get_title().splitlines()[0]
-    (3, '1. closure, collides')
+    (3, '1. closure, clear')
     """
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
