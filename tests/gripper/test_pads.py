@@ -102,6 +102,10 @@ def test_a_flat_face_pressed_flat_touches_at_the_pads_middle_and_a_tilt_by_the_r
         assert rel @ a[0] == pytest.approx(0.0, abs=1e-12)  # the pad's middle along x
         assert rel @ b == pytest.approx(across, abs=1e-9)
         np.testing.assert_allclose(pc.normals[0, 0], [0, 0, -1])
+        if t == 0:  # pressed evenly: the torsional lever is the square's mean radius, from
+            # below (the closed form of rectangle_mean_radius, itself checked below)
+            truth = rectangle_mean_radius(1.0, 1.0)
+            assert 0.97 * truth <= pc.lever[0, 0] <= truth
 
 
 def test_candidates_never_miss_a_triangle_that_reaches_the_line():

@@ -168,6 +168,7 @@ def _random_labels(n=7, seed=0):
     optional = {name: rng.random(n) for name in (*ROBUST_ARRAYS, *METRIC_ARRAYS,
                                                  *TASK_ARRAYS, "depth") if name in names}
     optional["task_verdict"] = rng.integers(0, 3, n).astype(np.int8)
+    optional["torsion"] = rng.random((n, 2))  # one a pad
     if "robust_missed" in optional:
         optional["robust_missed"] = rng.integers(0, 9, n).astype(np.int64)
     meta = {"object": "x", "mu": 0.4, "width_max": 0.08, "collision": None,

@@ -30,7 +30,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from .jaw import ParallelJaw, surface_mesh
-from .pads import line_candidates, pad_contacts
+from .pads import COINCIDE_RTOL, line_candidates, pad_contacts, pad_reach
 
 __all__ = ["APPROACHES", "DEPTHS", "HandPoses", "search_poses", "units_warning"]
 
@@ -43,7 +43,8 @@ DEPTHS = 3
 #: Reasons a closing line makes no pose.
 NOTHING = "the pads close on nothing: no surface under them along this line"
 TOO_WIDE = "the object is wider than the opening under the pads"
-COINCIDE = "the two contacts nearly coincide (closer than 1e-6 of the object's size)"
+COINCIDE = (f"the two contacts nearly coincide (closer than {COINCIDE_RTOL:g} of the "
+            "object's size)")
 
 #: Rounds of line drawing before giving up on reaching ``count`` poses.
 ROUNDS = 8
@@ -63,7 +64,8 @@ class HandPoses:
     how far the fingertips reach past the centre,
     ``collides`` whether every approach and depth tried meets the object
     (None: not checked); ``attempts`` lines drawn, ``rejected`` the lines
-    without a pose, by reason, ``tried`` the hand poses checked.
+    without a pose, by reason, ``tried`` the hand poses checked, ``lever``
+    ``(N, 2)`` each pad's torsional lever (:class:`~forceclosure.gripper.pads.PadContacts`).
     """
 
     center: NDArray[np.float64]
@@ -76,6 +78,7 @@ class HandPoses:
     triangles: NDArray[np.int64]
     collides: NDArray[np.bool_] | None
     attempts: int
+    lever: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 2)))
     rejected: dict[str, int] = field(default_factory=dict)
     tried: int = 0
 
@@ -198,8 +201,7 @@ def search_poses(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
     angles = 2 * np.pi * _spread(int(approaches)) / int(approaches)
     levels = depth_values(gripper, int(depths))
     combos = [(a, d) for a in angles for d in levels]
-    reach = float(np.hypot(max(np.abs(levels).max(), np.abs(levels - gripper.pad_length).max()),
-                           0.5 * gripper.pad_height))
+    reach = pad_reach(levels, gripper.pad_length, gripper.pad_height)
     rng = np.random.default_rng(seed)
     kept: list[dict[str, NDArray]] = []
     found, attempts, tried, rejected = 0, 0, 0, {}
@@ -219,7 +221,7 @@ def search_poses(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
         result = {"center": np.zeros((m, 3)), "approach": np.zeros((m, 3)),
                   "width": np.zeros(m), "depth": np.zeros(m), "points": np.zeros((m, 2, 3)),
                   "normals": np.zeros((m, 2, 3)), "triangles": np.full((m, 2), -1),
-                  "collides": np.ones(m, bool)}
+                  "collides": np.ones(m, bool), "lever": np.zeros((m, 2))}
         why = np.full(m, None, dtype=object)
         why[:] = NOTHING
         for angle, depth in combos:
@@ -236,10 +238,9 @@ def search_poses(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
                               gripper.pad_height, pose_of, tri, size, gripper.pad_compliance)
             y = pc.first  # the pads' faces as they meet the object
             width = y[:, 1] - y[:, 0]
-            ok = pc.touched.copy()
-            wide = ok & (width > gripper.width_max)
-            thin = ok & ~wide & (width < 1e-6 * size)
-            ok &= ~wide & ~thin
+            ok = pc.holds(gripper.width_max, size)
+            wide = pc.touched & (width > gripper.width_max)
+            thin = pc.touched & ~wide & ~ok
             why[active[wide & (why[active] == NOTHING)]] = TOO_WIDE
             why[active[thin & (why[active] == NOTHING)]] = COINCIDE
             sel = np.flatnonzero(ok)
@@ -259,7 +260,8 @@ def search_poses(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
             for key, value in (("center", center), ("approach", approach[sel]),
                                ("width", width[sel]), ("depth", np.full(len(sel), depth)),
                                ("points", pc.points[sel]), ("normals", pc.normals[sel]),
-                               ("triangles", pc.triangles[sel]), ("collides", hit)):
+                               ("triangles", pc.triangles[sel]), ("collides", hit),
+                               ("lever", pc.lever[sel])):
                 result[key][rows] = value[take]
             have[lines] = True
             settled[lines[~hit]] = True
@@ -275,12 +277,13 @@ def search_poses(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
         cat = {"center": np.zeros((0, 3)), "closing": np.zeros((0, 3)),
                "approach": np.zeros((0, 3)), "width": np.zeros(0), "depth": np.zeros(0),
                "points": np.zeros((0, 2, 3)), "normals": np.zeros((0, 2, 3)),
-               "triangles": np.zeros((0, 2), np.int64), "collides": np.zeros(0, bool)}
+               "triangles": np.zeros((0, 2), np.int64), "collides": np.zeros(0, bool),
+               "lever": np.zeros((0, 2))}
     return HandPoses(cat["center"], cat["closing"], cat["approach"], cat["width"],
                      cat["depth"], cat["points"], cat["normals"],
                      cat["triangles"].astype(np.int64),
                      cat["collides"].astype(bool) if collision else None,
-                     attempts, rejected, tried)
+                     attempts, rejected=rejected, tried=tried, lever=cat["lever"])
 
 
 class _Arrays:

@@ -32,8 +32,8 @@ ARRAYS = ("center", "closing_axis", "approach_axis", "width", "points", "normals
           "least_friction", "epsilon", "collides")
 
 #: The optional arrays of the pose (:func:`grasp_labels` writes them): how far each pose's
-#: fingertips reach past its jaw centre.
-POSE_ARRAYS = ("depth",)
+#: fingertips reach past its jaw centre, and each contact's torsional coefficient.
+POSE_ARRAYS = ("depth", "torsion")
 
 #: The optional arrays of robustness (:meth:`GraspLabels.with_robustness`), saved when present.
 ROBUST_ARRAYS = ("robust_probability", "robust_probability_low", "robust_probability_high",
@@ -101,6 +101,11 @@ class GraspLabels:
         How far each pose's fingertips reach past its jaw centre along the approach axis
         (None: the gripper's ``depth`` for every pose); the hand's base frame is
         ``meta["tip_offset"] - depth`` behind the centre.
+    torsion : (N, 2) array or None
+        Each soft pad's torsional coefficient (its twisting torque is at most this
+        times its normal force), from the region it presses (``meta["torsion"]`` is
+        then ``"pressed"``); None: one coefficient for all in ``meta["torsion"]``
+        (None there: the paper's unlimited torque).
     """
 
     center: NDArray[np.float64]
@@ -129,6 +134,7 @@ class GraspLabels:
     task_spare: NDArray[np.float64] | None = None
     task_spare_upper: NDArray[np.float64] | None = None
     depth: NDArray[np.float64] | None = None
+    torsion: NDArray[np.float64] | None = None
 
     def __len__(self) -> int:
         return len(self.code)
@@ -301,7 +307,7 @@ class GraspLabels:
                              "an object")
         n = len(read("code").reshape(-1))
         shapes = {"center": (n, 3), "closing_axis": (n, 3), "approach_axis": (n, 3),
-                  "points": (n, 2, 3), "normals": (n, 2, 3)}
+                  "points": (n, 2, 3), "normals": (n, 2, 3), "torsion": (n, 2)}
         kinds = {"code": np.int8, "collides": np.bool_, "task_verdict": np.int8,
                  "robust_missed": np.int64}
         values: dict[str, Any] = {"meta": meta}
@@ -339,7 +345,8 @@ def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str 
     """Verdict codes, least friction and epsilon of ``N`` contact pairs (``(N, 2, 3)``).
 
     ``contact`` is ``"soft"`` (pads: a torque about the normal, uncoupled,
-    or bounded by ``torsion`` times the normal force) or ``"hard"`` (point
+    or bounded by ``torsion`` times the normal force: one number, or ``(N, 2)``
+    one a contact) or ``"hard"`` (point
     contacts; two of them never close a spatial grasp: nothing resists
     rotation about the line through them). μ* is computed with ``torsion``
     held at the value given. ``progress`` is called with the number of
@@ -380,17 +387,21 @@ def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str 
         code, least = pair_labels(points, normals, mu, contact)
         if least_friction:
             mu_star = least
+    per_pair = torsion is not None and np.ndim(torsion) > 0  # one coefficient a contact
+    if per_pair:
+        torsion = np.broadcast_to(np.asarray(torsion, dtype=float), (n, 2))
     for lo in range(0, n, CHUNK):
         part = slice(lo, min(n, lo + CHUNK))
         P, N = points[part], normals[part]
+        T = torsion[part] if per_pair else torsion
         if not closed_form:  # coupled torsion: Theorem 1 and a bisection
-            code[part] = pair_codes(P, N, mu, contact, torsion)
+            code[part] = pair_codes(P, N, mu, contact, T)
             if least_friction:
-                mu_star[part] = least_friction_batch(P, N, model=contact, torsion=torsion)
+                mu_star[part] = least_friction_batch(P, N, model=contact, torsion=T)
         closed = np.flatnonzero(code[part] == 2) if epsilon else np.zeros(0, np.int64)
         if len(closed):
             eps[lo + closed] = epsilon_batch(P[closed], N[closed], mu=mu, model=contact,
-                                             torsion=torsion)
+                                             torsion=T[closed] if per_pair else T)
         if progress is not None:
             progress(part.stop - part.start)
     return code, mu_star, eps
@@ -453,7 +464,9 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
     warning = units_warning(gripper, poly.size)
     poses = search_poses(poly, gripper, mu, count, seed, approaches if collision else 1,
                          depths if collision else 1, clearance, collision, tilt)
-    torsion = gripper.torsion(mu) if contact == "soft" else None
+    pressed = contact == "soft" and gripper.pad_radius is None
+    torsion = (mu * poses.lever if pressed else gripper.torsion(mu) if contact == "soft"
+               else None)
     code, mu_star, eps = label_grasps(poses.points, poses.normals, mu, contact, torsion,
                                       progress, least_friction, epsilon)
     checked = None
@@ -464,7 +477,8 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
         checked = {"clearance": c, **{k: v for k, v in gripper.shape().items()
                                        if k not in ("width_max", "pad_radius", "name")}}
     name = obj if isinstance(obj, str) else getattr(obj, "name", type(obj).__name__)
-    meta = {"object": str(name), "mu": float(mu), "contact": contact, "torsion": torsion,
+    meta = {"object": str(name), "mu": float(mu), "contact": contact,
+            "torsion": "pressed" if pressed else torsion,
             "width_max": gripper.width_max, "pad_radius": gripper.pad_radius, "seed": seed,
             "attempts": poses.attempts, "rejected": poses.rejected, "collision": checked,
             "approaches": int(approaches) if collision else None,
@@ -474,7 +488,17 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
             "contacts": "pads", "warnings": [warning] if warning else []}
     return GraspLabels(poses.center, poses.closing_axis, poses.approach_axis, poses.width,
                        poses.points, poses.normals, code, mu_star, eps, meta,
-                       collides=poses.collides, depth=poses.depth)
+                       collides=poses.collides, depth=poses.depth,
+                       torsion=torsion if pressed else None)
+
+
+def torsion_of(labels: GraspLabels) -> Any:
+    """The labels' torsional coefficients: their per-contact array where the pads' pressed
+    regions gave one, else the one value of ``meta["torsion"]`` (None: unlimited)."""
+    if labels.torsion is not None:
+        return labels.torsion
+    value = labels.meta.get("torsion")
+    return None if value is None or isinstance(value, str) else float(value)
 
 
 def label_metrics(labels: GraspLabels, progress: Callable[[int], object] | None = None
@@ -498,13 +522,14 @@ def label_metrics(labels: GraspLabels, progress: Callable[[int], object] | None 
     from ..analysis.metrics import GraspMetrics, grasp_metrics
 
     meta = labels.meta
-    torsion = meta.get("torsion")
+    torsion = torsion_of(labels)
     parts = []
     for lo in range(0, len(labels), CHUNK):
         part = slice(lo, min(len(labels), lo + CHUNK))
         parts.append(grasp_metrics(labels.points[part], labels.normals[part], mu=meta["mu"],
                                    model=meta["contact"],
-                                   torsion=np.nan if torsion is None else torsion))
+                                   torsion=np.nan if torsion is None else
+                                   torsion if np.ndim(torsion) == 0 else torsion[part]))
         if progress is not None:
             progress(part.stop - part.start)
     if not parts:
@@ -543,5 +568,5 @@ def label_task(labels: GraspLabels, wrench: ArrayLike, f_max: float, edges: int 
 
     meta = labels.meta
     return resist_wrench_batch(labels.points, labels.normals, wrench, mu=meta["mu"],
-                               model=meta["contact"], torsion=meta.get("torsion"),
+                               model=meta["contact"], torsion=torsion_of(labels),
                                f_max=f_max, edges=edges, progress=progress)

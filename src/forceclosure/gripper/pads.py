@@ -11,11 +11,21 @@ foundation): :func:`pad_contacts` takes the part of the surface within
 ``compliance`` of the first touch as the pressed region, its centre of
 pressure, and, as the contact, the pressed point nearest that centre (in
 the pad's plane), with the outward normal of the face it lies on (a normal
-the surface has there; at an edge or vertex, one of its faces'). On a
-curved surface the contact stays by the first touch, where the surface
-faces the pad; on a flat face pressed flat it is the pad's centre; with
-``compliance`` 0 it is a first-touch point. The passes are exact on the
-mesh as given (:mod:`forceclosure.kernels.pads`).
+the surface has there; at an edge or vertex, one of its faces'). Only faces
+turned towards the pad are pressed (those turned away lie behind them), so
+a contact's normal always opposes its pad's push. On a curved surface the
+contact stays by the first touch, where the surface faces the pad; on a
+flat face pressed flat it is the pad's centre; with ``compliance`` 0 it is
+a first-touch point. The passes are exact on the mesh as given
+(:mod:`forceclosure.kernels.pads`).
+
+The pad resists twisting about the contact's normal by friction over the
+pressed region: at most ``μ`` times the normal force times the region's
+pressure-weighted mean distance from the normal's axis through the contact
+(``lever``). That mean is taken from below (the distance is convex, so the
+centre of pressure of each small piece of the pressed polygons stands for
+its points: Jensen), so the torsion a label relies on is never more than the
+pressed pad gives.
 
 In the jaw frame (x the approach axis, y the closing axis, z = x × y, the
 origin on the line the jaws close along), the pad is the rectangle ``x ∈
@@ -38,15 +48,23 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
-from ..kernels.pads import pad_extremes, pad_nearest, pad_pressure
+from ..kernels.pads import pad_extremes, pad_lever, pad_nearest, pad_pressure
 
-__all__ = ["PadContacts", "line_candidates", "pad_contacts"]
+__all__ = ["COINCIDE_RTOL", "PadContacts", "line_candidates", "pad_contacts", "pad_reach"]
+
+#: Pads whose first touches are closer than this share of the object's size hold nothing
+#: (two contacts that nearly coincide, across a crease or a sliver).
+COINCIDE_RTOL = 1e-6
 
 #: The thinnest pressed layer, relative to the object's size (rigid pads: the first touch,
 #: to rounding).
 TIE_RTOL = 1e-9
+
+#: Each pressed polygon's fan triangles are split into 4 ** this pieces for the torsional
+#: lever's lower bound (:func:`pad_contacts`; finer pieces, a tighter bound).
+LEVER_SPLITS = 3
 
 #: Pairs of (pose, triangle) handled at a time.
 BLOCK = 1 << 17
@@ -61,7 +79,10 @@ class PadContacts:
     touched; -1 where nothing is under the pad), ``touched`` ``(M,)``:
     whether anything of the object lies under the pads, ``first`` ``(M, 2)``:
     where along the closing axis (from the pose's origin) each pad first
-    touches: the pads' faces as the jaws meet the object.
+    touches: the pads' faces as the jaws meet the object; ``lever`` ``(M, 2)``:
+    the pressure-weighted mean distance of the pressed region from the axis of
+    the contact's normal, from below (:func:`pad_contacts`): the pad's
+    torsional friction per unit normal force and friction coefficient.
     """
 
     points: NDArray[np.float64]
@@ -69,6 +90,23 @@ class PadContacts:
     triangles: NDArray[np.int64]
     touched: NDArray[np.bool_]
     first: NDArray[np.float64]
+    lever: NDArray[np.float64]
+
+    def holds(self, width_max: float, size: float) -> NDArray[np.bool_]:
+        """Whether each pose's pads hold the object: both touch it, no wider apart than
+        ``width_max`` and not nearly at one point (:data:`COINCIDE_RTOL` of ``size``)."""
+        width = self.first[:, 1] - self.first[:, 0]
+        return self.touched & (width <= width_max) & (width >= COINCIDE_RTOL * size)
+
+
+def pad_reach(depth: ArrayLike, pad_length: float, pad_height: float) -> float:
+    """How far from its closing line a pad reaches at the fingertip ``depth`` (one or
+    several): the farthest corner of its rectangle (:func:`line_candidates`' radius)."""
+    depth = np.asarray(depth, dtype=float)
+    if not depth.size:
+        return 0.5 * float(pad_height)
+    return float(np.hypot(np.maximum(np.abs(depth), np.abs(depth - pad_length)).max(),
+                          0.5 * pad_height))
 
 
 def line_candidates(mesh, origins: NDArray, directions: NDArray, radius: float | NDArray
@@ -151,7 +189,8 @@ def pad_contacts(mesh, origin: NDArray, closing: NDArray, approach: NDArray, dep
     triangles = np.full((m, 2), -1, np.int64)
     touched = np.zeros(m, bool)
     if m == 0 or not len(pose_of):
-        return PadContacts(points, normals, triangles, touched, np.zeros((m, 2)))
+        return PadContacts(points, normals, triangles, touched, np.zeros((m, 2)),
+                           np.zeros((m, 2)))
     depth = np.asarray(depth, dtype=float)
     args = (float(pad_length), float(pad_height))
     first = np.full((m, 2), np.inf)
@@ -161,22 +200,27 @@ def pad_contacts(mesh, origin: NDArray, closing: NDArray, approach: NDArray, dep
         np.minimum.at(first, pi, value)
     touched = np.isfinite(first).all(axis=1)
     press = max(float(compliance), TIE_RTOL * size)
+    lever = np.zeros((m, 2))
+    facing = np.einsum("ij,ij->i", FN[tri_of], closing[pose_of])
     for jaw in (0, 1):
         level = np.where(touched, first[:, jaw] + press, 0.0) * (1.0 if jaw == 0 else -1.0)
+        # only faces turned towards the pad are pressed (those turned away lie behind them)
+        toward = facing < 0 if jaw == 0 else facing > 0
+        pose_j, tri_j = pose_of[toward], tri_of[toward]
         # the centre of pressure of the pressed layer (x, z), then its nearest pressed point
         moments = np.zeros((m, 3))
-        for lo in range(0, len(pose_of), BLOCK):
-            pi, ti = pose_of[lo:lo + BLOCK], tri_of[lo:lo + BLOCK]
-            np.add.at(moments, pi, pad_pressure(V, F, pi, ti, origin, R, depth, *args,
-                                                level, jaw))
+        for lo in range(0, len(pose_j), BLOCK):
+            pi, ti = pose_j[lo:lo + BLOCK], tri_j[lo:lo + BLOCK]
+            part = pad_pressure(V, F, pi, ti, origin, R, depth, *args, level, jaw)
+            np.add.at(moments, pi, part)
         centre = np.zeros((m, 2))
         loaded = moments[:, 0] > 0
         centre[loaded] = moments[loaded, 1:] / moments[loaded, :1]
         centre[~loaded, 0] = depth[~loaded] - 0.5 * pad_length  # a layer of no area
         best = np.full(m, np.inf)
         found = []
-        for lo in range(0, len(pose_of), BLOCK):
-            pi, ti = pose_of[lo:lo + BLOCK], tri_of[lo:lo + BLOCK]
+        for lo in range(0, len(pose_j), BLOCK):
+            pi, ti = pose_j[lo:lo + BLOCK], tri_j[lo:lo + BLOCK]
             dist, pt = pad_nearest(V, F, pi, ti, origin, R, depth, *args, level, jaw, centre)
             np.minimum.at(best, pi, dist)
             found.append((pi, ti, dist, pt))
@@ -190,6 +234,17 @@ def pad_contacts(mesh, origin: NDArray, closing: NDArray, approach: NDArray, dep
             points[pose, jaw] = origin[pose] + np.einsum("nji,nj->ni", R[pose], pt[win])
             normals[pose, jaw] = FN[ti[win]]
             triangles[pose, jaw] = ti[win]
+        # the pressed region's mean lever about the contact's normal, from below (the
+        # lever is convex in the point: Jensen over small pieces of the pressed polygons)
+        lever_sum = np.zeros(m)
+        local = np.einsum("nij,nj->ni", R, points[:, jaw] - origin)
+        axis = np.einsum("nij,nj->ni", R, normals[:, jaw])
+        for lo in range(0, len(pose_j), BLOCK):
+            pi, ti = pose_j[lo:lo + BLOCK], tri_j[lo:lo + BLOCK]
+            np.add.at(lever_sum, pi, pad_lever(V, F, pi, ti, origin, R, depth, *args, level,
+                                               jaw, local, axis, LEVER_SPLITS))
+        lever[:, jaw] = np.where(loaded, lever_sum / np.where(loaded, moments[:, 0], 1.0),
+                                 0.0)
     touched &= (triangles >= 0).all(axis=1)
     levels = np.where(touched[:, None], first * np.array([1.0, -1.0]), 0.0)
-    return PadContacts(points, normals, triangles, touched, levels)
+    return PadContacts(points, normals, triangles, touched, levels, lever)

@@ -208,23 +208,16 @@ def _turn(v: NDArray, e1: NDArray, e2: NDArray, a1: NDArray, a2: NDArray) -> NDA
 PAIRS = 1 << 23
 
 
-def _pads_closed(poly, mesh, gripper: ParallelJaw, origin, closing, approach, depth, nominal,
-                 nominal_axis, shift):
-    """The pads' first touches (:func:`~forceclosure.gripper.pads.pad_contacts`) at the
-    perturbed poses, and whether they hold the object within the opening. Each sample's
-    candidate triangles are its nominal line's, within the pad's reach plus a bound on how
-    far the sample's pads stray from that line inside the object."""
-    from .pads import line_candidates, pad_contacts
+def _pads_closed(poly, mesh, gripper: ParallelJaw, origin, closing, approach, depth):
+    """The pads' contacts (:func:`~forceclosure.gripper.pads.pad_contacts`) at the perturbed
+    poses, their torsional levers, and whether they hold the object within the opening;
+    in blocks of at most :data:`PAIRS` (pose, triangle) pairs."""
+    from .pads import line_candidates, pad_contacts, pad_reach
 
     m = len(origin)
-    reach = float(np.hypot(np.maximum(np.abs(depth), np.abs(depth - gripper.pad_length)).max()
-                           if m else 0.0, 0.5 * gripper.pad_height))
-    lo, hi = poly.vertices.min(axis=0), poly.vertices.max(axis=0)
-    far = np.linalg.norm(nominal - 0.5 * (lo + hi), axis=1) + np.linalg.norm(hi - lo)
-    stray = (np.linalg.norm(shift, axis=1) + (far + np.linalg.norm(shift, axis=1))
-             * np.linalg.norm(closing - nominal_axis, axis=1))
-    line_of, tri_of = line_candidates(mesh, origin, closing, reach + stray)
-    points, normals = np.zeros((m, 2, 3)), np.zeros((m, 2, 3))
+    reach = pad_reach(depth, gripper.pad_length, gripper.pad_height)
+    line_of, tri_of = line_candidates(mesh, origin, closing, reach)
+    points, normals, lever = np.zeros((m, 2, 3)), np.zeros((m, 2, 3)), np.zeros((m, 2))
     held = np.zeros(m, bool)
     bounds = np.searchsorted(line_of, np.arange(0, m + 1))
     step = max(1, int(PAIRS // max(1.0, len(line_of) / max(m, 1))))
@@ -235,10 +228,10 @@ def _pads_closed(poly, mesh, gripper: ParallelJaw, origin, closing, approach, de
                           approach[start:stop], depth[start:stop], gripper.pad_length,
                           gripper.pad_height, line_of[sl] - start, tri_of[sl], poly.size,
                           gripper.pad_compliance)
-        width = pc.first[:, 1] - pc.first[:, 0]
-        held[start:stop] = pc.touched & (width <= gripper.width_max) & (width >= 1e-6 * poly.size)
+        held[start:stop] = pc.holds(gripper.width_max, poly.size)
         points[start:stop], normals[start:stop] = pc.points, pc.normals
-    return points, normals, held
+        lever[start:stop] = pc.lever
+    return points, normals, lever, held
 
 
 def robust_labels(obj: Any, poses: Any, gripper: ParallelJaw, mu: float, *,
@@ -356,9 +349,8 @@ def robust_labels(obj: Any, poses: Any, gripper: ParallelJaw, mu: float, *,
         turned = a - np.einsum("ij,ij->i", a, axes)[:, None] * axes
         turned /= np.linalg.norm(turned, axis=1)[:, None]
         friction = np.maximum(0.0, mu + noise.mu_sigma * z_mu)
-        points, normals, held = _pads_closed(poly, mesh, gripper, centres + shift, axes,
-                                             turned, np.repeat(depth[part], s), centres, c,
-                                             shift)
+        points, normals, lever, held = _pads_closed(poly, mesh, gripper, centres + shift,
+                                                    axes, turned, np.repeat(depth[part], s))
         ok = np.flatnonzero(held)
         P, N = points[ok], normals[ok]
         if noise.normal_sigma > 0 and len(ok):
@@ -367,7 +359,9 @@ def robust_labels(obj: Any, poses: Any, gripper: ParallelJaw, mu: float, *,
             z = noise.normal_sigma * z_n[ok].reshape(-1, 2)
             N = _turn(flat, t1, t2, z[:, 0], z[:, 1]).reshape(-1, 2, 3)
         f = friction[ok][:, None]
-        per_mu = gripper.torsion(1.0) if contact == "soft" else None
+        # soft pads twist as the region they press allows, or as the hand says
+        per_mu = (lever[ok] if gripper.pad_radius is None else gripper.torsion(1.0)
+                  ) if contact == "soft" else None
         torsion = None if per_mu is None else per_mu * f
         code = np.zeros(m, dtype=np.int8)
         if len(ok):

@@ -240,3 +240,72 @@ def pad_nearest(V, F, pose_of, tri_of, origin, R, depth, length, h, level, jaw, 
                 point[i, 1] = a[1] + s * (b[1] - a[1])
                 point[i, 2] = qz
     return dist, point
+
+
+@nb.njit(cache=True, nogil=True)
+def _lever_part(a, b, c, da, db, dc, cx, cy, cz, nx, ny, nz):  # pragma: no cover
+    """Pressure (``da, db, dc`` at the corners, affine) times the distance of its centre
+    from the axis through ``(cx, cy, cz)`` along the unit ``n``, over the x-z area of the
+    triangle ``abc``: a lower bound of the pressure-weighted distance (Jensen)."""
+    area = 0.5 * abs((b[0] - a[0]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[0] - a[0]))
+    sd = da + db + dc
+    w = area * sd / 3.0
+    if w <= 0.0:
+        return 0.0
+    k = area / 12.0 / w
+    vx = k * (a[0] * da + b[0] * db + c[0] * dc + (a[0] + b[0] + c[0]) * sd) - cx
+    vy = k * (a[1] * da + b[1] * db + c[1] * dc + (a[1] + b[1] + c[1]) * sd) - cy
+    vz = k * (a[2] * da + b[2] * db + c[2] * dc + (a[2] + b[2] + c[2]) * sd) - cz
+    along = vx * nx + vy * ny + vz * nz
+    vx, vy, vz = vx - along * nx, vy - along * ny, vz - along * nz
+    return w * np.sqrt(vx * vx + vy * vy + vz * vz)
+
+
+@nb.njit(cache=True, nogil=True)
+def pad_lever(V, F, pose_of, tri_of, origin, R, depth, length, h, level, jaw, contact, axis,
+              splits):  # pragma: no cover - compiled
+    """Per (pose, triangle) pair, the pressure-weighted distance of the pressed part of the
+    triangle from the axis of ``axis[pose]`` through ``contact[pose]`` (both in the pose's
+    frame), from below: each fan triangle of the pressed polygon split ``splits`` times
+    into four, each piece's pressure centre standing for its points (the distance is
+    convex: Jensen). Divided by the pressure's integral it is the pad's torsional lever."""
+    n = len(pose_of)
+    out = np.zeros(n)
+    pieces = 4**splits
+    tri = np.empty((pieces, 3, 3))
+    dep = np.empty((pieces, 3))
+    nxt = np.empty((pieces, 3, 3))
+    ndep = np.empty((pieces, 3))
+    for i in range(n):
+        p = pose_of[i]
+        cur, m = _pressed(V, F, p, tri_of[i], origin, R, depth, length, h, level, jaw)
+        if m < 3:
+            continue
+        lev = level[p]
+        cx, cy, cz = contact[p, 0], contact[p, 1], contact[p, 2]
+        nx, ny, nz = axis[p, 0], axis[p, 1], axis[p, 2]
+        for f in range(1, m - 1):
+            tri[0, 0], tri[0, 1], tri[0, 2] = cur[0], cur[f], cur[f + 1]
+            for v in range(3):
+                dep[0, v] = (lev - tri[0, v, 1]) if jaw == 0 else (tri[0, v, 1] - lev)
+            count = 1
+            for _ in range(splits):
+                made = 0
+                for t in range(count):
+                    a, b, c = tri[t, 0], tri[t, 1], tri[t, 2]
+                    da, db, dc = dep[t, 0], dep[t, 1], dep[t, 2]
+                    ab, bc, ca = 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a)
+                    dab, dbc, dca = 0.5 * (da + db), 0.5 * (db + dc), 0.5 * (dc + da)
+                    for q0, q1, q2, e0, e1, e2 in ((a, ab, ca, da, dab, dca),
+                                                   (ab, b, bc, dab, db, dbc),
+                                                   (ca, bc, c, dca, dbc, dc),
+                                                   (ab, bc, ca, dab, dbc, dca)):
+                        nxt[made, 0], nxt[made, 1], nxt[made, 2] = q0, q1, q2
+                        ndep[made, 0], ndep[made, 1], ndep[made, 2] = e0, e1, e2
+                        made += 1
+                tri[:made], dep[:made] = nxt[:made], ndep[:made]
+                count = made
+            for t in range(count):
+                out[i] += _lever_part(tri[t, 0], tri[t, 1], tri[t, 2], dep[t, 0], dep[t, 1],
+                                      dep[t, 2], cx, cy, cz, nx, ny, nz)
+    return out
