@@ -127,28 +127,42 @@ def test_candidates_never_miss_a_triangle_that_reaches_the_line():
                 assert (i, t) in kept
 
 
-def test_panda_poses_on_the_duck_are_clear_by_manifold(duck):
+def _panda_parts(width, clearance):
+    """The real Panda hand's collision meshes (pybullet_data's hand.obj and finger.obj, as
+    panda.urdf mounts them) in the hand's frame, fingers opened to ``width/2 + clearance``
+    each: their convex hulls (which hold the meshes), for manifold3d."""
+    folder = os.path.join(D, "franka_panda", "meshes", "collision")
+    hand = trimesh.load(os.path.join(folder, "hand.obj"), force="mesh").convex_hull
+    finger = trimesh.load(os.path.join(folder, "finger.obj"), force="mesh").convex_hull
+    q = 0.5 * width + clearance
+    left = finger.copy().apply_translation([0, q, 0.0584])  # panda_finger_joint1: +y
+    right = finger.copy().apply_transform(trimesh.transformations.rotation_matrix(
+        np.pi, [0, 0, 1])).apply_translation([0, -q, 0.0584])  # joint2: -y, turned about z
+    return [hand, left, right]
+
+
+def test_panda_poses_on_the_duck_are_clear_for_the_real_hand(duck):
+    """Each clear pose, with the Panda's own meshes placed at it (its base frame behind the
+    fingertips by the tip offset less the pose's depth; z the approach, y the closing axis),
+    meets the duck in no volume (manifold3d)."""
     obj, labels = duck
     mesh = obj.to_trimesh()
     hand = gripper_named("panda")
     clear = np.flatnonzero(~labels.collides)
     assert len(clear) >= 0.9 * len(labels)  # the search finds clear poses
     for i in clear[:8]:
-        a, c, b = _frame(labels, i)
-        R = np.column_stack([a, c, b])
-        gap = 0.5 * labels.width[i] + 0.01 * hand.width_max  # the pads a clearance off
-        tip = labels.depth[i]
-        boxes = [((hand.finger_length, hand.finger_thickness, hand.finger_height),
-                  (tip - 0.5 * hand.finger_length, s * (gap + 0.5 * hand.finger_thickness), 0))
-                 for s in (-1, 1)]
-        boxes.append(((hand.palm_thickness, hand.palm_width, hand.palm_height),
-                      (tip - hand.finger_length - 0.5 * hand.palm_thickness, 0, 0)))
-        for extents, offset in boxes:
-            T = np.eye(4)
-            T[:3, :3], T[:3, 3] = R, labels.center[i] + R @ np.array(offset, dtype=float)
-            common = trimesh.boolean.intersection(
-                [mesh, trimesh.creation.box(extents=extents, transform=T)], engine="manifold")
+        a, c = labels.approach_axis[i], labels.closing_axis[i]
+        T = np.eye(4)
+        T[:3, :3] = np.column_stack([np.cross(c, a), c, a])  # x = y × z
+        T[:3, 3] = labels.center[i] - (hand.tip_offset - labels.depth[i]) * a
+        for part in _panda_parts(labels.width[i], 0.01 * hand.width_max):
+            common = trimesh.boolean.intersection([mesh, part.copy().apply_transform(T)],
+                                                  engine="manifold")
             assert common.is_empty or common.volume < 1e-12
+        # and the fingertips' pads reach the contacts: each contact lies between the
+        # finger's base and its tip along the approach axis
+        along = (labels.points[i] - T[:3, 3]) @ a
+        assert np.all((along >= 0.0584) & (along <= hand.tip_offset + 1e-12))
 
 
 def test_built_in_hands_match_their_sources():

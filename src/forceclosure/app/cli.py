@@ -1269,10 +1269,12 @@ def build_parser() -> argparse.ArgumentParser:
     t.set_defaults(run=_cmd_dataset, mu=None, contact=None, top=None, margin=None,
                    construction=None, method=None, samples=None)
     g = sub.add_parser("grasps", help="sample parallel-jaw grasps on a mesh and label them",
-                       description="Sample antipodal parallel-jaw grasps on a mesh (surface "
-                                   "points, closing directions inside the friction cone, the "
-                                   "opposite contact by ray casting) and label each: verdict "
-                                   "with exact cones, least friction, Ferrari-Canny epsilon.")
+                       description="Sample parallel-jaw poses the hand can take on a mesh "
+                                   "(closing lines through surface points, the approach and "
+                                   "depth searched for a pose that clears the object, the "
+                                   "contacts where the pads first meet it and press) and label "
+                                   "each: verdict with exact cones, least friction, "
+                                   "Ferrari-Canny epsilon.")
     g.add_argument("object", metavar="OBJECT",
                    help="a mesh or URDF file, or a bundled polyhedron")
     g.add_argument("--part", metavar="NAME", help="the URDF link to read")
@@ -1327,7 +1329,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "object; 'collides' is then not saved")
     g.add_argument("--clearance", type=float, default=None, metavar="D",
                    help="each finger's pad stands D off its contact in the collision check "
-                        "(default 0.01 x --width)")
+                        "(default 0.01 x the gripper's opening)")
     g.add_argument("--approaches", type=int, default=None, metavar="K",
                    help="approach axes tried per closing line, turned about it in even "
                         "steps; the first pose at which the hand is clear is kept "
@@ -1356,7 +1358,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "(default 10)")
     g.add_argument("--html", metavar="FILE.html",
                    help="save an interactive view (.html, self-contained, works offline, "
-                        "under 1 MB) of the object and its best jaw poses, coloured by "
+                        "about 2 MB) of the object and its best jaw poses, coloured by "
                         "label, one highlighted at a time")
     # grasp-matrix metrics, the task wrench, skipping epsilon (issue 17; docs/gripper.md)
     g.add_argument("--metrics", action="store_true",

@@ -1,8 +1,8 @@
-"""Datasets of labelled parallel-jaw grasps: ``forceclosure dataset --gripper parallel-jaw``.
+"""Datasets of labelled parallel-jaw grasps: ``forceclosure dataset --gripper NAME``.
 
 The gripper job of :func:`forceclosure.app.dataset.run_dataset`: on every
 object of a set, :func:`forceclosure.gripper.labels.grasp_labels` samples ``count``
-antipodal jaw poses for a :class:`~forceclosure.gripper.jaw.ParallelJaw` and
+jaw poses the hand (a built-in or the generic one) can take and
 labels them (verdict with exact cones, least friction μ*, Ferrari–Canny ε,
 gripper–object collision). Everything else is the dataset's machinery:
 the worker pool, the time limit, one record per object (stamped with the

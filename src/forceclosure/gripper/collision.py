@@ -210,6 +210,15 @@ def collides(obj: Any, poses: Any, gripper: ParallelJaw, clearance: float | None
         raise InputError(f"hand must be a trimesh.Trimesh, got {type(hand).__name__}")
     _, mesh = surface_mesh(obj)
     frames = jaw_frames(center, closing, approach) if n else np.zeros((0, 4, 4))
+    if depths is not None:
+        try:
+            depths = np.asarray(depths, dtype=float).reshape(n)
+        except (TypeError, ValueError):
+            raise InputError(f"depths must be {n} numbers, one a pose") from None
+        if not np.all(np.isfinite(depths)):
+            raise InputError("depths must be finite")
+        if hand is not None:  # the given hand moves back as the fingertips reach less far
+            frames[:, :3, 3] += (depths - gripper.depth)[:, None] * frames[:, :3, 0]
     if hand is None:
         template = hand_boxes(gripper, 0.0, clearance)
         names = [name for name, _, _ in template]
@@ -221,8 +230,7 @@ def collides(obj: Any, poses: Any, gripper: ParallelJaw, clearance: float | None
         offsets = np.repeat(np.array([c for _, _, c in template])[None], n, axis=0)
         offsets[:, :, 1] += 0.5 * width[:, None] * side[None]
         if depths is not None:
-            shift = np.asarray(depths, dtype=float).reshape(n) - gripper.depth
-            offsets[:, :, 0] += shift[:, None]
+            offsets[:, :, 0] += (depths - gripper.depth)[:, None]
     else:
         names, parts = ["hand"], {"hand": hand}
         offsets = np.zeros((n, 1, 3))

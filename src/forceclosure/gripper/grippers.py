@@ -24,8 +24,9 @@ axis):
     ``finger_width = 0.01``; widths up to 0.1 as its evaluation clips
     them): fingers 0.01 thick and 0.02 high reaching from the palm, 0.02
     behind the grasp point, to the tips (depths up to 0.04: 0.06 long), the
-    palm 0.01 thick; the pad is the fingers' whole inner face, pressing 1 mm
-    (an assumption; GraspNet's labels take point contacts).
+    palm 0.01 thick; the pad is the last 0.04 of the fingers' inner faces
+    (GraspNet's depths reach 0.04 past the grasp point), pressing 1 mm (an
+    assumption; GraspNet's labels take point contacts).
 
 A built-in's boxes enclose the real hand's parts (never smaller), so a pose
 called clear of the object is clear for the real hand.
@@ -50,7 +51,7 @@ GRIPPERS: dict[str, ParallelJaw] = {
         pad_compliance=0.001),
     "graspnet": ParallelJaw(
         0.1, name="graspnet", finger_length=0.06, finger_thickness=0.01, finger_height=0.02,
-        depth=0.02, palm_thickness=0.01, palm_width=0.12, palm_height=0.02,
+        depth=0.02, palm_thickness=0.01, palm_width=0.12, palm_height=0.02, pad_length=0.04,
         pad_compliance=0.001),
 }
 

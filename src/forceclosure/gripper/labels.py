@@ -5,9 +5,9 @@
 (Theorem 1), the least friction μ* that closes each pair (one compiled
 pass), and the Ferrari–Canny ε (L1, 8-edge inscribed pyramids, torques
 about the pair's midpoint per its half-width). :func:`grasp_labels`
-samples antipodal candidates (:mod:`forceclosure.gripper.antipodal`), labels
-them and checks the opened hand against the object
-(:mod:`forceclosure.gripper.collision`); the result saves as ``.npz``, atomically.
+finds jaw poses the hand can take and the contacts its pads make
+(:mod:`forceclosure.gripper.hand_poses`) and labels them; the result saves as
+``.npz``, atomically, and reads back with :meth:`GraspLabels.load`.
 """
 
 from __future__ import annotations
@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
+from .hand_poses import APPROACHES, DEPTHS
 from .jaw import ParallelJaw
 
 __all__ = ["GraspLabels", "grasp_labels", "label_grasps", "label_metrics", "label_task"]
@@ -410,8 +411,8 @@ def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str 
 def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: int = 0,
                  contact: str = "soft", progress: Callable[[int], object] | None = None,
                  least_friction: bool = True, collision: bool = True,
-                 clearance: float | None = None, approaches: int = 12,
-                 epsilon: bool = True, depths: int = 3, tilt: float = 0.0) -> GraspLabels:
+                 clearance: float | None = None, approaches: int = APPROACHES,
+                 epsilon: bool = True, depths: int = DEPTHS, tilt: float = 0.0) -> GraspLabels:
     """Sample ``count`` jaw poses on ``obj`` that ``gripper`` can take, and label them.
 
     Closing lines are drawn through surface points along their inward normals

@@ -8,10 +8,12 @@ Carlo, seeded) and labels every perturbed grasp with the batch kernels:
   approach axis by a Gaussian angle of standard deviation
   ``angle_sigma[0]`` and about ``approach × closing`` by one of
   ``angle_sigma[1]`` (one rotation, by the vector of the two angles). A
-  single number is both. The jaws then open to the gripper's
-  ``width_max`` about the moved centre and close along the turned axis: the
-  contacts are cast onto the mesh again, every grasp's samples in one ray
-  query (:func:`forceclosure.gripper.jaw.jaw_contacts`);
+  single number is both, and the approach axis turns with it. The pads then
+  close again along the turned line through the moved centre, as for the
+  labels (:func:`forceclosure.gripper.pads.pad_contacts`: where they first
+  meet the object and press; each pad twists as the region it presses
+  allows); a shift along the closing axis changes nothing, since the hand
+  closes about the object wherever it starts;
 * **friction**: ``mu + mu_sigma · z`` with ``z`` standard normal, clipped at
   0, one value per sample shared by both contacts (the pair of materials is
   uncertain, not each pad);
@@ -21,10 +23,8 @@ Carlo, seeded) and labels every perturbed grasp with the batch kernels:
 
 A sample counts as force-closure only when its verdict is ``closure`` (exact
 cones, at the sample's friction); ``marginal`` counts as not. **A sample
-whose jaws make no contact pair** (a ray misses the object between the
-jaws, or a jaw starts inside it: the opening about the moved centre does
-not clear the object along the turned line, where the jaw would collide)
-**counts as not force-closure**, with epsilon 0; how many did is in
+whose pads hold nothing** (no surface under them, or the object wider than
+the opening under them) **counts as not force-closure**, with epsilon 0; how many did is in
 ``missed``. The probability comes with a Wilson score interval, the mean
 epsilon (0 for samples not closed) with a Student-t interval, both at
 ``confidence``.

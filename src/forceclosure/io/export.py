@@ -13,9 +13,10 @@ tips at ``x = depth``), y the closing axis (the fingers at ``y = ∓(width/2
 + finger width)``), z = x × y (``height`` is the fingers' size along it);
 the translation is the point between the fingers, ``depth`` behind their
 tips. Here: ``R = JawPose.rotation`` (columns approach, closing, approach ×
-closing), the translation the jaw centre (midpoint of the contacts),
-``width`` the contacts' distance, ``height`` and ``depth`` the gripper's
-``finger_height`` and ``depth``.
+closing), the translation the jaw centre (on the closing line between the
+pads as they first touch the object), ``width`` the pads' distance then,
+``height`` the gripper's ``finger_height`` and ``depth`` the pose's own
+(:func:`pose_depths`).
 
 The score: GraspNet scores a grasp ``1.1 - μ`` with ``μ`` the least
 friction coefficient (on its grid 0.1, 0.2, …, 1.0) at which the grasp is
@@ -50,7 +51,9 @@ behind the jaw centre along the approach axis (:func:`tip_offset`: the
 gripper's distance from its base frame to its fingertips, 0.112 for the
 Panda, by default our box hand's palm back face; :func:`pose_depths`: the
 pose's depth, by default the gripper's), so the contacts sit on the
-fingers at ``x = ∓width/2, y = 0, z = tip_offset - depth``.
+fingers' pads: ``x = ∓width/2`` (up to the pads' press inside it), ``|y|``
+within half the pad's height, ``z`` within the pad's length of the
+fingertips at ``z = tip_offset``.
 ``object_in_gripper`` is 1 where the verdict is closure and the hand does
 not collide (collision not checked: closure alone). Our labels are under
 the group ``forceclosure`` (every array of
