@@ -172,7 +172,7 @@ def _check(argv, json_output=False, problems=("forceclosure: error: ",)):
     return status
 
 
-@settings(SETTINGS, max_examples=80)  # the quality (epsilon, least friction) takes time
+@settings(SETTINGS, max_examples=40)  # the quality (epsilon, least friction) takes time
 @given(text=grasp_files, flags=st.sampled_from([[], ["--json"]] + [["--no-quality"],
                                                ["--json", "--no-quality"]] * 2))
 def test_analyze_json_grasp_files(text, flags):

@@ -313,7 +313,7 @@ def test_real_meshes_moved_and_scaled_hold_on_the_original_geometry(name, finger
 @pytest.mark.parametrize("name,fingers,contact,offset,scale", [
     ("cube", 3, "hard", 1e8, 1.0), ("triangular-prism", 3, "hard", -3e5, 2.0**-12),
     pytest.param("l-prism", 3, "hard", 1e8, 1e4, marks=pytest.mark.long),
-    ("hexagonal-prism", 3, "hard", 0.0, 1e-4),
+    pytest.param("hexagonal-prism", 3, "hard", 0.0, 1e-4, marks=pytest.mark.long),  # 12 s
     pytest.param("hexagonal-prism", 3, "hard", 2e7, 3.0, marks=pytest.mark.long),
     pytest.param("cube", 7, "frictionless", 1e3, 1e-4, marks=pytest.mark.long),
     pytest.param("l-prism", 7, "frictionless", 0.0, 1e4, marks=pytest.mark.long)])
@@ -421,7 +421,8 @@ def test_regions_on_a_tessellated_urdf_cylinder_hold_on_the_true_cylinder(tmp_pa
 
 
 @pytest.mark.parametrize("name,fingers,contact,mu", [
-    ("cube", 3, "hard", 0.5), ("cube", 2, "soft", 0.5),
+    pytest.param("cube", 3, "hard", 0.5, marks=pytest.mark.long),  # 7 s
+    ("cube", 2, "soft", 0.5),
     pytest.param("cube", 7, "frictionless", 0.0, marks=pytest.mark.long),
     ("square", 2, "hard", 0.3), ("triangle", 3, "hard", 0.5),
     ("hexagon", 4, "frictionless", 0.0)])

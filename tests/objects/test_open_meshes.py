@@ -129,7 +129,8 @@ def check_mug_regions(found, samples=1500):
 
 
 @pytest.mark.parametrize("args", [["--fingers", "3", "--contact", "hard"],
-                                  ["--fingers", "2", "--contact", "soft"]])
+                                  pytest.param(["--fingers", "2", "--contact", "soft"],
+                                               marks=pytest.mark.long)])
 def test_the_mug_is_grasped_from_the_command_line(capsys, args):
     assert main(["synthesize", MUG, *args, "--mu", "0.5"]) == 2
     assert "--allow-open" in capsys.readouterr().err

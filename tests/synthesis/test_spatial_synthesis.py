@@ -415,6 +415,7 @@ def test_synthesize_spatial_text_and_mesh(capsys):
     assert "grown on the mesh" in out and "certified: True (search zones)" in out
 
 
+@pytest.mark.long  # 9 s; §5.5 keeps two default tests (exact and sampled, too large)
 def test_seven_minors_count_only_what_no_turn_of_the_normals_can_reach():
     """cofactor_signs with ``turn``: where it proves one sign for normals that may turn by
     t, random normals within t of the faces' (Theorem 1 through analyze, independently)
