@@ -235,7 +235,8 @@ def search_poses(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
                          ] if counts.sum() else np.zeros(0, np.int64)
             pc = pad_contacts(mesh, origin[active], closing[active], approach,
                               np.full(len(active), depth), gripper.pad_length,
-                              gripper.pad_height, pose_of, tri, size, gripper.pad_compliance)
+                              gripper.pad_height, pose_of, tri, size, gripper.pad_compliance,
+                              levers=False)
             y = pc.first  # the pads' faces as they meet the object
             width = y[:, 1] - y[:, 0]
             ok = pc.holds(gripper.width_max, size)
@@ -260,14 +261,22 @@ def search_poses(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
             for key, value in (("center", center), ("approach", approach[sel]),
                                ("width", width[sel]), ("depth", np.full(len(sel), depth)),
                                ("points", pc.points[sel]), ("normals", pc.normals[sel]),
-                               ("triangles", pc.triangles[sel]), ("collides", hit),
-                               ("lever", pc.lever[sel])):
+                               ("triangles", pc.triangles[sel]), ("collides", hit)):
                 result[key][rows] = value[take]
             have[lines] = True
             settled[lines[~hit]] = True
             if not collision:
                 settled[lines] = True
         good = np.flatnonzero(have)[: count - found]
+        # the kept poses' torsional levers, once (the search above needs none)
+        counts = starts[good + 1] - starts[good]
+        tri = (tri_of[np.concatenate([np.arange(starts[i], starts[i + 1]) for i in good])]
+               if counts.sum() else np.zeros(0, np.int64))
+        kept_pads = pad_contacts(mesh, origin[good], closing[good], result["approach"][good],
+                                 result["depth"][good], gripper.pad_length, gripper.pad_height,
+                                 np.repeat(np.arange(len(good)), counts), tri, size,
+                                 gripper.pad_compliance)
+        result["lever"][good] = kept_pads.lever
         for r in why[~have]:
             rejected[r] = rejected.get(r, 0) + 1
         found += len(good)

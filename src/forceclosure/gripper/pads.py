@@ -50,7 +50,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..kernels.pads import pad_extremes, pad_lever, pad_nearest, pad_pressure
+from ..kernels.pads import minimum_at, pad_extremes, pad_lever, pad_nearest, pad_pressure
 
 __all__ = ["COINCIDE_RTOL", "PadContacts", "line_candidates", "pad_contacts", "pad_reach"]
 
@@ -136,7 +136,7 @@ def line_candidates(mesh, origins: NDArray, directions: NDArray, radius: float |
 
 def pad_contacts(mesh, origin: NDArray, closing: NDArray, approach: NDArray, depth: NDArray,
                  pad_length: float, pad_height: float, pose_of: NDArray, tri_of: NDArray,
-                 size: float, compliance: float = 0.0) -> PadContacts:
+                 size: float, compliance: float = 0.0, levers: bool = True) -> PadContacts:
     """The contacts of the two pads of ``M`` jaw poses (module text).
 
     Parameters
@@ -157,6 +157,8 @@ def pad_contacts(mesh, origin: NDArray, closing: NDArray, approach: NDArray, dep
         The object's size (the pressed layer is at least :data:`TIE_RTOL` of it thick).
     compliance : float
         How deep a pad presses past its first touch.
+    levers : bool
+        Compute the torsional levers (False: zeros; the contacts are the same).
 
     Examples
     --------
@@ -196,8 +198,7 @@ def pad_contacts(mesh, origin: NDArray, closing: NDArray, approach: NDArray, dep
     first = np.full((m, 2), np.inf)
     for lo in range(0, len(pose_of), BLOCK):
         pi, ti = pose_of[lo:lo + BLOCK], tri_of[lo:lo + BLOCK]
-        value = pad_extremes(V, F, pi, ti, origin, R, depth, *args)
-        np.minimum.at(first, pi, value)
+        minimum_at(first, pi, pad_extremes(V, F, pi, ti, origin, R, depth, *args))
     touched = np.isfinite(first).all(axis=1)
     press = max(float(compliance), TIE_RTOL * size)
     lever = np.zeros((m, 2))
@@ -212,7 +213,8 @@ def pad_contacts(mesh, origin: NDArray, closing: NDArray, approach: NDArray, dep
         for lo in range(0, len(pose_j), BLOCK):
             pi, ti = pose_j[lo:lo + BLOCK], tri_j[lo:lo + BLOCK]
             part = pad_pressure(V, F, pi, ti, origin, R, depth, *args, level, jaw)
-            np.add.at(moments, pi, part)
+            for k in range(3):
+                moments[:, k] += np.bincount(pi, weights=part[:, k], minlength=m)
         centre = np.zeros((m, 2))
         loaded = moments[:, 0] > 0
         centre[loaded] = moments[loaded, 1:] / moments[loaded, :1]
@@ -222,7 +224,7 @@ def pad_contacts(mesh, origin: NDArray, closing: NDArray, approach: NDArray, dep
         for lo in range(0, len(pose_j), BLOCK):
             pi, ti = pose_j[lo:lo + BLOCK], tri_j[lo:lo + BLOCK]
             dist, pt = pad_nearest(V, F, pi, ti, origin, R, depth, *args, level, jaw, centre)
-            np.minimum.at(best, pi, dist)
+            minimum_at(best, pi, dist)
             found.append((pi, ti, dist, pt))
         for pi, ti, dist, pt in found:
             win = np.flatnonzero(np.isfinite(dist) & (dist <= best[pi]))
@@ -234,6 +236,8 @@ def pad_contacts(mesh, origin: NDArray, closing: NDArray, approach: NDArray, dep
             points[pose, jaw] = origin[pose] + np.einsum("nji,nj->ni", R[pose], pt[win])
             normals[pose, jaw] = FN[ti[win]]
             triangles[pose, jaw] = ti[win]
+        if not levers:
+            continue
         # the pressed region's mean lever about the contact's normal, from below (the
         # lever is convex in the point: Jensen over small pieces of the pressed polygons)
         lever_sum = np.zeros(m)
@@ -241,8 +245,8 @@ def pad_contacts(mesh, origin: NDArray, closing: NDArray, approach: NDArray, dep
         axis = np.einsum("nij,nj->ni", R, normals[:, jaw])
         for lo in range(0, len(pose_j), BLOCK):
             pi, ti = pose_j[lo:lo + BLOCK], tri_j[lo:lo + BLOCK]
-            np.add.at(lever_sum, pi, pad_lever(V, F, pi, ti, origin, R, depth, *args, level,
-                                               jaw, local, axis, LEVER_SPLITS))
+            lever_sum += np.bincount(pi, minlength=m, weights=pad_lever(
+                V, F, pi, ti, origin, R, depth, *args, level, jaw, local, axis, LEVER_SPLITS))
         lever[:, jaw] = np.where(loaded, lever_sum / np.where(loaded, moments[:, 0], 1.0),
                                  0.0)
     touched &= (triangles >= 0).all(axis=1)

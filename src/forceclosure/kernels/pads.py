@@ -19,7 +19,21 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-__all__ = ["pad_extremes", "pad_nearest", "pad_pressure"]
+__all__ = ["minimum_at", "pad_extremes", "pad_lever", "pad_nearest", "pad_pressure"]
+
+
+@nb.njit(cache=True, nogil=True)
+def minimum_at(out, index, values):  # pragma: no cover - compiled
+    """``numpy.minimum.at(out, index, values)`` for 1-D or 2-D ``values``, compiled."""
+    if values.ndim == 1:
+        for i in range(len(index)):
+            if values[i] < out[index[i]]:
+                out[index[i]] = values[i]
+    else:
+        for i in range(len(index)):
+            for j in range(values.shape[1]):
+                if values[i, j] < out[index[i], j]:
+                    out[index[i], j] = values[i, j]
 
 
 @nb.njit(cache=True, nogil=True)
@@ -134,6 +148,10 @@ def _pressed(V, F, p, t, origin, R, depth, length, h, level, jaw):  # pragma: no
             for j in range(3):
                 acc += R[p, k, j] * (V[F[t, v], j] - origin[p, j])
             poly[v, k] = acc
+    lev = level[p]
+    if (jaw == 0 and poly[0, 1] > lev and poly[1, 1] > lev and poly[2, 1] > lev) or (
+            jaw == 1 and poly[0, 1] < lev and poly[1, 1] < lev and poly[2, 1] < lev):
+        return poly, 0  # wholly beyond the pressed layer
     x1 = depth[p]
     x0 = x1 - length
     cur, m = _clip(poly, 3, 0, x1, True)
