@@ -53,8 +53,9 @@ def test_warmup_compiles_every_kernel_with_a_line_each(capsys):
     assert main(["warmup"]) == 0
     err = capsys.readouterr().err.splitlines()
     assert [line.split(" ...")[0] for line in err if line.startswith("[")] == [
-        "[1/4] verdicts, Theorem 1 (one grasp, and batches)", "[2/4] least friction",
-        "[3/4] Ferrari-Canny epsilon", "[4/4] two-finger pairs, Corollary 3"]
+        "[1/5] verdicts, Theorem 1 (one grasp, and batches)", "[2/5] least friction",
+        "[3/5] Ferrari-Canny epsilon", "[4/5] two-finger pairs, Corollary 3",
+        "[5/5] parallel-jaw pads and labels"]
     assert err[-1].startswith("forceclosure: kernels ready in")
 
 

@@ -142,6 +142,7 @@ def test_exactly_collinear_vertices_still_merge():
     assert sorted(len(e.source) for e in p.edges) == [1, 1, 2, 3]
 
 
+@pytest.mark.long  # 5 s; the glyph tests above stay in the default run
 def test_a_high_resolution_glyph(tmp_path, capsys):
     """The letter O of matplotlib's DejaVu font, every edge of its outline cut into 40
     pieces: nearly straight runs in floating point; the printed regions hold on the input

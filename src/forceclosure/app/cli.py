@@ -351,6 +351,14 @@ def _demo_objects() -> None:
     print(f"  three hard fingers, one on top, two below (§5.3, class "
           f"{three.grasp_class.number}): smallest region {three.min_area:.3g}; certified: "
           f"{three.certify().holds} ({three.certify().method})")
+    from ..gripper.jaw import ParallelJaw
+    from ..gripper.labels import grasp_labels
+
+    labels = grasp_labels(cube, ParallelJaw(3.0), 0.5, 20, seed=0)
+    clear = int(np.sum(~labels.collides & (labels.code == 2)))
+    print(f"== the cube in a parallel-jaw hand opening 3 (docs/gripper.md), mu 0.5 ==\n"
+          f"  20 poses the hand can take: closure and clear {clear}, least friction median "
+          f"{float(np.median(labels.least_friction)):.3g}")
 
 
 def _rounded(values, size: float) -> list:
@@ -1081,6 +1089,8 @@ def _cmd_warmup(args: argparse.Namespace) -> int:
 
     from ..analysis.batch import analyze_batch, epsilon_batch, least_friction_batch
     from ..analysis.two_finger import two_finger_closure
+    from ..gripper.jaw import ParallelJaw
+    from ..gripper.labels import grasp_labels
 
     points = np.array([[[1.0, 0, 0], [-1, 0.5, 0], [-1, -0.5, 0.1]]])  # three hard fingers
     normals = np.array([[[1.0, 0, 0], [-1, 0, 0], [-1, 0, 0]]])
@@ -1092,6 +1102,8 @@ def _cmd_warmup(args: argparse.Namespace) -> int:
         ("Ferrari-Canny epsilon", lambda: epsilon_batch(points, normals, mu=0.5)),
         ("two-finger pairs, Corollary 3", lambda: two_finger_closure(
             [0.0, 0, 1], [0.0, 0, 1], [0.0, 0, -1], [0.0, 0, -1], 0.5)),
+        ("parallel-jaw pads and labels", lambda: grasp_labels(
+            "cube", ParallelJaw(3.0), 0.5, 4, approaches=1, depths=1)),
     ]
     from ..kernels import compiling_announced
 

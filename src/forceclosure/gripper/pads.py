@@ -50,6 +50,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..kernels import announce_compiling
 from ..kernels.pads import minimum_at, pad_extremes, pad_lever, pad_nearest, pad_pressure
 
 __all__ = ["COINCIDE_RTOL", "PadContacts", "line_candidates", "pad_contacts", "pad_reach"]
@@ -195,6 +196,7 @@ def pad_contacts(mesh, origin: NDArray, closing: NDArray, approach: NDArray, dep
                            np.zeros((m, 2)))
     depth = np.asarray(depth, dtype=float)
     args = (float(pad_length), float(pad_height))
+    announce_compiling(pad_extremes, pad_pressure, pad_nearest, pad_lever, minimum_at)
     first = np.full((m, 2), np.inf)
     for lo in range(0, len(pose_of), BLOCK):
         pi, ti = pose_of[lo:lo + BLOCK], tri_of[lo:lo + BLOCK]
