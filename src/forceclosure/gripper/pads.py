@@ -65,7 +65,7 @@ TIE_RTOL = 1e-9
 
 #: Each pressed polygon's fan triangles are split into 4 ** this pieces for the torsional
 #: lever's lower bound (:func:`pad_contacts`; finer pieces, a tighter bound).
-LEVER_SPLITS = 3
+LEVER_SPLITS = 2
 
 #: Pairs of (pose, triangle) handled at a time.
 BLOCK = 1 << 17
