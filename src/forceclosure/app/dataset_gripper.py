@@ -39,7 +39,8 @@ import numpy as np
 
 from ..errors import InputError, OutputError
 
-__all__ = ["GRASP_COLUMNS", "GripperJob", "object_seed", "read_labels", "write_grasp_table"]
+__all__ = ["GRASP_COLUMNS", "GripperJob", "object_seed", "read_labels", "sha256_of",
+           "write_grasp_table"]
 
 #: The columns of grasps.parquet, in order: (name, pyarrow type name). ``name`` and ``path``
 #: are results.parquet's (join on ``path``); the rest are one grasp of the object's ``.npz``.
@@ -228,7 +229,7 @@ class GripperJob:
         except OutputError as e:
             raise OSError(str(e)) from None
         record["labels_file"] = file.name
-        record["labels_sha256"] = _sha256(file)
+        record["labels_sha256"] = sha256_of(file)
         return record
 
     def check(self, folder: Path, record: dict[str, Any]) -> str | None:
@@ -241,7 +242,7 @@ class GripperJob:
         file = folder / name
         if Path(name).name != name or not file.is_file():
             return f"its labels file {name[:200]!r} is missing"
-        if _sha256(file) != digest:
+        if sha256_of(file) != digest:
             return f"its labels file {name[:200]!r} changed since"
         return None
 
@@ -250,7 +251,8 @@ class GripperJob:
         return write_grasp_table(out, records)
 
 
-def _sha256(file: Path) -> str:
+def sha256_of(file: Path) -> str:
+    """The SHA-256 of a file's bytes, read in blocks (hex)."""
     digest = hashlib.sha256()
     with open(file, "rb") as f:
         for block in iter(lambda: f.read(1 << 20), b""):

@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import hashlib
 import json
 import os
 import sys
@@ -32,6 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, printable
+from .dataset_gripper import sha256_of
 
 __all__ = ["add_parser", "run", "with_source"]
 
@@ -205,14 +205,6 @@ def _export_one(args: argparse.Namespace, labels_file: str, graspnet: str | None
     return entry
 
 
-def _sha256(path: Path) -> str:
-    digest = hashlib.sha256()
-    with open(path, "rb") as f:
-        for block in iter(lambda: f.read(1 << 20), b""):
-            digest.update(block)
-    return digest.hexdigest()
-
-
 def _run_folder(args: argparse.Namespace, folder: Path) -> int:
     """A ``dataset --gripper`` folder: one GraspNet and ACRONYM file per object done."""
     try:
@@ -246,7 +238,7 @@ def _run_folder(args: argparse.Namespace, folder: Path) -> int:
         try:
             if not labels_file.is_file():
                 raise InputError(f"{name}: its labels file is missing")
-            if _sha256(labels_file) != record.get("labels_sha256"):
+            if sha256_of(labels_file) != record.get("labels_sha256"):
                 raise InputError(f"{name}: its labels file changed since its record was "
                                  "written; run the dataset again")
             entries.append(_export_one(
