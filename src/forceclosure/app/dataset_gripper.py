@@ -42,6 +42,13 @@ from ..errors import InputError, OutputError
 __all__ = ["GRASP_COLUMNS", "GripperJob", "object_seed", "read_labels", "sha256_of",
            "write_grasp_table"]
 
+
+def sha256_of(file: Path) -> str:
+    """The SHA-256 of a file's bytes, in hex (:func:`forceclosure.io.files.fingerprint`)."""
+    from ..io.files import fingerprint
+
+    return fingerprint(str(file)).removeprefix("sha256:")
+
 #: The columns of grasps.parquet, in order: (name, pyarrow type name). ``name`` and ``path``
 #: are results.parquet's (join on ``path``); the rest are one grasp of the object's ``.npz``.
 GRASP_COLUMNS = (("name", "string"), ("path", "string"), ("grasp", "int64"),
@@ -249,15 +256,6 @@ class GripperJob:
     def write_tables(self, out: Path, records: Iterable[dict[str, Any]]) -> Path:
         """Write ``out/grasps.parquet`` from the done records' labels files."""
         return write_grasp_table(out, records)
-
-
-def sha256_of(file: Path) -> str:
-    """The SHA-256 of a file's bytes, read in blocks (hex)."""
-    digest = hashlib.sha256()
-    with open(file, "rb") as f:
-        for block in iter(lambda: f.read(1 << 20), b""):
-            digest.update(block)
-    return digest.hexdigest()
 
 
 def read_labels(file: str | Path) -> dict[str, np.ndarray]:

@@ -31,7 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, printable
-from .dataset_gripper import sha256_of
+from ..io.files import fingerprint
 
 __all__ = ["add_parser", "run", "with_source"]
 
@@ -238,7 +238,7 @@ def _run_folder(args: argparse.Namespace, folder: Path) -> int:
         try:
             if not labels_file.is_file():
                 raise InputError(f"{name}: its labels file is missing")
-            if sha256_of(labels_file) != record.get("labels_sha256"):
+            if fingerprint(str(labels_file)) != f"sha256:{record.get('labels_sha256')}":
                 raise InputError(f"{name}: its labels file changed since its record was "
                                  "written; run the dataset again")
             entries.append(_export_one(
