@@ -107,12 +107,12 @@ class ParallelJaw:
         The widest opening (same units as the object).
     pad_radius : float, optional
         How the soft pads resist twisting about their normal. None (the
-        default): as a rectangular pad of ``pad_length`` × ``pad_height``
-        pressed uniformly, ``|τ| ≤ μ r̄ f_n`` with ``r̄`` the pad's mean radius
-        (:func:`rectangle_mean_radius`); an upper bound, since a curved
-        surface touches only part of the pad. A positive radius ``a``: a disc,
-        ``|τ| ≤ (2/3) μ a f_n``. 0: the paper's soft finger (uncoupled,
-        unlimited torque), only when asked for.
+        default): by the region each pad presses, ``|τ| ≤ μ l f_n`` with ``l``
+        the region's mean lever about the contact's normal, from below
+        (:mod:`forceclosure.gripper.pads`; per contact, in the labels'
+        ``torsion``). A positive radius ``a``: a disc, ``|τ| ≤ (2/3) μ a f_n``.
+        0: the paper's soft finger (uncoupled, unlimited torque), only when
+        asked for.
     depth, finger_length, finger_thickness, finger_height, palm_thickness : float, optional
         The hand's boxes, for collision checks (:mod:`forceclosure.gripper.collision`),
         in the jaw frame (x the approach axis, y the closing axis, origin the
@@ -216,7 +216,9 @@ class ParallelJaw:
     def torsion(self, mu: float) -> float | None:
         """The soft pads' coupled torsional coefficient at friction ``mu`` (the bound on
         the twisting torque per unit normal force), or None (uncoupled: ``pad_radius``
-        0)."""
+        0). With ``pad_radius`` None it is the most a pad gives, pressed flat over its
+        whole rectangle (μ times :func:`rectangle_mean_radius`): an upper bound, never
+        what a label relies on (labels take the pressed region's lever, from below)."""
         if self.pad_radius is None:
             return round(mu * rectangle_mean_radius(self.pad_length, self.pad_height), 15)
         return None if self.pad_radius == 0 else round(2.0 / 3.0 * mu * self.pad_radius, 15)
