@@ -370,3 +370,30 @@ def test_bad_arrays_are_refused_in_one_line():
         two_finger_closure([0, 0], [1, 0], [np.inf, 0], [1, 0], 0.3)
     with pytest.raises(InputError, match="engine"):
         analyze_batch(np.ones((1, 2, 2)), np.ones((1, 2, 2)), engine="fast")
+
+
+def test_one_block_runs_on_the_calling_thread(monkeypatch):
+    """Batches of one block or less do not wake the thread pool (their kernel sees one
+    thread), larger ones get every thread, and the caller's thread count is restored."""
+    import numba
+
+    from forceclosure.analysis import friction
+    from forceclosure.kernels import theorem1
+
+    seen = []
+    real = theorem1.least_friction_kernel
+
+    def spy(*args):
+        seen.append(numba.get_num_threads())
+        return real(*args)
+
+    monkeypatch.setattr(theorem1, "least_friction_kernel", spy)
+    rng = np.random.default_rng(3)
+    p = rng.normal(size=(theorem1.BLOCK + 1, 3, 3))
+    p /= np.linalg.norm(p, axis=-1, keepdims=True)
+    before = numba.get_num_threads()
+    small = friction.least_friction_batch(p[:2], -p[:2], cone=Cone(8))
+    large = friction.least_friction_batch(p, -p, cone=Cone(8))
+    assert seen == [1, before]
+    assert numba.get_num_threads() == before
+    np.testing.assert_array_equal(small, large[:2])  # the same answers either way

@@ -100,7 +100,7 @@ def epsilon_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
     if reference:
         todo = np.arange(n)
     elif n:
-        from ..kernels import announce_compiling, kernel_array, theorem1
+        from ..kernels import announce_compiling, kernel_array, pool_for, theorem1
         from ..kernels.quality import epsilon_kernel
 
         maxm = theorem1.columns_per_grasp(k, d, max(cone.edges, 256))
@@ -111,10 +111,11 @@ def epsilon_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
         for lo in range(0, n, CHUNK):
             part = slice(lo, min(n, lo + CHUNK))
             P, M = _kernel_inputs(grasps, part, extreme)
-            epsilon_kernel(P, kernel_array(grasps.normals[part]), M,
-                           kernel_array(grasps.torsion[part]),
-                           model_codes, cone.edges, float(tol), maxm, out[part], deferred[part],
-                           orientation == "grasp")
+            with pool_for(part.stop - part.start):
+                epsilon_kernel(P, kernel_array(grasps.normals[part]), M,
+                               kernel_array(grasps.torsion[part]), model_codes, cone.edges,
+                               float(tol), maxm, out[part], deferred[part],
+                               orientation == "grasp")
             if progress is not None:
                 progress(part.stop - part.start)
         todo = np.flatnonzero(deferred | extreme)

@@ -176,7 +176,7 @@ def least_friction_batch(points: ArrayLike, normals: ArrayLike, *,
         least = pair_least_friction(P[:, 0], N_[:, 0], P[:, 1], N_[:, 1])
         return np.where(least > MU_MAX, np.inf, least)
     else:
-        from ..kernels import announce_compiling, kernel_array
+        from ..kernels import announce_compiling, kernel_array, pool_for
         from ..kernels import theorem1 as kernel
 
         model_codes = np.array([MODELS.index(m) for m in grasps.models], dtype=np.int64)
@@ -185,9 +185,11 @@ def least_friction_batch(points: ArrayLike, normals: ArrayLike, *,
         extreme = _extreme(grasps)
         P = _kernel_inputs(grasps, slice(0, n), extreme)[0]
         announce_compiling(kernel.least_friction_kernel)
-        kernel.least_friction_kernel(P, kernel_array(grasps.normals),
-                                     kernel_array(grasps.torsion), model_codes, edges, fit,
-                                     exact, float(tol), maxm, MU_MAX, float(rtol), out, deferred)
+        with pool_for(n):
+            kernel.least_friction_kernel(P, kernel_array(grasps.normals),
+                                         kernel_array(grasps.torsion), model_codes, edges, fit,
+                                         exact, float(tol), maxm, MU_MAX, float(rtol), out,
+                                         deferred)
         todo = np.flatnonzero(deferred | extreme)
     for g in todo:
         out[g] = least_friction_reference(grasps.contacts(g), cone=cone, tol=tol, rtol=rtol)

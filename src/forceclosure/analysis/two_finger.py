@@ -223,8 +223,8 @@ def pair_codes(points: ArrayLike, normals: ArrayLike, mu: ArrayLike, model: str 
 #: (:func:`forceclosure.analysis.friction.least_friction` and the μ* here: ``inf`` above it).
 MU_MAX = 1e4
 
-#: Pairs below which :func:`pair_labels` runs on the calling thread (about 3 ms of work);
-#: at and above it, one slice per thread, in threads that sleep between calls.
+#: Pairs below which :func:`pair_labels` and the pair kernel run on the calling thread (about
+#: 3 ms of work); at and above it, one slice per thread, in threads that sleep between calls.
 SERIAL_BELOW = 1 << 14
 
 
@@ -306,7 +306,7 @@ def pair_least_friction(p: NDArray[np.float64], n_p: NDArray[np.float64],
     """The least friction of ``(N, d)`` pairs of soft fingers (planar: any fingers), compiled
     (the pair kernel, whose verdicts at friction 1 are dropped). Inputs as
     :func:`two_finger_closure` checks them; exact cones."""
-    from ..kernels import announce_compiling, kernel_array
+    from ..kernels import announce_compiling, kernel_array, pool_for
     from ..kernels import pairs as kernel
 
     p, n_p, q, n_q = _conditioned(p, n_p, q, n_q)
@@ -314,12 +314,14 @@ def pair_least_friction(p: NDArray[np.float64], n_p: NDArray[np.float64],
     least = np.empty(len(p))
     one = np.ones(1)
     announce_compiling(kernel.pair_kernel)
-    kernel.pair_kernel(*(kernel_array(a) for a in (p, n_p, q, n_q)), one, one, 0.0, code, least)
+    with pool_for(len(p), SERIAL_BELOW):
+        kernel.pair_kernel(*(kernel_array(a) for a in (p, n_p, q, n_q)), one, one, 0.0, code,
+                           least)
     return least
 
 
 def _compiled(p, n_p, q, n_q, mu_p, mu_q, model, tol, shape):
-    from ..kernels import announce_compiling, kernel_array
+    from ..kernels import announce_compiling, kernel_array, pool_for
     from ..kernels import pairs as kernel
 
     def rows(a: NDArray[np.float64], tail: tuple[int, ...]) -> NDArray[np.float64]:
@@ -334,7 +336,8 @@ def _compiled(p, n_p, q, n_q, mu_p, mu_q, model, tol, shape):
     code = np.empty(n, dtype=np.int8)
     least = np.empty(n)
     announce_compiling(kernel.pair_kernel)
-    flagged = kernel.pair_kernel(*flat, *mus, float(tol), code, least)
+    with pool_for(n, SERIAL_BELOW):
+        flagged = kernel.pair_kernel(*flat, *mus, float(tol), code, least)
     bad = np.flatnonzero(code >= kernel.ZERO_NORMAL) if flagged else ()
     if len(bad):
         i = int(bad[0])

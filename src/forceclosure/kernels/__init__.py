@@ -10,13 +10,14 @@ from __future__ import annotations
 
 import logging
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["COMPILE_AFTER", "COMPILING", "announce_compiling", "cached", "compiling_announced",
-           "kernel_array", "on_compiling", "use_compiled"]
+           "kernel_array", "on_compiling", "pool_for", "use_compiled"]
 
 _log = logging.getLogger("forceclosure")
 _announced = False
@@ -108,3 +109,34 @@ def kernel_array(a: ArrayLike, dtype: type = np.float64) -> NDArray:
     A read-only or broadcast view would make numba compile another signature.
     """
     return np.require(a, dtype=dtype, requirements=["C", "W"])
+
+
+@contextmanager
+def pool_for(n: int, block: int | None = None) -> Iterator[None]:
+    """Run the parallel kernels called inside on the calling thread alone when the batch has
+    ``n`` items or fewer than one ``block`` (default ``theorem1.BLOCK`` grasps): waking the
+    thread pool for one block gains nothing and, measured, doubles the CPU time of a
+    one-grasp call (its idle workers spin).
+    Numba's thread count is per calling thread, so other threads are not affected.
+
+    Examples
+    --------
+    >>> import numba
+    >>> with pool_for(1):
+    ...     numba.get_num_threads()
+    1
+    """
+    import numba
+
+    from .theorem1 import BLOCK
+
+    if n > (BLOCK if block is None else block):
+        yield
+        return
+
+    before = numba.get_num_threads()
+    numba.set_num_threads(1)
+    try:
+        yield
+    finally:
+        numba.set_num_threads(before)
