@@ -50,8 +50,8 @@ from .geometry.cones import (
     tangent_basis,
 )
 
-__all__ = ["MAX_COORDINATE", "MAX_EDGES", "MODELS", "ORIENTATIONS", "Cone", "Contact", "Fit",
-           "Model", "Orientation", "WrenchSet",
+__all__ = ["MAX_CONTACTS", "MAX_COORDINATE", "MAX_EDGES", "MODELS", "ORIENTATIONS", "Cone",
+           "Contact", "Fit", "Model", "Orientation", "WrenchSet",
            "binary_unit", "check_grasp", "edge_contact", "face_contact", "frame",
            "generating_wrenches", "half_space_wrenches", "make_contact", "own_frame",
            "point_contact", "primitive_wrenches", "tangent_basis", "unit_rows", "vertex_contact"]
@@ -71,6 +71,10 @@ MAX_COORDINATE = 1e290
 
 #: Most edges a friction pyramid may have (the exact-cone bracket stops at 256).
 MAX_EDGES = 4096
+
+#: Most contacts a grasp may have: a file or call naming more is refused in one line, before
+#: anything is allocated for them (docs/analysis.md, "Bounded work").
+MAX_CONTACTS = 1024
 
 
 @dataclass(frozen=True)
