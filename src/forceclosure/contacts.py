@@ -416,6 +416,7 @@ def _cross(r: NDArray[np.float64], f: NDArray[np.float64]) -> NDArray[np.float64
     return np.cross(r, f)
 
 
+@np.errstate(over="ignore", invalid="ignore")  # an overflow is refused by the caller
 def primitive_wrenches(points: NDArray[np.float64], normals: NDArray[np.float64], model: Model,
                        mu: NDArray[np.float64], torsion: NDArray[np.float64] | None,
                        reference: NDArray[np.float64], scale: NDArray[np.float64],
@@ -490,6 +491,7 @@ def primitive_wrenches(points: NDArray[np.float64], normals: NDArray[np.float64]
     return np.transpose(wrenches, (0, 2, 1))
 
 
+@np.errstate(over="ignore", invalid="ignore")  # an overflow is refused by the caller
 def half_space_wrenches(point: NDArray[np.float64], normal: NDArray[np.float64], model: Model,
                         torsion: float | None, reference: NDArray[np.float64],
                         scale: float) -> NDArray[np.float64]:

@@ -92,3 +92,31 @@ def test_npz_at_the_contact_cap_is_read(tmp_path):
     np.savez(path, points=points, normals=np.ones_like(points), mu=0.5)
     info = open_npz(str(path))
     assert (info.count, info.contacts, info.dim) == (1, MAX_CONTACTS, 2)
+
+
+def test_tiny_length_scale_leaks_no_warning(tmp_path, capsys):
+    """length_scale 1e-320 overflowed numpy's divide (a RuntimeWarning line on standard
+    error, an internal error under -W error): now each such grasp is one refusal line, and
+    the closed pinch at 1e-100 (Corollary 3: the line between the soft fingers lies inside
+    both cones) is still analysed."""
+    import json
+    import warnings
+
+    pinch = [{"point": [-1, 0.3, 0.2], "normal": [-1, 0, 0], "model": "soft", "mu": 0.5},
+             {"point": [1, 0.3, 0.2], "normal": [1, 0, 0], "model": "soft", "mu": 0.5}]
+    planar = [{"point": [0, 0], "normal": [0, -1], "model": "hard", "mu": 0.5},
+              {"point": [0, 1], "normal": [0, 1], "model": "hard", "mu": 0.5}]
+    path = tmp_path / "g.json"
+    path.write_text(json.dumps({"grasps": [
+        {"length_scale": 1e-320, "contacts": pinch},
+        {"length_scale": 1e-100, "contacts": pinch},
+        {"length_scale": 1e-320, "contacts": planar}]}))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        status = main(["analyze", str(path), "--json"])
+    captured = capsys.readouterr()
+    err = captured.err.strip().splitlines()
+    assert status == 2 and len(err) == 2, err
+    assert all("the torques overflow" in line for line in err), err
+    results = json.loads(captured.out)["results"]
+    assert results[1]["verdict"] == "closure"

@@ -138,7 +138,18 @@ def _finite_vector(value: ArrayLike, n: int, name: str) -> NDArray[np.float64]:
 
 def _max_scale(W: NDArray, normal_force: NDArray, owner: NDArray, k: int, w: NDArray,
                f_max: float) -> tuple[float, NDArray | None]:
-    """The LP of the module's docstring: ``(s*, λ)`` (``λ`` None when unbounded)."""
+    """The LP of the module's docstring: ``(s*, λ)`` (``λ`` None when unbounded).
+
+    Solved for the unit task (``w`` over its largest component, forces at most 1), whose
+    coefficients HiGHS takes whatever the units (a mass of 1e100 is not a model error);
+    ``s*`` and ``λ`` scale back exactly: ``s*(w, f) = s*(w / |w|∞, 1) · f / |w|∞``."""
+    big = float(np.max(np.abs(w)))
+    s, lam = _max_scale_unit(W, normal_force, owner, k, w / big)
+    return s * (f_max / big), None if lam is None else lam * f_max
+
+
+def _max_scale_unit(W: NDArray, normal_force: NDArray, owner: NDArray, k: int, w: NDArray,
+                    f_max: float = 1.0) -> tuple[float, NDArray | None]:
     from scipy.optimize import linprog
 
     m = W.shape[1]
@@ -174,6 +185,11 @@ def _task(wrench: ArrayLike, f_max: float, reference: ArrayLike | None, d: int
     if isinstance(f_max, bool) or not isinstance(f_max, Real) or not _finite(f_max) \
             or f_max <= 0:
         raise InputError(f"f_max must be a finite positive number, got {shown(f_max, 80)}")
+    ratio = float(f_max) / float(np.max(np.abs(w)))
+    if not 1e-150 <= ratio <= 1e150:
+        raise InputError(f"f_max {float(f_max):g} and the wrench's largest component "
+                         f"{float(np.max(np.abs(w))):g} are more than 1e150 apart; rescale "
+                         "them (the spare is their ratio's multiple)")
     ref = np.zeros(d) if reference is None else _finite_vector(reference, d, "reference")
     if np.abs(ref).max(initial=0.0) > MAX_COORDINATE:
         raise InputError(f"reference must be within {MAX_COORDINATE:g} of the origin")
@@ -285,10 +301,15 @@ def _stacked_scales(W: NDArray, normal_force: NDArray, owner: NDArray, k: int, w
     """``s*`` of ``n`` independent LPs (``W`` ``(n, D, m)``, ``w`` ``(n, D)``) stacked
     block-diagonally into one: maximising ``Σ s_g`` over separate blocks maximises each
     ``s_g``. None when the stacked LP is not solved to optimality (e.g. one block is
-    unbounded): the caller solves the blocks one at a time."""
+    unbounded): the caller solves the blocks one at a time. Solved for unit tasks, as
+    :func:`_max_scale`."""
     from scipy.optimize import linprog
     from scipy.sparse import block_diag
 
+    big = np.max(np.abs(w), axis=1)
+    w = w / big[:, None]
+    back = f_max / big
+    f_max = 1.0
     n, D, m = W.shape
     c = np.zeros((n, m + 1))
     c[:, -1] = -1.0
@@ -301,7 +322,7 @@ def _stacked_scales(W: NDArray, normal_force: NDArray, owner: NDArray, k: int, w
                   b_eq=np.zeros(n * D), bounds=(0, None), method="highs")
     if res.status != 0:
         return None
-    return np.maximum(0.0, res.x.reshape(n, m + 1)[:, -1])
+    return np.maximum(0.0, res.x.reshape(n, m + 1)[:, -1]) * back
 
 
 def resist_wrench_batch(points: ArrayLike, normals: ArrayLike, wrench: ArrayLike, *,
