@@ -50,8 +50,8 @@ from .geometry.cones import (
     tangent_basis,
 )
 
-__all__ = ["MAX_COORDINATE", "MAX_EDGES", "MODELS", "ORIENTATIONS", "Cone", "Contact", "Fit",
-           "Model", "Orientation", "WrenchSet",
+__all__ = ["MAX_CONTACTS", "MAX_COORDINATE", "MAX_EDGES", "MODELS", "ORIENTATIONS", "Cone",
+           "Contact", "Fit", "Model", "Orientation", "WrenchSet",
            "binary_unit", "check_grasp", "edge_contact", "face_contact", "frame",
            "generating_wrenches", "half_space_wrenches", "make_contact", "own_frame",
            "point_contact", "primitive_wrenches", "tangent_basis", "unit_rows", "vertex_contact"]
@@ -71,6 +71,10 @@ MAX_COORDINATE = 1e290
 
 #: Most edges a friction pyramid may have (the exact-cone bracket stops at 256).
 MAX_EDGES = 4096
+
+#: Most contacts a grasp may have: a file or call naming more is refused in one line, before
+#: anything is allocated for them (docs/analysis.md, "Bounded work").
+MAX_CONTACTS = 1024
 
 
 @dataclass(frozen=True)
@@ -412,6 +416,7 @@ def _cross(r: NDArray[np.float64], f: NDArray[np.float64]) -> NDArray[np.float64
     return np.cross(r, f)
 
 
+@np.errstate(over="ignore", invalid="ignore")  # an overflow is refused by the caller
 def primitive_wrenches(points: NDArray[np.float64], normals: NDArray[np.float64], model: Model,
                        mu: NDArray[np.float64], torsion: NDArray[np.float64] | None,
                        reference: NDArray[np.float64], scale: NDArray[np.float64],
@@ -486,6 +491,7 @@ def primitive_wrenches(points: NDArray[np.float64], normals: NDArray[np.float64]
     return np.transpose(wrenches, (0, 2, 1))
 
 
+@np.errstate(over="ignore", invalid="ignore")  # an overflow is refused by the caller
 def half_space_wrenches(point: NDArray[np.float64], normal: NDArray[np.float64], model: Model,
                         torsion: float | None, reference: NDArray[np.float64],
                         scale: float) -> NDArray[np.float64]:

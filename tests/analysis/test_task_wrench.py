@@ -29,7 +29,7 @@ import numpy as np
 import pytest
 from scipy.optimize import linprog
 
-from forceclosure.analysis.task import gravity_wrench, resist_wrench
+from forceclosure.analysis.task import gravity_wrench, resist_wrench, resist_wrench_batch
 from forceclosure.contacts import tangent_basis
 from forceclosure.errors import InputError
 
@@ -164,3 +164,19 @@ def test_bad_input_is_refused():
         resist_wrench(P2, N2, w, mu=-1.0)
     with pytest.raises(InputError):
         gravity_wrench(-1.0, [0, 0, 0])
+
+
+@pytest.mark.parametrize("unit", [1e-100, 1e-20, 1.0, 1e20, 1e100])
+def test_units_do_not_reach_the_lp(unit):
+    """The box squeezed across x (resist_wrench's example): friction holds 2 mu f_max = 10
+    against a weight of 4, spare 2.5 in any units; HiGHS once refused weights of 1e100
+    ("Model error", an internal error) and took f_max >= 1e20 for no bound at all."""
+    P = [[-1, 0, 0], [1, 0, 0]]
+    N = [[-1, 0, 0], [1, 0, 0]]
+    w = gravity_wrench(0.4 * unit, [0, 0, 0], g=[0, 0, -10])
+    t = resist_wrench(P, N, w, mu=0.5, f_max=10.0 * unit)
+    assert t.verdict == "resists" and t.spare == pytest.approx(2.5, rel=1e-6)
+    code, spare, _ = resist_wrench_batch([P, P], [N, N], w, mu=0.5, f_max=10.0 * unit)
+    assert code.tolist() == [2, 2] and spare == pytest.approx([2.5, 2.5], rel=1e-6)
+    if unit >= 1:  # the forces found are the units' too: each pad presses at most f_max
+        assert np.all(np.abs(t.forces[:, 0]) <= 10.0 * unit * (1 + 1e-6))

@@ -221,18 +221,21 @@ def test_no_collision_falls_back_to_visual_with_a_warning(tmp_path):
 
 
 def test_package_uris(tmp_path):
-    """package://my_pkg/meshes/tet.obj: the package folder is found upward from the URDF (by
-    name, as a subfolder, or by package.xml); else the rest in the URDF's folder; else one line.
-    """
+    """package://my_pkg/meshes/tet.obj: the package folder is found upward from the URDF (a
+    folder of that name with a package.xml, or a package.xml naming it), or is a subfolder of
+    the URDF's folder; else the rest in the URDF's folder; else one line."""
     uri = '<mesh filename="package://my_pkg/meshes/tet.obj"/>'
     text = robot(link("t", collision(uri)))
     big = TET_OBJ.replace("v 1 0 0\nv 0 1 0\nv 0 0 1", "v 2 0 0\nv 0 2 0\nv 0 0 2")
     assert big != TET_OBJ  # a decoy, volume 8/6, where the fallback looks
 
-    # 1. ws/src/my_pkg/urdf/r.urdf: the package is an ancestor named my_pkg
+    # 1. ws/src/my_pkg/urdf/r.urdf: the package is an ancestor named my_pkg with a
+    # package.xml; without one it is only a folder of that name (the fallback reads the decoy)
     write(tmp_path, "ws/src/my_pkg/meshes/tet.obj", TET_OBJ)
     write(tmp_path, "ws/src/my_pkg/urdf/meshes/tet.obj", big)
     urdf = write(tmp_path, "ws/src/my_pkg/urdf/r.urdf", text)
+    assert load_object(urdf).volume == pytest.approx(8 / 6)
+    write(tmp_path, "ws/src/my_pkg/package.xml", "<package><name>other</name></package>")
     assert load_object(urdf).volume == pytest.approx(1 / 6)
 
     # 2. the folder has another name, its package.xml says my_pkg
@@ -258,6 +261,86 @@ def test_package_uris(tmp_path):
     with pytest.raises(InputError, match=r"r\.urdf: .*its mesh tet\.obj is missing") as e:
         load_object(urdf)
     assert "\n" not in str(e.value) and "package://my_pkg/meshes/tet.obj" in str(e.value)
+
+
+PACKAGE_XML = '<?xml version="1.0"?>\n<package format="2"><name>pkg</name></package>'
+
+
+def ros_layout(tmp_path: Path) -> Path:
+    """ws/pkg (package.xml, meshes/box.obj: the unit cube, urdf/), and secret/secret.obj (the
+    corner tetrahedron) beside ws: a file no URDF in the package may read."""
+    write(tmp_path, "ws/pkg/package.xml", PACKAGE_XML)
+    write(tmp_path, "ws/pkg/meshes/box.obj", CUBE_OBJ)
+    write(tmp_path, "secret/secret.obj", TET_OBJ)
+    return tmp_path / "ws" / "pkg"
+
+
+def mesh_urdf(folder: Path, name: str, filename: str) -> Path:
+    return write(folder, name, robot(link("l", collision(f'<mesh filename="{filename}"/>'))))
+
+
+def test_ros_layout_reads_inside_the_package(tmp_path, monkeypatch):
+    """pkg/urdf/r.urdf naming ../meshes/box.obj or package://pkg/meshes/box.obj reads the
+    package's cube (volume 1); a URDF outside the package finds it through ROS_PACKAGE_PATH
+    only."""
+    monkeypatch.delenv("ROS_PACKAGE_PATH", raising=False)
+    pkg = ros_layout(tmp_path)
+    for i, filename in enumerate(("../meshes/box.obj", "package://pkg/meshes/box.obj",
+                                  "package://pkg/urdf/../meshes/box.obj",
+                                  "file://../meshes/box.obj")):
+        urdf = mesh_urdf(pkg / "urdf", f"r{i}.urdf", filename)
+        assert load_object(urdf).volume == pytest.approx(1.0), filename
+    elsewhere = mesh_urdf(tmp_path / "robots", "r.urdf", "package://pkg/meshes/box.obj")
+    with pytest.raises(InputError, match=r"missing .*no package 'pkg' holds it"):
+        load_object(elsewhere)
+    monkeypatch.setenv("ROS_PACKAGE_PATH", f"{tmp_path / 'nowhere'}:{tmp_path / 'ws'}")
+    assert load_object(elsewhere).volume == pytest.approx(1.0)
+
+
+def escapes(tmp_path: Path) -> list[str]:
+    """Every way tried of naming secret/secret.obj from ws/pkg/urdf/r.urdf."""
+    secret = tmp_path / "secret" / "secret.obj"
+    top, *rest = secret.parts[1:]
+    return [f"package://{top}/{'/'.join(rest)}",  # the top-level folder as "the package"
+            "package://secret/secret.obj",  # an ancestor's sibling as the package
+            "package://../secret/secret.obj",
+            "package://../../../secret/secret.obj",
+            "package://./../../secret/secret.obj",
+            "package://pkg/../../secret/secret.obj",
+            "package://pkg/%2e%2e/%2e%2e/secret/secret.obj",
+            f"package://pkg/{secret}",  # package://pkg//abs/path
+            "package://pkg/meshes/link.obj",  # a symbolic link out of the package
+            "package://urdf/../../../secret/secret.obj",  # the URDF's subfolder, then up
+            "../../../secret/secret.obj",
+            "meshes/../../../secret/secret.obj",
+            str(secret),
+            secret.as_uri()]
+
+
+def test_every_package_escape_is_refused(tmp_path, monkeypatch):
+    """No URDF in ws/pkg reads secret/secret.obj, whatever package:// or path it names: each
+    is refused in one line naming it (and reads the tetrahedron only when allowed)."""
+    monkeypatch.delenv("ROS_PACKAGE_PATH", raising=False)
+    pkg = ros_layout(tmp_path)
+    (pkg / "meshes" / "link.obj").symlink_to(tmp_path / "secret" / "secret.obj")
+    write(tmp_path, "ws/pkg/urdf/urdf/keep.txt", "")  # a subfolder named like a package
+    for i, filename in enumerate(escapes(tmp_path)):
+        urdf = mesh_urdf(pkg / "urdf", f"e{i}.urdf", filename)
+        with pytest.raises(InputError) as e:
+            load_object(urdf)
+        message = str(e.value)
+        assert "\n" not in message and repr(filename) in message, message
+        assert message.startswith(f"e{i}.urdf: "), message
+
+
+def test_ros_package_path_is_confined_too(tmp_path, monkeypatch):
+    """A package found through ROS_PACKAGE_PATH does not let package://pkg/../ out of it."""
+    pkg = ros_layout(tmp_path)
+    monkeypatch.setenv("ROS_PACKAGE_PATH", str(tmp_path / "ws"))
+    urdf = mesh_urdf(tmp_path / "robots", "r.urdf", "package://pkg/../../secret/secret.obj")
+    with pytest.raises(InputError, match=r"is outside the package's folder") as e:
+        load_object(urdf)
+    assert str(pkg) in str(e.value)
 
 
 def test_file_uris_and_paths(tmp_path):

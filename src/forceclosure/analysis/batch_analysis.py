@@ -119,7 +119,7 @@ def _per_contact(value: ArrayLike | None, shape: tuple[int, int], name: str) -> 
     try:
         a = np.asarray(np.nan if value is None else value, dtype=float)
         a = np.broadcast_to(a, shape)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # 10**400: an int no float holds
         raise InputError(f"'{name}' must be a number or an array broadcastable to {shape} "
                          "(grasps, contacts)") from None
     # NaN is a soft finger's "no coupled torsion"; a friction coefficient must be a number
@@ -139,7 +139,7 @@ def _validate(points: ArrayLike, normals: ArrayLike, mu: ArrayLike,
             raise TypeError
         P = np.asarray(points, dtype=float)
         N_ = np.asarray(normals, dtype=float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InputError("points and normals must be arrays of numbers") from None
     if P.ndim != 3 or P.shape != N_.shape or P.shape[2] not in (2, 3):
         raise InputError(f"points and normals must both have shape (N, k, 2 or 3); got "

@@ -37,8 +37,8 @@ from numbers import Real
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..contacts import Cone, primitive_wrenches
-from ..errors import ForceClosureError, InputError
+from ..contacts import MAX_COORDINATE, Cone, primitive_wrenches
+from ..errors import ForceClosureError, InputError, shown
 
 __all__ = ["BATCH", "TASK_CODES", "TaskWrench", "gravity_wrench", "resist_wrench",
            "resist_wrench_batch"]
@@ -102,22 +102,54 @@ def gravity_wrench(mass: float, center_of_mass: ArrayLike, g: ArrayLike = (0.0, 
     >>> (gravity_wrench(2.0, [1, 0, 0], g=[0, 0, -10]) + 0.0).tolist()
     [0.0, 0.0, -20.0, 0.0, 20.0, 0.0]
     """
-    if isinstance(mass, bool) or not isinstance(mass, Real) or not math.isfinite(mass) \
+    if isinstance(mass, bool) or not isinstance(mass, Real) or not _finite(mass) \
             or mass < 0:
-        raise InputError(f"mass must be a finite number >= 0, got {mass!r}")
-    c = np.asarray(center_of_mass, dtype=float).reshape(-1)
-    g_ = np.asarray(g, dtype=float).reshape(-1)
-    if c.shape != (3,) or g_.shape != (3,) or not (np.all(np.isfinite(c))
-                                                   and np.all(np.isfinite(g_))):
-        raise InputError("center_of_mass and g must be 3 finite numbers each")
-    ref = np.zeros(3) if reference is None else np.asarray(reference, dtype=float).reshape(3)
-    force = mass * g_
-    return np.concatenate([force, np.cross(c - ref, force)])
+        raise InputError(f"mass must be a finite number >= 0, got {shown(mass, 80)}")
+    c = _finite_vector(center_of_mass, 3, "center_of_mass")
+    g_ = _finite_vector(g, 3, "g")
+    ref = np.zeros(3) if reference is None else _finite_vector(reference, 3, "reference")
+    with np.errstate(over="ignore", invalid="ignore"):
+        force = float(mass) * g_
+        wrench = np.concatenate([force, np.cross(c - ref, force)])
+    if not np.all(np.isfinite(wrench)):
+        raise InputError(f"mass {float(mass):g} under g {g_.tolist()} (torque about the "
+                         "reference): the wrench overflows")
+    return wrench
+
+
+def _finite(value: Real) -> bool:
+    """Whether a real number is finite as a float (an int past float's range is not)."""
+    try:
+        return math.isfinite(float(value))
+    except OverflowError:
+        return False
+
+
+def _finite_vector(value: ArrayLike, n: int, name: str) -> NDArray[np.float64]:
+    """``n`` finite numbers, or one line naming ``name``."""
+    try:
+        v = np.asarray(value, dtype=float).reshape(-1)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"{name} must be {n} finite numbers, got {shown(value, 80)}") from None
+    if v.shape != (n,) or not np.all(np.isfinite(v)):
+        raise InputError(f"{name} must be {n} finite numbers, got {shown(v.tolist(), 80)}")
+    return v
 
 
 def _max_scale(W: NDArray, normal_force: NDArray, owner: NDArray, k: int, w: NDArray,
                f_max: float) -> tuple[float, NDArray | None]:
-    """The LP of the module's docstring: ``(s*, λ)`` (``λ`` None when unbounded)."""
+    """The LP of the module's docstring: ``(s*, λ)`` (``λ`` None when unbounded).
+
+    Solved for the unit task (``w`` over its largest component, forces at most 1), whose
+    coefficients HiGHS takes whatever the units (a mass of 1e100 is not a model error);
+    ``s*`` and ``λ`` scale back exactly: ``s*(w, f) = s*(w / |w|∞, 1) · f / |w|∞``."""
+    big = float(np.max(np.abs(w)))
+    s, lam = _max_scale_unit(W, normal_force, owner, k, w / big)
+    return s * (f_max / big), None if lam is None else lam * f_max
+
+
+def _max_scale_unit(W: NDArray, normal_force: NDArray, owner: NDArray, k: int, w: NDArray,
+                    f_max: float = 1.0) -> tuple[float, NDArray | None]:
     from scipy.optimize import linprog
 
     m = W.shape[1]
@@ -143,19 +175,24 @@ def _task(wrench: ArrayLike, f_max: float, reference: ArrayLike | None, d: int
     D = 3 if d == 2 else 6
     try:
         w = np.asarray(wrench, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InputError(f"wrench must be {D} numbers") from None
     if w.shape != (D,) or not np.all(np.isfinite(w)):
         raise InputError(f"wrench must be {D} finite numbers (force, torque), got shape "
                          f"{w.shape}")
     if not np.any(w):
         raise InputError("wrench is zero: any grasp resists it, there is nothing to test")
-    if isinstance(f_max, bool) or not isinstance(f_max, Real) or not math.isfinite(f_max) \
+    if isinstance(f_max, bool) or not isinstance(f_max, Real) or not _finite(f_max) \
             or f_max <= 0:
-        raise InputError(f"f_max must be a finite positive number, got {f_max!r}")
-    ref = np.zeros(d) if reference is None else np.asarray(reference, dtype=float).reshape(-1)
-    if ref.shape != (d,) or not np.all(np.isfinite(ref)):
-        raise InputError(f"reference must be {d} finite numbers")
+        raise InputError(f"f_max must be a finite positive number, got {shown(f_max, 80)}")
+    ratio = float(f_max) / float(np.max(np.abs(w)))
+    if not 1e-150 <= ratio <= 1e150:
+        raise InputError(f"f_max {float(f_max):g} and the wrench's largest component "
+                         f"{float(np.max(np.abs(w))):g} are more than 1e150 apart; rescale "
+                         "them (the spare is their ratio's multiple)")
+    ref = np.zeros(d) if reference is None else _finite_vector(reference, d, "reference")
+    if np.abs(ref).max(initial=0.0) > MAX_COORDINATE:
+        raise InputError(f"reference must be within {MAX_COORDINATE:g} of the origin")
     return w, ref
 
 def resist_wrench(points: ArrayLike, normals: ArrayLike, wrench: ArrayLike, *,
@@ -207,7 +244,7 @@ def resist_wrench(points: ArrayLike, normals: ArrayLike, wrench: ArrayLike, *,
     try:
         P = np.asarray(points, dtype=float)
         N_ = np.asarray(normals, dtype=float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InputError("points and normals must be arrays of numbers") from None
     if P.ndim != 2:
         raise InputError(f"points must have shape (k, 2 or 3) for one grasp, got {P.shape}")
@@ -216,7 +253,7 @@ def resist_wrench(points: ArrayLike, normals: ArrayLike, wrench: ArrayLike, *,
         mu_ = np.broadcast_to(np.asarray(mu, dtype=float), (k,))[None]
         tors_ = None if torsion is None else np.broadcast_to(
             np.asarray(torsion, dtype=float), (k,))[None]
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InputError(f"mu and torsion must be numbers or {k} numbers (one per contact)"
                          ) from None
     grasps = _validate(P[None], N_[None], mu_, model, tors_)
@@ -264,10 +301,15 @@ def _stacked_scales(W: NDArray, normal_force: NDArray, owner: NDArray, k: int, w
     """``s*`` of ``n`` independent LPs (``W`` ``(n, D, m)``, ``w`` ``(n, D)``) stacked
     block-diagonally into one: maximising ``Σ s_g`` over separate blocks maximises each
     ``s_g``. None when the stacked LP is not solved to optimality (e.g. one block is
-    unbounded): the caller solves the blocks one at a time."""
+    unbounded): the caller solves the blocks one at a time. Solved for unit tasks, as
+    :func:`_max_scale`."""
     from scipy.optimize import linprog
     from scipy.sparse import block_diag
 
+    big = np.max(np.abs(w), axis=1)
+    w = w / big[:, None]
+    back = f_max / big
+    f_max = 1.0
     n, D, m = W.shape
     c = np.zeros((n, m + 1))
     c[:, -1] = -1.0
@@ -280,7 +322,7 @@ def _stacked_scales(W: NDArray, normal_force: NDArray, owner: NDArray, k: int, w
                   b_eq=np.zeros(n * D), bounds=(0, None), method="highs")
     if res.status != 0:
         return None
-    return np.maximum(0.0, res.x.reshape(n, m + 1)[:, -1])
+    return np.maximum(0.0, res.x.reshape(n, m + 1)[:, -1]) * back
 
 
 def resist_wrench_batch(points: ArrayLike, normals: ArrayLike, wrench: ArrayLike, *,

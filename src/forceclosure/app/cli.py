@@ -632,7 +632,7 @@ def _cmd_dataset(args: argparse.Namespace) -> int:
             raise InputError("--scheduler needs Dask: pip install 'forceclosure[dask]'") from None
         try:
             client = Client(args.scheduler, timeout="20s")
-        except (OSError, TimeoutError) as e:
+        except (OSError, TimeoutError, ValueError) as e:
             raise InputError(f"--scheduler {args.scheduler}: cannot connect "
                              f"({str(e).splitlines()[0] if str(e) else type(e).__name__})"
                              ) from None
@@ -1402,6 +1402,9 @@ def main(argv: list[str] | None = None) -> int:
     """Run the command; returns the exit status."""
     args = build_parser().parse_args(argv)
     try:
+        from .limits import check_options
+
+        check_options(args)  # every option's range, before any work (app/limits.py)
         return args.run(args)
     except InputError as e:
         _error(as_flags(str(e)))

@@ -276,12 +276,15 @@ class Summary:
 
 # -- the input set --------------------------------------------------------------------------
 
-def expand_inputs(inputs: Iterable[str | Path]) -> list[Path]:
+def expand_inputs(inputs: Iterable[str | Path], exclude: str | Path | None = None
+                  ) -> list[Path]:
     """Object files from files, folders (searched recursively) and glob patterns.
 
     A folder contributes its polygon, mesh and URDF files, but not the mesh
     files its URDFs name (the URDF stands for them, with its scale) nor
     grasp files (``*.grasps.json``). A file named directly is always taken.
+    Files inside ``exclude`` (a results folder: its ``job.json`` and records
+    are JSON too) are left out of folders and glob patterns.
 
     Examples
     --------
@@ -295,6 +298,7 @@ def expand_inputs(inputs: Iterable[str | Path]) -> list[Path]:
 
     named: list[Path] = []
     walked: list[Path] = []
+    skip = _inside(exclude)
     for item in inputs:
         path = Path(item)
         if path.is_file() or (not path.exists() and str(item) in {*POLYGONS, *POLYHEDRA}):
@@ -302,12 +306,13 @@ def expand_inputs(inputs: Iterable[str | Path]) -> list[Path]:
         elif path.is_dir():
             walked += [p for p in sorted(path.rglob("*"))
                        if p.is_file() and p.suffix.lower() in OBJECT_SUFFIXES
-                       and not p.name.lower().endswith(GRASP_SUFFIXES)]
+                       and not p.name.lower().endswith(GRASP_SUFFIXES) and not skip(p)]
         else:
             matches = sorted(Path(m) for m in glob.glob(str(item), recursive=True))
             matches = [m for m in matches if m.is_file()]
             if not matches:
                 raise InputError(f"{item}: no such file or folder, and no files match it")
+            matches = [m for m in matches if not skip(m)]
             named += matches
     meshes_of_urdfs = set()
     for p in walked:
@@ -322,6 +327,23 @@ def expand_inputs(inputs: Iterable[str | Path]) -> list[Path]:
     for p in named + walked:
         unique.setdefault(_key(p), p)
     return sorted(unique.values(), key=lambda p: str(p))
+
+
+def _inside(folder: str | Path | None) -> Callable[[Path], bool]:
+    """Whether a path lies inside ``folder`` (symbolic links followed); never, for None."""
+    if folder is None:
+        return lambda path: False
+    try:
+        top = Path(folder).resolve()
+    except (OSError, RuntimeError):
+        return lambda path: False
+
+    def inside(path: Path) -> bool:
+        try:
+            return path.resolve().is_relative_to(top)
+        except (OSError, RuntimeError):
+            return False
+    return inside
 
 
 def _key(path: Path) -> str:
@@ -579,14 +601,47 @@ def process_object(path: str | Path, job: Job) -> dict[str, Any]:
 
 # -- the results folder ------------------------------------------------------------------
 
-def _check_job(out: Path, job: Job) -> None:
+def _jobs_of_records(folder: Path) -> list[dict[str, Any]]:
+    """The distinct jobs the readable records in ``folder`` say they belong to."""
+    jobs: dict[str, dict[str, Any]] = {}
+    for file in sorted(folder.glob("*.json")) if folder.is_dir() else []:
+        try:
+            record = json.loads(file.read_text(encoding="utf-8"))
+        except (OSError, ValueError, UnicodeDecodeError, RecursionError):
+            continue
+        if isinstance(record, dict) and isinstance(record.get("job"), dict):
+            jobs.setdefault(json.dumps(record["job"], sort_keys=True), record["job"])
+    return list(jobs.values())
+
+
+def _repaired_job(out: Path, path: Path, wanted: dict[str, Any],
+                  warn: Callable[[str], object]) -> dict[str, Any]:
+    """A damaged ``job.json`` (truncated, not JSON, not an object) rebuilt from the records'
+    own copies of their job, or refused in one line saying the way out."""
+    jobs = _jobs_of_records(out / "objects")
+    if len(jobs) > 1:
+        raise InputError(f"{path}: damaged, and the records in {out / 'objects'} belong to "
+                         f"{len(jobs)} jobs; remove {path.name} to keep those of this job (the "
+                         "others are computed again), or use another --out")
+    held = jobs[0] if jobs else wanted
+    write_atomically(path, json.dumps(held, indent=2) + "\n")
+    warn(f"forceclosure: warning: {path}: damaged; rebuilt from "
+         + (f"the job its {out / 'objects'} records name" if jobs else
+            "this run's options (no record names a job)"))
+    return held
+
+
+def _check_job(out: Path, job: Job, warn: Callable[[str], object] | None = None) -> None:
     path = out / "job.json"
     wanted = job.identity()
+    warn = warn or (lambda line: print(printable(line), file=sys.stderr))
     if path.exists():
         try:
             held = json.loads(path.read_text(encoding="utf-8"))
-        except (ValueError, UnicodeDecodeError):
-            raise InputError(f"{path}: not a job file; use another --out") from None
+        except (ValueError, UnicodeDecodeError, RecursionError):
+            held = None
+        if not isinstance(held, dict):
+            held = _repaired_job(out, path, wanted, warn)
         if isinstance(held, dict):
             held.setdefault("allow_open", False)  # written before the option existed
             held.setdefault("allow_outside_meshes", False)
@@ -791,7 +846,7 @@ def run_dataset(inputs: Sequence[str | Path], out: str | Path, job: Job = Job(),
     ...             progress=False).skipped
     2
     """
-    paths = expand_inputs(inputs)
+    paths = expand_inputs(inputs, exclude=out)  # never its own job.json and records
     if job.mode == "synthesize":  # a hand no object can serve: refuse before any work
         from ..synthesis.best import check_hand
 
@@ -809,7 +864,7 @@ def run_dataset(inputs: Sequence[str | Path], out: str | Path, job: Job = Job(),
     with locked(out):
         remove_temporaries([out, folder])
         try:
-            _check_job(out, job)
+            _check_job(out, job, log)
         except OSError as e:
             raise InputError(f"--out {out}: cannot write job.json ({e.strerror})") from None
         return _run_locked(paths, out, job, executor, workers, retry_failed, progress, log,

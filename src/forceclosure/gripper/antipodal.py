@@ -133,7 +133,7 @@ def sample_antipodal(obj: Any, mu: float, count: int, seed: int = 0,
     try:
         mu = float(mu)
         width_max = float(width_max)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InputError("mu and width_max must be numbers") from None
     if not np.isfinite(mu) or mu <= 0:
         raise InputError(f"mu must be finite and positive for antipodal sampling, got {mu}")

@@ -213,7 +213,7 @@ def collides(obj: Any, poses: Any, gripper: ParallelJaw, clearance: float | None
     if depths is not None:
         try:
             depths = np.asarray(depths, dtype=float).reshape(n)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             raise InputError(f"depths must be {n} numbers, one a pose") from None
         if not np.all(np.isfinite(depths)):
             raise InputError("depths must be finite")

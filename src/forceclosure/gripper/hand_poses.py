@@ -192,7 +192,7 @@ def search_poses(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
         raise InputError(f"count must be a whole number >= 0, got {count!r}")
     try:
         tilt = float(tilt)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InputError(f"tilt must be a number from 0 to 1, got {tilt!r}") from None
     if not 0 <= tilt <= 1:
         raise InputError(f"tilt must be a number from 0 to 1, got {tilt!r}")

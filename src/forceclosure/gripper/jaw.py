@@ -18,6 +18,7 @@ lies on its face to rounding.
 
 from __future__ import annotations
 
+import math
 import weakref
 from dataclasses import dataclass
 from numbers import Real
@@ -26,7 +27,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import InputError
+from ..contacts import MAX_COORDINATE
+from ..errors import InputError, shown
 
 __all__ = ["JawContacts", "JawPose", "ParallelJaw", "contacts_of", "pose_from_contacts"]
 
@@ -43,12 +45,24 @@ BACKOFF = 1e-6
 def _unit(v: ArrayLike, name: str) -> NDArray[np.float64]:
     try:
         a = np.asarray(v, dtype=float).reshape(3)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InputError(f"'{name}' must be 3 numbers, got {v!r}") from None
     length = float(np.linalg.norm(a))
     if not np.isfinite(length) or length <= 1e-12:
         raise InputError(f"'{name}' must be a finite nonzero vector, got {a.tolist()}")
     return a / length
+
+
+def _point(v: ArrayLike, name: str) -> NDArray[np.float64]:
+    """3 finite numbers within the library's coordinates, or one line naming ``name``."""
+    try:
+        a = np.asarray(v, dtype=float).reshape(3)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"'{name}' must be 3 numbers, got {shown(v, 80)}") from None
+    if not np.all(np.isfinite(a)) or np.abs(a).max() > MAX_COORDINATE:
+        raise InputError(f"'{name}' must be 3 finite numbers of at most {MAX_COORDINATE:g}, "
+                         f"got {a.tolist()}")
+    return a
 
 
 def default_approach(closing: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -177,10 +191,14 @@ class ParallelJaw:
             value = getattr(self, name)
             if value is None and name != "width_max":
                 continue
+            try:  # an int past float's range (10**400) is not finite either
+                number = float(value) if isinstance(value, Real) else math.nan
+            except OverflowError:
+                number = math.inf
             if (isinstance(value, bool) or not isinstance(value, Real)
-                    or not np.isfinite(value) or value < 0 or value > 1e150):
-                raise InputError(f"ParallelJaw: '{name}' must be a finite number >= 0, "
-                                 f"got {value!r}")
+                    or not math.isfinite(number) or number < 0 or number > 1e150):
+                raise InputError(f"ParallelJaw: '{name}' must be a finite number >= 0 (at "
+                                 f"most 1e150), got {shown(value, 80)}")
         if not isinstance(self.name, str) or not self.name.strip():
             raise InputError(f"ParallelJaw: 'name' must be a non-empty string, got {self.name!r}")
         if self.width_max <= 0:
@@ -249,7 +267,7 @@ class JawPose:
     def __post_init__(self) -> None:
         try:
             center = np.asarray(self.center, dtype=float).reshape(3)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             raise InputError(f"JawPose: 'center' must be 3 numbers, got {self.center!r}") from None
         if not np.all(np.isfinite(center)):
             raise InputError(f"JawPose: 'center' must be finite, got {center.tolist()}")
@@ -261,8 +279,9 @@ class JawPose:
         approach = approach / np.linalg.norm(approach)
         try:
             width = float(self.width)
-        except (TypeError, ValueError):
-            raise InputError(f"JawPose: 'width' must be a number, got {self.width!r}") from None
+        except (TypeError, ValueError, OverflowError):
+            raise InputError(f"JawPose: 'width' must be a number, got {shown(self.width, 80)}"
+                             ) from None
         if not np.isfinite(width) or width <= 0:
             raise InputError(f"JawPose: 'width' must be finite and positive, got {width}")
         object.__setattr__(self, "center", center)
@@ -440,8 +459,7 @@ def pose_from_contacts(p: ArrayLike, q: ArrayLike, approach: ArrayLike | None = 
     >>> pose.center.tolist(), pose.width, pose.approach_axis.round(6).tolist()
     ([0.0, 0.5, 0.0], 2.0, [0.0, 0.707107, 0.707107])
     """
-    p = np.asarray(p, dtype=float).reshape(3)
-    q = np.asarray(q, dtype=float).reshape(3)
+    p, q = _point(p, "p"), _point(q, "q")
     closing = _unit(q - p, "q - p")
     if approach is None:
         approach = default_approach(closing)

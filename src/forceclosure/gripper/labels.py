@@ -457,7 +457,7 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
         raise InputError(f"contact must be 'soft' or 'hard', got {contact!r}")
     try:
         mu = float(mu)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InputError(f"mu must be a number, got {mu!r}") from None
     if not np.isfinite(mu) or mu <= 0:
         raise InputError(f"mu must be finite and positive, got {mu}")

@@ -37,7 +37,7 @@ from numpy.lib import format as npy
 from numpy.typing import NDArray
 
 from ..analysis.batch import CHUNK, analyze_batch, epsilon_batch
-from ..contacts import MODELS, Cone
+from ..contacts import MAX_CONTACTS, MODELS, Cone
 from ..errors import InputError, clip
 from .atomic import atomic_write
 from .files import regular_file
@@ -208,6 +208,9 @@ def open_npz(path: str) -> GraspArrays:
         if k == 0:
             raise InputError(f"{path}: 'points' has shape {shape}: every grasp needs at least "
                              "one contact")
+        if k > MAX_CONTACTS:  # before any list or array of k is made
+            raise InputError(f"{path}: 'points' has shape {shape}: {k:,} contacts a grasp; "
+                             f"at most {MAX_CONTACTS:,} are analysed")
         held = min(r.held for r in members.values())
         if n > max(held, _CLAIM_ROWS):
             raise InputError(f"{path}: 'points' and 'normals' claim {n:,} grasps but the file "

@@ -67,6 +67,9 @@ def polygon_from_json(data: Any, name: str = "polygon") -> Polygon:
     kind = data.get("type")
     if kind == "FeatureCollection":
         features = data.get("features") or []
+        if not isinstance(features, list):
+            raise InputError(f"{name}: the FeatureCollection's 'features' must be a list of "
+                             f"features, got {type(features).__name__}")
         polys = [f for f in features if isinstance(f, dict) and isinstance(f.get("geometry"), dict)
                  and f["geometry"].get("type") in ("Polygon", "MultiPolygon")]
         if len(polys) != 1:
@@ -102,7 +105,13 @@ def polygon_from_csv(text: str, name: str = "polygon") -> Polygon:
     4.5
     """
     rings: list[list[list[float]]] = [[]]
-    for lineno, row in enumerate(csv.reader(io.StringIO(text)), start=1):
+    reader = csv.reader(io.StringIO(text))
+    try:
+        rows = list(reader)
+    except csv.Error as e:  # a field over csv's limit (131,072 characters), a NUL byte
+        raise InputError(f"{name}: line {reader.line_num}: not CSV coordinates: "
+                         f"{_first_line(e)}") from None
+    for lineno, row in enumerate(rows, start=1):
         cells = [c.strip() for c in row if c.strip()]
         if len(cells) == 1:
             cells = cells[0].split()

@@ -60,7 +60,7 @@ from numpy.typing import NDArray
 from ..errors import InputError, first_line
 from .polygon import RTOL, Polygon, _signed_area
 
-__all__ = ["SVG_TOLERANCE", "polygon_from_svg"]
+__all__ = ["MAX_DEPTH", "SVG_TOLERANCE", "polygon_from_svg"]
 
 #: Largest distance between a curve and the chords that replace it, relative to the
 #: shape's size (the diagonal of its bounding box).
@@ -68,6 +68,10 @@ SVG_TOLERANCE = 1e-3
 
 #: Most chords per curve segment; more means a degenerate curve.
 MAX_PIECES = 100_000
+
+#: Deepest nesting of elements read (drawings nest groups a few tens deep; the reader
+#: and svgelements walk the tree recursively, within Python's recursion limit).
+MAX_DEPTH = 200
 
 _XLINK = "{http://www.w3.org/1999/xlink}href"
 #: Referenced only: svgelements would draw their content where they stand.
@@ -79,6 +83,16 @@ _PATH_COMMANDS = "MmZzLlHhVvCcSsQqTtAa"
 _METRIC = {"mm": 96 / 25.4, "cm": 96 / 2.54}
 _LENGTH_ATTRIBUTES = ("x", "y", "width", "height", "rx", "ry", "cx", "cy", "r", "x1", "y1",
                       "x2", "y2")
+
+
+def _depth(root: ET.Element) -> int:
+    """How deep elements nest below ``root`` (1 for a lone root), without recursion."""
+    deepest, level = 1, [root]
+    while True:
+        level = [child for element in level for child in element]
+        if not level:
+            return deepest
+        deepest += 1
 
 
 def _local(tag: Any) -> str:
@@ -630,6 +644,10 @@ def polygon_from_svg(text: str, name: str = "polygon", part: str | None = None,
         root = ET.fromstring(text)
     except ET.ParseError as e:
         raise InputError(f"{name}: not valid SVG/XML: {first_line(e)}") from None
+    depth = _depth(root)
+    if depth > MAX_DEPTH:
+        raise InputError(f"{name}: elements nested {depth:,} deep; at most {MAX_DEPTH} levels "
+                         "are read")
     flip = _prepare(root, name)
     try:
         svg = se.SVG.parse(io.StringIO(ET.tostring(root, encoding="unicode")), reify=True,

@@ -29,14 +29,17 @@ All pieces are concatenated into one triangle set: pieces that do not touch
 become separate shells; overlapping ones are left as they are (several
 shells), for :class:`~forceclosure.objects.polyhedron.Polyhedron` to deal with.
 
-Mesh file names: ``package://pkg/rest`` is looked up in the package's
-folder, found by searching upward from the URDF's folder for a folder named
-``pkg``, a folder with a subfolder ``pkg``, or a folder whose
-``package.xml`` has ``<name>pkg</name>``; failing that, ``rest`` is taken
-relative to the URDF's folder. ``file://`` URIs and plain paths are
-relative to the URDF's folder unless absolute. A mesh that resolves (symbolic links
-followed) outside the URDF's folder, or outside the package's folder for
-``package://``, is refused unless ``allow_outside_meshes=True``. Blank lines before the XML
+Mesh file names: ``package://pkg/rest`` is resolved as ROS does: the
+package's folder is a folder above the URDF whose ``package.xml`` names
+``pkg`` (or a folder named ``pkg`` with a ``package.xml``), or one found in
+``ROS_PACKAGE_PATH``; a subfolder ``pkg`` of the URDF's own folder counts too
+(pybullet's ``xarm``). Failing those, ``rest`` is taken relative to the
+URDF's folder. ``file://`` URIs and plain paths are relative to the URDF's
+folder unless absolute. A mesh that resolves (``..`` and symbolic links
+followed) outside its package's folder (for plain names: the ROS package the
+URDF is in, so ``pkg/urdf/r.urdf`` may name ``../meshes/a.obj``; else the
+URDF's folder) is refused in one line naming it, unless
+``allow_outside_meshes=True``. Blank lines before the XML
 declaration (strictly not XML; pybullet's ``biped2d_pybullet.urdf`` has
 them) are skipped.
 
@@ -55,6 +58,8 @@ the link, the element and the field, whatever it cannot read exactly.
 from __future__ import annotations
 
 import math
+import os
+import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, replace
 from functools import lru_cache
@@ -239,35 +244,104 @@ def _numbers(text: str | None, count: tuple[int, ...], what: str, where: str,
     return values
 
 
-def _package_roots(package: str, folder: Path) -> list[Path]:
-    """Folders that may be package ``package``, nearest first, searching up from ``folder``."""
-    roots = []
+#: How deep below a ``ROS_PACKAGE_PATH`` entry packages are looked for, and how many folders
+#: at most are looked at (a workspace is crawled as ``rospack`` does, within bounds).
+_CRAWL_DEPTH, _CRAWL_FOLDERS = 6, 20_000
+
+#: A ROS package name as REP 144 (and, more loosely, older packages) spell them.
+_PACKAGE_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]*")
+
+
+def _manifest_name(folder: Path) -> str | None:
+    """The ``<name>`` in ``folder/package.xml``, or None (no manifest, or not readable)."""
+    manifest = folder / "package.xml"
+    try:
+        if not manifest.is_file():
+            return None
+        name = ET.parse(manifest).getroot().findtext("name")
+    except (ET.ParseError, OSError, RecursionError):
+        return None
+    return None if name is None else name.strip()
+
+
+def _is_package(folder: Path, package: str) -> bool:
+    """Whether ``folder`` is package ``package``: its ``package.xml`` names it, or the folder
+    has that name and a ``package.xml``."""
+    name = _manifest_name(folder)
+    return name == package or (name is not None and folder.name == package)
+
+
+def _ros_package_path(package: str) -> list[Path]:
+    """Package ``package``'s folders under the ``ROS_PACKAGE_PATH`` entries, first entry first
+    (a crawl that stops at packages, skips hidden folders and is bounded)."""
+    found = []
+    seen = 0
+    for entry in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep):
+        if not entry or not Path(entry).is_dir():
+            continue
+        level = [Path(entry)]
+        for _ in range(_CRAWL_DEPTH):
+            below = []
+            for folder in level:
+                seen += 1
+                if seen > _CRAWL_FOLDERS:
+                    return found
+                if _manifest_name(folder) is not None:  # a package: not crawled into
+                    if _is_package(folder, package):
+                        found.append(folder)
+                    continue
+                try:
+                    below.extend(sorted(c for c in folder.iterdir()
+                                        if c.is_dir() and not c.name.startswith(".")))
+                except OSError:
+                    continue
+            level = below
+    return found
+
+
+def _enclosing_package(folder: Path) -> Path | None:
+    """The nearest folder at or above ``folder`` with a ``package.xml`` (the ROS package the
+    URDF belongs to), or None."""
     for ancestor in [folder, *folder.parents]:
-        if ancestor.name == package:
-            roots.append(ancestor)
-        if (ancestor / package).is_dir():
-            roots.append(ancestor / package)
-        manifest = ancestor / "package.xml"
-        if manifest.is_file():
-            try:
-                name = ET.parse(manifest).getroot().findtext("name")
-            except (ET.ParseError, OSError):
-                name = None
-            if name is not None and name.strip() == package:
-                roots.append(ancestor)
+        if _manifest_name(ancestor) is not None:
+            return ancestor
+    return None
+
+
+def _package_roots(package: str, folder: Path) -> list[Path]:
+    """Folders that are package ``package`` as ROS finds it, nearest first.
+
+    Searching up from the URDF's ``folder``: a folder whose ``package.xml``
+    names the package, or a folder of the package's name with a
+    ``package.xml``; then the ``ROS_PACKAGE_PATH`` entries. Besides, a subfolder
+    ``package`` of the URDF's own folder (pybullet's ``xarm`` and
+    ``franka_panda`` lay their meshes so), which stays inside the URDF's
+    folder. An ancestor's other subfolders, and ancestors merely named like
+    the package, are not packages: ``/`` is everyone's ancestor.
+    """
+    roots = []
+    if (folder / package).is_dir():
+        roots.append(folder / package)
+    roots.extend(a for a in [folder, *folder.parents] if _is_package(a, package))
+    roots.extend(_ros_package_path(package))
     return list(dict.fromkeys(roots))
 
 
 def _resolve(filename: str, urdf: Path) -> tuple[Path, Path]:
-    """Where a mesh ``filename`` is, and the folder it may not leave (the URDF's, or the
-    ``package://`` package's)."""
+    """Where a mesh ``filename`` is, and the folder it may not leave (the ``package://``
+    package's; for other names the ROS package the URDF is in, else the URDF's folder)."""
     folder = urdf.parent
+    enclosing = _enclosing_package(folder.resolve())
+    confined = enclosing if enclosing is not None else folder
     if filename.startswith("package://"):
         package, _, rest = filename[len("package://"):].partition("/")
         rest = unquote(rest)
         if not package or not rest:
             raise InputError(f"{urdf.name}: mesh {filename!r}: a package:// address needs a "
                              "package name and a path in it")
+        if not _PACKAGE_NAME.fullmatch(package) or package.strip(".") == "":
+            raise InputError(f"{urdf.name}: mesh {filename!r}: {package!r} is not a package "
+                             "name")
         for root in _package_roots(package, folder.resolve()):
             if (root / rest).is_file():
                 return root / rest, root
@@ -277,12 +351,12 @@ def _resolve(filename: str, urdf: Path) -> tuple[Path, Path]:
         path = unquote(parts.path)
         if parts.netloc and parts.netloc != "localhost":  # file://meshes/a.obj: a relative path
             path = unquote(parts.netloc) + path
-        return (Path(path) if Path(path).is_absolute() else folder / path), folder
+        return (Path(path) if Path(path).is_absolute() else folder / path), confined
     scheme = urlsplit(filename).scheme
     if len(scheme) > 1:  # not a Windows drive letter
         raise InputError(f"{urdf.name}: mesh {filename!r}: cannot read {scheme}:// addresses "
                          "(package://, file:// and paths are read)")
-    return folder / filename, folder
+    return folder / filename, confined
 
 
 def resolve_mesh_filename(filename: str, urdf: Path) -> Path:
@@ -333,7 +407,7 @@ def check_mesh_inside(filename: str, urdf: Path, where: str | None = None) -> Pa
         raise InputError(f"{where}: its mesh {filename!r} cannot be followed: "
                          f"{first_line(e)}") from None
     if not real.is_relative_to(top):
-        kind = "package's" if filename.startswith("package://") else "URDF's"
+        kind = "URDF's" if root == urdf.parent else "package's"
         raise InputError(f"{where}: its mesh {filename!r} is outside the {kind} folder "
                          f"{top}; pass allow_outside_meshes=True (--allow-outside-meshes) "
                          "to read it")
@@ -381,8 +455,13 @@ def _piece(element: ET.Element, urdf: Path, link: str, which: str,
         mesh_file = (resolve_mesh_filename(filename, urdf) if allow_outside_meshes
                      else check_mesh_inside(filename, urdf, where))
         if not mesh_file.is_file():
+            hint = ""
+            if filename.startswith("package://"):
+                package = filename[len("package://"):].partition("/")[0]
+                hint = (f"; no package {package!r} holds it (a folder above the URDF whose "
+                        "package.xml names it, or one in ROS_PACKAGE_PATH)")
             raise InputError(f"{where}: its mesh {mesh_file.name} is missing ({filename!r}, "
-                             f"looked for {mesh_file})")
+                             f"looked for {mesh_file}){hint}")
         if mesh_file.suffix.lower() not in MESH_SUFFIXES:
             raise InputError(f"{where}: its mesh {mesh_file.name} is not a mesh file "
                              f"({', '.join(MESH_SUFFIXES)})")
