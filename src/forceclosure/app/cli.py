@@ -1261,11 +1261,12 @@ def build_parser() -> argparse.ArgumentParser:
                    help="compute failed and timed-out objects again")
     t.add_argument("--json", action="store_true", help="print the summary as JSON")
     # parallel-jaw grasps per object (docs/datasets.md, docs/gripper.md)
-    t.add_argument("--gripper", choices=("parallel-jaw", "panda", "graspnet"),
+    t.add_argument("--gripper", metavar="NAME|FILE.urdf",
                    help="instead of regions, sample --count jaw poses the hand can take on "
                         "every mesh and label them (verdict, least friction, epsilon, "
                         "collision): an .npz per object and grasps.parquet; needs --mu, and "
-                        "--width for the generic 'parallel-jaw' (built-ins: metres)")
+                        "--width for the generic 'parallel-jaw' (built-ins 'panda', "
+                        "'graspnet', or a hand's .urdf: metres)")
     t.add_argument("--width", type=float, default=None,
                    help="with --gripper parallel-jaw: the widest opening (object units)")
     t.add_argument("--count", type=int, default=None,
@@ -1294,10 +1295,12 @@ def build_parser() -> argparse.ArgumentParser:
                    help="accept open or non-manifold meshes (oriented outward, with a "
                         "warning) instead of refusing them")
     _outside_meshes_option(g)
-    g.add_argument("--gripper", metavar="NAME", choices=("parallel-jaw", "panda", "graspnet"),
+    g.add_argument("--gripper", metavar="NAME|FILE.urdf",
                    help="the hand: a built-in with its real sizes ('panda': Franka Emika's, "
-                        "'graspnet': GraspNet-1Billion's model; metres), or 'parallel-jaw' "
-                        "(the default), a generic hand sized from --width")
+                        "'graspnet': GraspNet-1Billion's model; metres), a hand's URDF file "
+                        "(two fingers on prismatic joints, measured from their geometry; a "
+                        "robot's URDF with its hand works too), or 'parallel-jaw' (the "
+                        "default), a generic hand sized from --width")
     g.add_argument("--width", type=float, default=None,
                    help="the generic gripper's widest opening (object units)")
     g.add_argument("--count", type=int, default=1000, help="grasps to sample (default 1000)")

@@ -104,8 +104,9 @@ class GripperJob:
         Soft pads' torsion: None bounded by the hand's pad, ``a`` by a disc of radius ``a``
         ((2/3) μ a), 0 the paper's soft finger (unlimited).
     hand : str
-        The gripper: ``"parallel-jaw"`` (the generic one of ``width``) or a built-in
-        (:mod:`forceclosure.gripper.grippers`).
+        The gripper: ``"parallel-jaw"`` (the generic one of ``width``), a built-in
+        (:mod:`forceclosure.gripper.grippers`) or a hand's ``.urdf`` file (its sizes are
+        part of the job's identity).
     seed : int
         The job's seed; each object's is :func:`object_seed` of it.
     least_friction : bool
@@ -174,7 +175,15 @@ class GripperJob:
                 "pad_radius": self.pad_radius, "seed": int(self.seed),
                 "least_friction": bool(self.least_friction), "collision": True,
                 "allow_open": self.allow_open,
-                "allow_outside_meshes": self.allow_outside_meshes}
+                "allow_outside_meshes": self.allow_outside_meshes,
+                **self._hand_identity()}
+
+    def _hand_identity(self) -> dict[str, Any]:
+        """A URDF hand's sizes (so that a changed file is another job); nothing for a
+        built-in or the generic hand."""
+        from ..gripper.urdf_hand import is_urdf_name
+
+        return {"hand": self.gripper().shape()} if is_urdf_name(self.hand) else {}
 
     def gripper(self):
         """The hand (:func:`forceclosure.gripper.grippers.make_gripper`)."""

@@ -30,9 +30,17 @@ axis):
 
 A built-in's boxes enclose the real hand's parts (never smaller), so a pose
 called clear of the object is clear for the real hand.
+
+A user's hand is read from its URDF (a name ending in ``.urdf``):
+:func:`~forceclosure.gripper.urdf_hand.gripper_from_urdf` measures the same
+sizes from the file's finger joints and geometry (the Panda's URDF gives the
+``panda`` hand above, to the rounding of its sizes and with boxes that enclose
+its meshes exactly).
 """
 
 from __future__ import annotations
+
+from functools import lru_cache
 
 from ..errors import InputError
 from .jaw import ParallelJaw
@@ -73,13 +81,16 @@ def gripper_named(name: str) -> ParallelJaw:
         return GRIPPERS[name]
     except (KeyError, TypeError):
         raise InputError(f"unknown gripper {name!r}; the built-in grippers are "
-                         + ", ".join(sorted(GRIPPERS))) from None
+                         + ", ".join(sorted(GRIPPERS)) + " (or give a hand's .urdf file)"
+                         ) from None
 
 
 def make_gripper(name: str | None = None, width: float | None = None,
                  pad_radius: float | None = None) -> ParallelJaw:
     """A hand from what a user names: a built-in by ``name`` (its opening is its own:
-    ``width`` refused), or the generic hand (``name`` None or :data:`GENERIC`) opening
+    ``width`` refused), a hand's URDF file (``name`` ending in ``.urdf``, read by
+    :func:`~forceclosure.gripper.urdf_hand.gripper_from_urdf`; its opening is its own),
+    or the generic hand (``name`` None or :data:`GENERIC`) opening
     ``width``; ``pad_radius`` replaces the pads' torsion model (0: the paper's
     unlimited torque; see :class:`~forceclosure.gripper.jaw.ParallelJaw`).
 
@@ -101,8 +112,28 @@ def make_gripper(name: str | None = None, width: float | None = None,
             raise InputError(f"width: the {GENERIC} gripper needs its opening (or name a "
                              f"built-in gripper: {', '.join(sorted(GRIPPERS))})")
         return ParallelJaw(width, pad_radius)
-    hand = gripper_named(name)
+    from .urdf_hand import is_urdf_name
+
+    hand = _urdf_hand(name) if is_urdf_name(name) else gripper_named(name)
     if width is not None:
-        raise InputError(f"width: the {name} gripper opens {hand.width_max:g} (its own); give "
+        raise InputError(f"width: the {hand.name} gripper opens {hand.width_max:g} (its own); give "
                          "one or the other")
     return hand if pad_radius is None else replace(hand, pad_radius=pad_radius)
+
+
+def _urdf_hand(path: str) -> ParallelJaw:
+    """The hand of a URDF file, read once per version of the file (its path, size and time)."""
+    import os
+
+    try:
+        stat = os.stat(path)
+    except OSError:
+        raise InputError(f"{path}: no such URDF file") from None
+    return _read_urdf_hand(os.path.abspath(path), stat.st_size, stat.st_mtime_ns)
+
+
+@lru_cache(maxsize=8)
+def _read_urdf_hand(path: str, size: int, mtime: int) -> ParallelJaw:
+    from .urdf_hand import gripper_from_urdf
+
+    return gripper_from_urdf(path)
