@@ -577,6 +577,7 @@ def _dataset_job(args: argparse.Namespace):
     defaults, those of synthesize) or, with --gripper, labelled jaw poses."""
     from .dataset import Job
     from .dataset_gripper import GripperJob
+    from .dataset_options import given_grasps_options, grasps_job_options
 
     regions = {"--fingers": args.fingers, "--top": args.top, "--margin": args.margin,
                "--construction": args.construction, "--method": args.method,
@@ -606,8 +607,10 @@ def _dataset_job(args: argparse.Namespace):
                           count=1000 if args.count is None else args.count,
                           contact=args.contact or "soft", pad_radius=args.pad_radius,
                           least_friction=not args.no_least_friction, hand=args.gripper,
-                          **common)
+                          **grasps_job_options(args, _robust_settings(args),
+                                               _task_settings(args)), **common)
     given = [flag for flag, value in gripper.items() if value is not None]
+    given += given_grasps_options(args)
     if given:
         raise InputError(f"{given[0]} is for --gripper parallel-jaw")
     options = {"fingers": args.fingers, "contact": args.contact, "mu": args.mu,
@@ -644,8 +647,11 @@ def _cmd_dataset(args: argparse.Namespace) -> int:
         summary = run_dataset(args.inputs, args.out, job, workers=args.workers,
                               retry_failed=args.retry_failed)
     table = os.path.join(args.out, "grasps.parquet") if args.gripper else None
+    exported = _dataset_exports(args.out, job)
     if args.json:
         extra = {"grasps_table": str(table)} if table else {}
+        if exported is not None:
+            extra["exports"] = exported
         json.dump({**summary.to_dict(), **extra}, sys.stdout, indent=2)
         sys.stdout.write("\n")
     else:
@@ -655,7 +661,27 @@ def _cmd_dataset(args: argparse.Namespace) -> int:
                   f"{os.path.join(args.out, 'objects')} (.npz)")
     if summary.interrupted:
         return 130
-    return 2 if summary.failed or summary.timeout else 0
+    return 2 if summary.failed or summary.timeout or (exported or {}).get("errors") else 0
+
+
+def _dataset_exports(out: str, job: Any) -> dict[str, Any] | None:
+    """``dataset --export``: the report of the files written (printed: one line per kind
+    and per object that could not be exported, on standard error), or None."""
+    if not getattr(job, "exports", ()):
+        return None
+    from .dataset_gripper import EXPORTS_FILE
+
+    try:
+        with open(os.path.join(out, EXPORTS_FILE), encoding="utf-8") as f:
+            report = json.load(f)
+    except (OSError, ValueError):
+        return None
+    for kind, folder in job.exports:
+        print(f"forceclosure: export {kind}: {report['files'].get(kind, 0):,} files in "
+              f"{printable(folder)}", file=sys.stderr)
+    for line in report["errors"]:
+        print(f"forceclosure: error: export {printable(line)}", file=sys.stderr)
+    return report
 
 
 def _robust_settings(args: argparse.Namespace) -> dict[str, Any] | None:
@@ -1277,6 +1303,9 @@ def build_parser() -> argparse.ArgumentParser:
                         "default: bounded by the hand's rectangular pad")
     t.add_argument("--no-least-friction", action="store_true",
                    help="with --gripper: skip the least friction (saved as NaN)")
+    from .dataset_options import add_grasps_options
+
+    add_grasps_options(t)  # grasps's labelling and export options, same names and meanings
     # not given: the job's own defaults (regions: synthesize's; --gripper: soft contacts),
     # so that region-only options given with --gripper can be refused
     t.set_defaults(run=_cmd_dataset, mu=None, contact=None, top=None, margin=None,
