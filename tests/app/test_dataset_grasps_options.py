@@ -34,15 +34,18 @@ def _labels(out: Path, name: str) -> GraspLabels:
 
 def test_options_are_recorded_and_honoured(tmp_path, capsys):
     out, exports = tmp_path / "out", tmp_path / "gn"
+    pictures = tmp_path / "pictures"
     argv = ["dataset", *OBJECTS, "--out", str(out), *BASE, *OPTIONS,
-            "--export", "graspnet", str(exports)]
+            "--export", "graspnet", str(exports), "--plot", str(pictures), "--plot-top", "2"]
     assert main(argv) == 0
-    assert "export graspnet: 2 files" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "export graspnet: 2 files" in err and "export plot: 2 files" in err
     job = json.loads((out / "job.json").read_text())
     assert (job["approaches"], job["depths"], job["tilt"], job["clearance"]) == (2, 1, 0.3, 0.05)
     assert job["epsilon"] is False and job["metrics"] is True and job["collision"] is True
     assert job["robust"]["samples"] == 3 and job["robust"]["pose_sigma"] == 0.03  # 1 % of 3
     assert job["exports"] == [["graspnet", str(exports)]]
+    assert (job["plot"], job["plot_top"], job["html"]) == (str(pictures), 2, None)
     stamp_job = GripperJob(width=3.0, mu=0.5, count=6)  # the fingerprint does not depend on them
     for name in OBJECTS:
         saved = _labels(out, name)
@@ -62,6 +65,8 @@ def test_options_are_recorded_and_honoured(tmp_path, capsys):
         npy = np.load(exports / (Path(record_name(Path(name))).stem + ".npy"))
         assert npy.shape == (6, 17)
         assert np.allclose(npy[:, 1], saved.width)  # GraspNet's column 1: the width
+        png = pictures / (Path(record_name(Path(name))).stem + ".png")
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     # a resumed run must ask for the same options: another tilt is another job
     other = [("0" if a == "0.3" else a) for a in argv]  # --tilt 0
     assert other != argv and main(other) == 2
@@ -88,6 +93,8 @@ def test_a_job_file_from_before_the_options_still_resumes(tmp_path):
     (["--tilt", "0.3"], "--tilt is for --gripper"),
     (["--robust"], "--robust is for --gripper"),
     (["--export", "graspnet", "g"], "--export is for --gripper"),
+    (["--plot", "p"], "--plot is for --gripper"),
+    ([*BASE, "--plot-top", "-1", "--plot", "p"], "--plot-top must be a whole number >= 0"),
     ([*BASE, "--no-collision", "--approaches", "2"], "--approaches is searched by the "
                                                       "collision check"),
     ([*BASE, "--tilt", "2"], "--tilt must be a share from 0 to 1"),

@@ -665,9 +665,11 @@ def _cmd_dataset(args: argparse.Namespace) -> int:
 
 
 def _dataset_exports(out: str, job: Any) -> dict[str, Any] | None:
-    """``dataset --export``: the report of the files written (printed: one line per kind
-    and per object that could not be exported, on standard error), or None."""
-    if not getattr(job, "exports", ()):
+    """``dataset --export/--plot/--html``: the report of the files written (printed: one
+    line per kind and per object that could not be exported, on standard error), or None."""
+    kinds = [*getattr(job, "exports", ()),
+             *((k, getattr(job, k, None)) for k in ("plot", "html") if getattr(job, k, None))]
+    if not kinds:
         return None
     from .dataset_gripper import EXPORTS_FILE
 
@@ -676,7 +678,7 @@ def _dataset_exports(out: str, job: Any) -> dict[str, Any] | None:
             report = json.load(f)
     except (OSError, ValueError):
         return None
-    for kind, folder in job.exports:
+    for kind, folder in kinds:
         print(f"forceclosure: export {kind}: {report['files'].get(kind, 0):,} files in "
               f"{printable(folder)}", file=sys.stderr)
     for line in report["errors"]:

@@ -40,7 +40,7 @@ import numpy as np
 from ..errors import InputError, OutputError
 
 __all__ = ["EXPORTS_FILE", "GRASP_COLUMNS", "GripperJob", "object_seed", "read_labels",
-           "sha256_of", "write_exports", "write_grasp_table"]
+           "sha256_of", "write_exports", "write_grasp_table", "write_pictures"]
 
 #: The report of a dataset's exports (``--export``), in its folder.
 EXPORTS_FILE = "exports.json"
@@ -138,6 +138,11 @@ class GripperJob:
         done (:func:`forceclosure.app.export_cmd.export_folder`).
     graspnet_score : {"friction", "epsilon"}
         The GraspGroup score of the ``graspnet`` exports.
+    plot, html, plot_top
+        ``--plot FOLDER``, ``--html FOLDER``, ``--plot-top K``: each object's ``K`` best
+        poses drawn as ``FOLDER/<stem>.png`` (``grasps --plot``'s picture) and
+        ``FOLDER/<stem>.html`` (``grasps --html``'s page), after every run
+        (:func:`write_pictures`).
 
     Every option that decides the results or the files is in :meth:`identity`, the job
     file's content: a resumed run must ask for the same ones.
@@ -177,13 +182,16 @@ class GripperJob:
     task: dict[str, Any] | None = None
     exports: tuple[tuple[str, str], ...] = ()
     graspnet_score: str = "friction"
+    plot: str | None = None
+    html: str | None = None
+    plot_top: int = 10
 
     #: What a job file written before these options existed means by their absence (the
     #: defaults then, and now): :func:`forceclosure.app.dataset._check_job` fills them in.
     IDENTITY_DEFAULTS: ClassVar[dict[str, Any]] = {
         "clearance": None, "approaches": 12, "depths": 3, "tilt": 0.0, "epsilon": True,
         "robust": None, "metrics": False, "task": None, "exports": [],
-        "graspnet_score": "friction"}
+        "graspnet_score": "friction", "plot": None, "html": None, "plot_top": 10}
 
     #: The dataset's dispatch key (:func:`forceclosure.app.dataset.process_object`).
     mode = "gripper"
@@ -260,6 +268,16 @@ class GripperJob:
                 raise InputError("--export graspnet: the friction score needs the least "
                                  "friction; drop --no-least-friction or pass --graspnet-score "
                                  "epsilon")
+        if isinstance(self.plot_top, bool) or not isinstance(self.plot_top, int) or (
+                self.plot_top < 0):
+            raise InputError(f"--plot-top must be a whole number >= 0, got {self.plot_top}")
+        folders = [f for _, f in self.exports] + [f for f in (self.plot, self.html) if f]
+        if len(set(folders)) < len(folders):
+            raise InputError("--export, --plot and --html: each needs its own folder")
+        for flag, folder in (("--plot", self.plot), ("--html", self.html)):
+            if folder and Path(folder).exists() and not Path(folder).is_dir():
+                raise InputError(f"{flag} {folder}: a dataset's pictures go in a folder (this "
+                                 "is a file)")
         if len({f for _, f in self.exports}) < len(self.exports):
             raise InputError("--export: each kind needs its own folder")
         for kind, folder in self.exports:
@@ -296,7 +314,8 @@ class GripperJob:
                 "metrics": bool(self.metrics),
                 "task": None if self.task is None else dict(self.task),
                 "exports": [list(e) for e in self.exports],
-                "graspnet_score": self.graspnet_score,
+                "graspnet_score": self.graspnet_score, "plot": self.plot, "html": self.html,
+                "plot_top": int(self.plot_top),
                 **self._hand_identity()}
 
     def _hand_identity(self) -> dict[str, Any]:
@@ -434,6 +453,8 @@ class GripperJob:
         table = write_grasp_table(out, records)
         if self.exports:
             write_exports(out, records, self.exports, self.graspnet_score)
+        if self.plot or self.html:
+            write_pictures(out, records, self)
         return table
 
 
@@ -534,3 +555,76 @@ def write_exports(out: str | Path, records: Iterable[dict[str, Any]],
     write_atomically(out / EXPORTS_FILE, json.dumps(report, indent=2) + "\n")
     return report
 
+
+
+def _stale(target: Path, source: Path) -> bool:
+    """Whether ``target`` is missing or older than ``source``."""
+    return not (target.is_file() and source.is_file()
+                and target.stat().st_mtime_ns >= source.stat().st_mtime_ns)
+
+
+def write_pictures(out: str | Path, records: Iterable[dict[str, Any]], job: GripperJob
+                   ) -> dict[str, Any]:
+    """Each done record's ``job.plot_top`` best poses as ``job.plot/<stem>.png`` and
+    ``job.html/<stem>.html`` (those ``grasps --plot`` and ``--html`` draw; a file at least as
+    new as its labels file is kept). Returns the files per kind and the objects that could
+    not be drawn, also added to ``out/exports.json``."""
+    import json
+
+    from ..gripper.labels import GraspLabels
+    from ..io.outdir import write_atomically
+    from ..objects.io import load_object
+    from ..pictures.plot import upright_axis
+
+    out = Path(out)
+    kinds = [(k, Path(f)) for k, f in (("plot", job.plot), ("html", job.html)) if f]
+    report: dict[str, Any] = {"files": {k: 0 for k, _ in kinds}, "errors": []}
+    for _, folder in kinds:
+        folder.mkdir(parents=True, exist_ok=True)
+    gripper = job.gripper()
+    done = sorted((r for r in records if r.get("status") == "done"
+                   and isinstance(r.get("labels_file"), str)), key=lambda r: r["labels_file"])
+    for record in done:
+        labels_file = out / "objects" / Path(record["labels_file"]).name
+        targets = [(k, folder / (labels_file.stem + (".png" if k == "plot" else ".html")))
+                   for k, folder in kinds]
+        todo = [(k, t) for k, t in targets if _stale(t, labels_file)]
+        report_done = [k for k, t in targets if (k, t) not in todo]
+        for k in report_done:
+            report["files"][k] += 1
+        if not todo:
+            continue
+        try:
+            source = record.get("path")
+            obj = load_object(source, allow_open=job.allow_open,
+                              allow_outside_meshes=job.allow_outside_meshes)
+            labels = GraspLabels.load(str(labels_file))
+            up = upright_axis(source, obj)
+            for kind, target in todo:
+                if kind == "plot":
+                    from ..pictures.grasp_plot import plot_grasps
+
+                    plot_grasps(obj, labels, str(target), top=job.plot_top, gripper=gripper,
+                                up=up)
+                else:
+                    from ..pictures.view import write_grasps_html
+
+                    write_grasps_html(obj, labels, target, top=job.plot_top, gripper=gripper,
+                                      up=up)
+                report["files"][kind] += 1
+        except (InputError, OSError) as e:
+            report["errors"].append(f"pictures of {labels_file.stem}: "
+                                    f"{str(e).splitlines()[0]}")
+    file = out / EXPORTS_FILE
+    try:
+        held = json.loads(file.read_text(encoding="utf-8")) if file.is_file() else {}
+    except (OSError, ValueError):
+        held = {}
+    if not isinstance(held, dict) or not isinstance(held.get("files"), dict):
+        held = {"files": {}, "errors": []}
+    merged = {"files": {**{k: v for k, v in held["files"].items() if k not in ("plot", "html")},
+                        **report["files"]},
+              "errors": [e for e in held.get("errors", []) if not e.startswith("pictures of ")]
+              + report["errors"]}
+    write_atomically(file, json.dumps(merged, indent=2) + "\n")
+    return report

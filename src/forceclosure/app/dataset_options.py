@@ -25,7 +25,9 @@ GRASPS_OPTIONS = (("--no-collision", "no_collision", True), ("--clearance", "cle
                   ("--no-robust-epsilon", "no_robust_epsilon", True),
                   ("--metrics", "metrics", True), ("--task-mass", "task_mass", False),
                   ("--gravity", "gravity", False), ("--f-max", "f_max", False),
-                  ("--export", "export", False), ("--graspnet-score", "graspnet_score", False))
+                  ("--export", "export", False), ("--graspnet-score", "graspnet_score", False),
+                  ("--plot", "plot", False), ("--html", "html", False),
+                  ("--plot-top", "plot_top", False))
 
 
 def add_grasps_options(parser: Any) -> None:
@@ -79,6 +81,14 @@ def add_grasps_options(parser: Any) -> None:
                         "'forceclosure export' does, after every run; repeatable")
     p.add_argument("--graspnet-score", choices=("friction", "epsilon"),
                    help="the graspnet exports' score (default friction)")
+    p.add_argument("--plot", metavar="FOLDER",
+                   help="with --gripper: also a picture of each object's best jaw poses, "
+                        "FOLDER/<object>.png (grasps --plot's), after every run")
+    p.add_argument("--html", metavar="FOLDER",
+                   help="with --gripper: also an interactive view of each object's best jaw "
+                        "poses, FOLDER/<object>.html (grasps --html's)")
+    p.add_argument("--plot-top", type=int, metavar="K",
+                   help="how many of the best poses the pictures and pages draw (default 10)")
 
 
 def grasps_job_options(args: Any, robust: dict[str, Any] | None,
@@ -92,7 +102,8 @@ def grasps_job_options(args: Any, robust: dict[str, Any] | None,
             "tilt": 0.0 if args.tilt is None else args.tilt, "epsilon": not args.no_epsilon,
             "robust": robust, "metrics": bool(args.metrics), "task": task,
             "exports": tuple(tuple(e) for e in args.export or ()),
-            "graspnet_score": args.graspnet_score or "friction"}
+            "graspnet_score": args.graspnet_score or "friction", "plot": args.plot,
+            "html": args.html, "plot_top": 10 if args.plot_top is None else args.plot_top}
 
 
 def given_grasps_options(args: Any) -> list[str]:
