@@ -19,10 +19,11 @@ from forceclosure.errors import InputError
 from forceclosure.gripper.jaw import ParallelJaw
 from forceclosure.gripper.labels import GraspLabels, grasp_labels
 from forceclosure.gripper.robust import robust_labels
+from forceclosure.gripper.support import support_plane
 
-OBJECTS = ("cube", "l-prism")
+OBJECTS = ("cube", "hexagonal-prism")
 OPTIONS = ["--approaches", "2", "--depths", "1", "--tilt", "0.3", "--clearance", "0.05",
-           "--no-epsilon", "--robust", "--robust-samples", "3", "--metrics"]
+           "--no-epsilon", "--robust", "--robust-samples", "3", "--metrics", "--support-plane"]
 BASE = ["--gripper", "parallel-jaw", "--width", "3", "--mu", "0.5", "--count", "6",
         "--workers", "1"]
 
@@ -43,6 +44,7 @@ def test_options_are_recorded_and_honoured(tmp_path, capsys):
     job = json.loads((out / "job.json").read_text())
     assert (job["approaches"], job["depths"], job["tilt"], job["clearance"]) == (2, 1, 0.3, 0.05)
     assert job["epsilon"] is False and job["metrics"] is True and job["collision"] is True
+    assert job["support_plane"] is True
     assert job["robust"]["samples"] == 3 and job["robust"]["pose_sigma"] == 0.03  # 1 % of 3
     assert job["exports"] == [["graspnet", str(exports)]]
     assert (job["plot"], job["plot_top"], job["html"]) == (str(pictures), 2, None)
@@ -51,13 +53,15 @@ def test_options_are_recorded_and_honoured(tmp_path, capsys):
         saved = _labels(out, name)
         seed = object_seed(0, fingerprint(name, stamp_job))
         direct = grasp_labels(name, ParallelJaw(3.0), 0.5, 6, seed, approaches=2, depths=1,
-                              tilt=0.3, clearance=0.05, epsilon=False)
+                              tilt=0.3, clearance=0.05, epsilon=False,
+                              support=support_plane(name))
         for key in ("center", "closing_axis", "approach_axis", "width", "points", "code",
                     "least_friction"):
             assert np.array_equal(getattr(saved, key), getattr(direct, key)), (name, key)
         assert np.all(np.isnan(saved.epsilon))
         assert saved.meta["approaches"] == 2 and saved.meta["tilt"] == 0.3
         assert saved.meta["collision"]["clearance"] == 0.05
+        assert saved.meta["support_plane"] == support_plane(name).to_dict()
         rob = robust_labels(name, direct, ParallelJaw(3.0), 0.5, samples=3, seed=seed,
                             pose_sigma=0.03)
         assert np.array_equal(saved.robust_probability, rob.probability), name
@@ -94,6 +98,8 @@ def test_a_job_file_from_before_the_options_still_resumes(tmp_path):
     (["--robust"], "--robust is for --gripper"),
     (["--export", "graspnet", "g"], "--export is for --gripper"),
     (["--plot", "p"], "--plot is for --gripper"),
+    (["--support-plane"], "--support-plane is for --gripper"),
+    ([*BASE, "--support-plane", "--no-collision"], "--support-plane is part of the collision"),
     ([*BASE, "--plot-top", "-1", "--plot", "p"], "--plot-top must be a whole number >= 0"),
     ([*BASE, "--no-collision", "--approaches", "2"], "--approaches is searched by the "
                                                       "collision check"),

@@ -945,6 +945,14 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     warning = units_warning(gripper, obj.size)
     if warning:
         print(f"forceclosure: warning: {obj.name}: {warning}", file=sys.stderr)
+    support = None
+    if args.support_plane:
+        from ..gripper.support import support_plane
+
+        if args.no_collision:
+            raise InputError("--support-plane is part of the collision check; it has no use "
+                             "with --no-collision")
+        support = support_plane(obj)
     start = time.perf_counter()
     with tqdm(total=args.count, unit=" grasps", unit_scale=True, file=sys.stderr, disable=None,
               desc="labelling") as bar:
@@ -955,7 +963,7 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
                               approaches=APPROACHES if args.approaches is None
                               else args.approaches, epsilon=not args.no_epsilon,
                               depths=DEPTHS if args.depths is None else args.depths,
-                              tilt=args.tilt)
+                              tilt=args.tilt, support=support)
     seconds = time.perf_counter() - start
     if robust is not None:
         labels, robust = _robust_stage(obj, labels, gripper, args, robust)
@@ -996,6 +1004,7 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
                "plot": args.plot, "html": args.html,
                "approaches": labels.meta["approaches"], "depths": labels.meta["depths"],
                "hand_poses_tried": labels.meta["tried"],
+               "support_plane": None if support is None else support.to_dict(),
                "seconds": round(seconds, 3),
                "grasps_per_second": round(len(labels) / seconds) if seconds > 0 else None,
                "out": args.out}
@@ -1384,6 +1393,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="spread the closing lines about the surface normals over this share "
                         "(0 to 1) of the friction cone's half-angle (default 0: along the "
                         "normals, where flat pads meet a surface flush)")
+    g.add_argument("--support-plane", action="store_true",
+                   help="rest the object on a table in its most stable pose (trimesh's "
+                        "stable poses): the hand must not cross the table; poses stay in "
+                        "the object's frame, the plane is in the summary and the labels' meta")
     g.add_argument("--depths", type=int, default=None, metavar="K",
                    help="fingertip depths tried per approach axis, spread over the pad "
                         "(default 3; 1: the pad's middle)")

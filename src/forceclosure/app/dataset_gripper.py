@@ -138,6 +138,9 @@ class GripperJob:
         done (:func:`forceclosure.app.export_cmd.export_folder`).
     graspnet_score : {"friction", "epsilon"}
         The GraspGroup score of the ``graspnet`` exports.
+    support_plane : bool
+        ``grasps --support-plane``: each object rests on a table in its most stable pose,
+        which the hand must not cross (:mod:`forceclosure.gripper.support`).
     plot, html, plot_top
         ``--plot FOLDER``, ``--html FOLDER``, ``--plot-top K``: each object's ``K`` best
         poses drawn as ``FOLDER/<stem>.png`` (``grasps --plot``'s picture) and
@@ -185,13 +188,15 @@ class GripperJob:
     plot: str | None = None
     html: str | None = None
     plot_top: int = 10
+    support_plane: bool = False
 
     #: What a job file written before these options existed means by their absence (the
     #: defaults then, and now): :func:`forceclosure.app.dataset._check_job` fills them in.
     IDENTITY_DEFAULTS: ClassVar[dict[str, Any]] = {
         "clearance": None, "approaches": 12, "depths": 3, "tilt": 0.0, "epsilon": True,
         "robust": None, "metrics": False, "task": None, "exports": [],
-        "graspnet_score": "friction", "plot": None, "html": None, "plot_top": 10}
+        "graspnet_score": "friction", "plot": None, "html": None, "plot_top": 10,
+        "support_plane": False}
 
     #: The dataset's dispatch key (:func:`forceclosure.app.dataset.process_object`).
     mode = "gripper"
@@ -244,6 +249,9 @@ class GripperJob:
             if not self.collision:
                 raise InputError(f"{flag} is searched by the collision check; it has no use "
                                  "with --no-collision")
+        if self.support_plane and not self.collision:
+            raise InputError("--support-plane is part of the collision check; it has no use "
+                             "with --no-collision")
         if not (isinstance(self.tilt, (int, float)) and 0 <= self.tilt <= 1):
             raise InputError(f"--tilt must be a share from 0 to 1, got {self.tilt}")
         if self.graspnet_score not in ("friction", "epsilon"):
@@ -315,7 +323,7 @@ class GripperJob:
                 "task": None if self.task is None else dict(self.task),
                 "exports": [list(e) for e in self.exports],
                 "graspnet_score": self.graspnet_score, "plot": self.plot, "html": self.html,
-                "plot_top": int(self.plot_top),
+                "plot_top": int(self.plot_top), "support_plane": bool(self.support_plane),
                 **self._hand_identity()}
 
     def _hand_identity(self) -> dict[str, Any]:
@@ -344,10 +352,16 @@ class GripperJob:
         seed = object_seed(self.seed, fingerprint(path, self))
         gripper = self.gripper()
         approaches, depths = self._search()
+        support = None
+        if self.support_plane:
+            from ..gripper.support import support_plane
+
+            support = support_plane(obj)
         labels = grasp_labels(obj, gripper, self.mu, self.count, seed, self.contact,
                               least_friction=self.least_friction, collision=self.collision,
                               clearance=self.clearance, approaches=approaches or 1,
-                              depths=depths or 1, tilt=float(self.tilt), epsilon=self.epsilon)
+                              depths=depths or 1, tilt=float(self.tilt), epsilon=self.epsilon,
+                              support=support)
         extra = self._more_labels(obj, path, gripper, seed, labels)
         labels = extra.pop("_labels")
         closed = labels.epsilon[labels.code == 2]

@@ -27,7 +27,7 @@ GRASPS_OPTIONS = (("--no-collision", "no_collision", True), ("--clearance", "cle
                   ("--gravity", "gravity", False), ("--f-max", "f_max", False),
                   ("--export", "export", False), ("--graspnet-score", "graspnet_score", False),
                   ("--plot", "plot", False), ("--html", "html", False),
-                  ("--plot-top", "plot_top", False))
+                  ("--plot-top", "plot_top", False), ("--support-plane", "support_plane", True))
 
 
 def add_grasps_options(parser: Any) -> None:
@@ -44,6 +44,9 @@ def add_grasps_options(parser: Any) -> None:
                    help="with --gripper: approach axes tried per closing line (default 12)")
     p.add_argument("--depths", type=int, metavar="K",
                    help="with --gripper: fingertip depths tried per approach (default 3)")
+    p.add_argument("--support-plane", action="store_true",
+                   help="with --gripper: rest each object on a table in its most stable pose; "
+                        "the hand must not cross it (as grasps --support-plane)")
     p.add_argument("--tilt", type=float, metavar="SHARE",
                    help="with --gripper: the closing lines' spread about the normals, a share "
                         "of the friction cone's half-angle (default 0)")
@@ -103,7 +106,8 @@ def grasps_job_options(args: Any, robust: dict[str, Any] | None,
             "robust": robust, "metrics": bool(args.metrics), "task": task,
             "exports": tuple(tuple(e) for e in args.export or ()),
             "graspnet_score": args.graspnet_score or "friction", "plot": args.plot,
-            "html": args.html, "plot_top": 10 if args.plot_top is None else args.plot_top}
+            "html": args.html, "plot_top": 10 if args.plot_top is None else args.plot_top,
+            "support_plane": bool(args.support_plane)}
 
 
 def given_grasps_options(args: Any) -> list[str]:
