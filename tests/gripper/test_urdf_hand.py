@@ -190,3 +190,19 @@ def test_cli_grasps_with_a_urdf_hand(capsys, panda):
     assert len(err) == 1 and "not a parallel-jaw hand" in err[0]
     assert main(["grasps", duck, "--gripper", str(PANDA), "--width", "0.1"]) == 2
     assert "has its own opening" in capsys.readouterr().err
+
+
+def test_links_are_named_on_the_command_line(tmp_path, capsys, panda):
+    path = _box_hand(tmp_path)
+    assert make_gripper(str(path), links=",left,right") == gripper_from_urdf(
+        path, finger_links=("left", "right"))
+    assert make_gripper(str(PANDA), links="panda_hand") == panda
+    with pytest.raises(InputError, match="links: name a URDF hand's links"):
+        make_gripper("panda", links="panda_hand")
+    with pytest.raises(InputError, match="give PALM, PALM,FINGER1,FINGER2"):
+        make_gripper(str(PANDA), links="a,b")
+    assert main(["grasps", "cube", "--gripper", str(path), "--mu", "0.5"]) == 2
+    assert "name the finger links" in capsys.readouterr().err
+    assert main(["grasps", "cube", "--gripper", str(path), "--gripper-links", ",left,right",
+                 "--count", "3", "--mu", "0.5", "--no-epsilon", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["width"] == pytest.approx(0.08)

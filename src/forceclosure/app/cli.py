@@ -860,9 +860,10 @@ def _gripper_of(args: argparse.Namespace):
     if name != GENERIC and args.width is not None:
         raise InputError(f"--width: --gripper {name} has its own opening; drop --width")
     try:
-        return make_gripper(name, args.width, args.pad_radius)
+        return make_gripper(name, args.width, args.pad_radius, args.gripper_links)
     except InputError as e:
-        raise InputError(f"--gripper {name}: {e}") from None
+        raise InputError(f"--gripper {name}: {str(e).replace('links', '--gripper-links', 1)}"
+                         if str(e).startswith("links") else f"--gripper {name}: {e}") from None
 
 
 def _cmd_grasps(args: argparse.Namespace) -> int:
@@ -1341,6 +1342,11 @@ def build_parser() -> argparse.ArgumentParser:
                         "(two fingers on prismatic joints, measured from their geometry; a "
                         "robot's URDF with its hand works too), or 'parallel-jaw' (the "
                         "default), a generic hand sized from --width")
+    g.add_argument("--gripper-links", metavar="PALM[,FINGER1,FINGER2]",
+                   help="with --gripper FILE.urdf: the hand's root link (its frame is the "
+                        "hand's) and its two finger links, where the URDF does not make them "
+                        "plain (default: the children of its two prismatic joints, and their "
+                        "nearest common parent); ',F1,F2' names the fingers alone")
     g.add_argument("--width", type=float, default=None,
                    help="the generic gripper's widest opening (object units)")
     g.add_argument("--count", type=int, default=1000, help="grasps to sample (default 1000)")

@@ -138,6 +138,9 @@ class GripperJob:
         done (:func:`forceclosure.app.export_cmd.export_folder`).
     graspnet_score : {"friction", "epsilon"}
         The GraspGroup score of the ``graspnet`` exports.
+    hand_links : str, optional
+        ``--gripper-links``: a URDF hand's palm and finger links
+        (:func:`forceclosure.gripper.grippers.parse_links`).
     support_plane : bool
         ``grasps --support-plane``: each object rests on a table in its most stable pose,
         which the hand must not cross (:mod:`forceclosure.gripper.support`).
@@ -189,6 +192,7 @@ class GripperJob:
     html: str | None = None
     plot_top: int = 10
     support_plane: bool = False
+    hand_links: str | None = None
 
     #: What a job file written before these options existed means by their absence (the
     #: defaults then, and now): :func:`forceclosure.app.dataset._check_job` fills them in.
@@ -196,7 +200,7 @@ class GripperJob:
         "clearance": None, "approaches": 12, "depths": 3, "tilt": 0.0, "epsilon": True,
         "robust": None, "metrics": False, "task": None, "exports": [],
         "graspnet_score": "friction", "plot": None, "html": None, "plot_top": 10,
-        "support_plane": False}
+        "support_plane": False, "hand_links": None}
 
     #: The dataset's dispatch key (:func:`forceclosure.app.dataset.process_object`).
     mode = "gripper"
@@ -217,10 +221,12 @@ class GripperJob:
                                                 and 0 <= self.pad_radius <= 1e150):
             raise InputError(f"--pad-radius must be finite and >= 0, got {self.pad_radius}")
         try:
-            make_gripper(self.hand, self.width, self.pad_radius)
+            make_gripper(self.hand, self.width, self.pad_radius, self.hand_links)
         except InputError as e:
-            raise InputError(f"--gripper {self.hand}: {str(e).replace('width:', '--width:')}"
-                             ) from None
+            text = str(e).replace("width:", "--width:")
+            if text.startswith("links"):
+                text = "--gripper-links" + text[len("links"):]
+            raise InputError(f"--gripper {self.hand}: {text}") from None
         self._check_grasps_options()
         if self.robust is not None and self.robust.get("pose_sigma") is None:  # as grasps
             object.__setattr__(self, "robust", {**self.robust, "pose_sigma": round(
@@ -324,6 +330,7 @@ class GripperJob:
                 "exports": [list(e) for e in self.exports],
                 "graspnet_score": self.graspnet_score, "plot": self.plot, "html": self.html,
                 "plot_top": int(self.plot_top), "support_plane": bool(self.support_plane),
+                "hand_links": self.hand_links,
                 **self._hand_identity()}
 
     def _hand_identity(self) -> dict[str, Any]:
@@ -337,7 +344,7 @@ class GripperJob:
         """The hand (:func:`forceclosure.gripper.grippers.make_gripper`)."""
         from ..gripper.grippers import make_gripper
 
-        return make_gripper(self.hand, self.width, self.pad_radius)
+        return make_gripper(self.hand, self.width, self.pad_radius, self.hand_links)
 
     # -- on a worker ----------------------------------------------------------------------
 

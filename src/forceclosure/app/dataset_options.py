@@ -15,7 +15,8 @@ __all__ = ["GRASPS_OPTIONS", "add_grasps_options", "given_grasps_options",
 
 #: ``dataset`` options that are ``grasps``'s, with the same names, meanings and defaults
 #: (:func:`add_grasps_options`), as (flag, attribute, is a switch).
-GRASPS_OPTIONS = (("--no-collision", "no_collision", True), ("--clearance", "clearance", False),
+GRASPS_OPTIONS = (("--gripper-links", "gripper_links", False),
+                  ("--no-collision", "no_collision", True), ("--clearance", "clearance", False),
                   ("--approaches", "approaches", False), ("--depths", "depths", False),
                   ("--tilt", "tilt", False), ("--no-epsilon", "no_epsilon", True),
                   ("--robust", "robust", True), ("--robust-samples", "robust_samples", False),
@@ -35,6 +36,9 @@ def add_grasps_options(parser: Any) -> None:
     None, resolved by :class:`GripperJob` as ``grasps`` resolves them, so that one given
     without ``--gripper`` can be refused)."""
     p = parser
+    p.add_argument("--gripper-links", metavar="PALM[,FINGER1,FINGER2]",
+                   help="with --gripper FILE.urdf: the hand's root link and its two finger "
+                        "links (as grasps --gripper-links)")
     p.add_argument("--no-collision", action="store_true",
                    help="with --gripper: as grasps --no-collision (no hand-object check)")
     p.add_argument("--clearance", type=float, metavar="D",
@@ -100,7 +104,8 @@ def grasps_job_options(args: Any, robust: dict[str, Any] | None,
     :func:`add_grasps_options` (``robust`` and ``task``: ``grasps``'s checked settings)."""
     if robust is not None:
         robust = {**robust, "epsilon": not args.no_robust_epsilon}
-    return {"collision": not args.no_collision, "clearance": args.clearance,
+    return {"hand_links": args.gripper_links, "collision": not args.no_collision,
+            "clearance": args.clearance,
             "approaches": args.approaches, "depths": args.depths,
             "tilt": 0.0 if args.tilt is None else args.tilt, "epsilon": not args.no_epsilon,
             "robust": robust, "metrics": bool(args.metrics), "task": task,
