@@ -216,7 +216,8 @@ def test_rerun_skips_and_a_changed_input_is_redone(tmp_path, capsys):
      "--count must be"),
     (["--width", "3"], "--width is for --gripper"),
     (["--mu", "0.5", "--count", "10"], "--count is for --gripper"),
-    (["--gripper", "two-finger", "--width", "3", "--mu", "0.5"], "invalid choice"),
+    (["--gripper", "two-finger", "--width", "3", "--mu", "0.5"],
+     "unknown gripper 'two-finger'"),
 ])
 def test_refusals(tmp_path, capsys, argv, message):
     out = tmp_path / "out"

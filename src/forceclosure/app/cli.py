@@ -577,6 +577,7 @@ def _dataset_job(args: argparse.Namespace):
     defaults, those of synthesize) or, with --gripper, labelled jaw poses."""
     from .dataset import Job
     from .dataset_gripper import GripperJob
+    from .dataset_options import given_grasps_options, grasps_job_options
 
     regions = {"--fingers": args.fingers, "--top": args.top, "--margin": args.margin,
                "--construction": args.construction, "--method": args.method,
@@ -606,8 +607,10 @@ def _dataset_job(args: argparse.Namespace):
                           count=1000 if args.count is None else args.count,
                           contact=args.contact or "soft", pad_radius=args.pad_radius,
                           least_friction=not args.no_least_friction, hand=args.gripper,
-                          **common)
+                          **grasps_job_options(args, _robust_settings(args),
+                                               _task_settings(args)), **common)
     given = [flag for flag, value in gripper.items() if value is not None]
+    given += given_grasps_options(args)
     if given:
         raise InputError(f"{given[0]} is for --gripper parallel-jaw")
     options = {"fingers": args.fingers, "contact": args.contact, "mu": args.mu,
@@ -644,8 +647,11 @@ def _cmd_dataset(args: argparse.Namespace) -> int:
         summary = run_dataset(args.inputs, args.out, job, workers=args.workers,
                               retry_failed=args.retry_failed)
     table = os.path.join(args.out, "grasps.parquet") if args.gripper else None
+    exported = _dataset_exports(args.out, job)
     if args.json:
         extra = {"grasps_table": str(table)} if table else {}
+        if exported is not None:
+            extra["exports"] = exported
         json.dump({**summary.to_dict(), **extra}, sys.stdout, indent=2)
         sys.stdout.write("\n")
     else:
@@ -655,7 +661,29 @@ def _cmd_dataset(args: argparse.Namespace) -> int:
                   f"{os.path.join(args.out, 'objects')} (.npz)")
     if summary.interrupted:
         return 130
-    return 2 if summary.failed or summary.timeout else 0
+    return 2 if summary.failed or summary.timeout or (exported or {}).get("errors") else 0
+
+
+def _dataset_exports(out: str, job: Any) -> dict[str, Any] | None:
+    """``dataset --export/--plot/--html``: the report of the files written (printed: one
+    line per kind and per object that could not be exported, on standard error), or None."""
+    kinds = [*getattr(job, "exports", ()),
+             *((k, getattr(job, k, None)) for k in ("plot", "html") if getattr(job, k, None))]
+    if not kinds:
+        return None
+    from .dataset_gripper import EXPORTS_FILE
+
+    try:
+        with open(os.path.join(out, EXPORTS_FILE), encoding="utf-8") as f:
+            report = json.load(f)
+    except (OSError, ValueError):
+        return None
+    for kind, folder in kinds:
+        print(f"forceclosure: export {kind}: {report['files'].get(kind, 0):,} files in "
+              f"{printable(folder)}", file=sys.stderr)
+    for line in report["errors"]:
+        print(f"forceclosure: error: export {printable(line)}", file=sys.stderr)
+    return report
 
 
 def _robust_settings(args: argparse.Namespace) -> dict[str, Any] | None:
@@ -832,9 +860,10 @@ def _gripper_of(args: argparse.Namespace):
     if name != GENERIC and args.width is not None:
         raise InputError(f"--width: --gripper {name} has its own opening; drop --width")
     try:
-        return make_gripper(name, args.width, args.pad_radius)
+        return make_gripper(name, args.width, args.pad_radius, args.gripper_links)
     except InputError as e:
-        raise InputError(f"--gripper {name}: {e}") from None
+        raise InputError(f"--gripper {name}: {str(e).replace('links', '--gripper-links', 1)}"
+                         if str(e).startswith("links") else f"--gripper {name}: {e}") from None
 
 
 def _cmd_grasps(args: argparse.Namespace) -> int:
@@ -917,6 +946,14 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     warning = units_warning(gripper, obj.size)
     if warning:
         print(f"forceclosure: warning: {obj.name}: {warning}", file=sys.stderr)
+    support = None
+    if args.support_plane:
+        from ..gripper.support import support_plane
+
+        if args.no_collision:
+            raise InputError("--support-plane is part of the collision check; it has no use "
+                             "with --no-collision")
+        support = support_plane(obj)
     start = time.perf_counter()
     with tqdm(total=args.count, unit=" grasps", unit_scale=True, file=sys.stderr, disable=None,
               desc="labelling") as bar:
@@ -927,7 +964,7 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
                               approaches=APPROACHES if args.approaches is None
                               else args.approaches, epsilon=not args.no_epsilon,
                               depths=DEPTHS if args.depths is None else args.depths,
-                              tilt=args.tilt)
+                              tilt=args.tilt, support=support)
     seconds = time.perf_counter() - start
     if robust is not None:
         labels, robust = _robust_stage(obj, labels, gripper, args, robust)
@@ -968,6 +1005,7 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
                "plot": args.plot, "html": args.html,
                "approaches": labels.meta["approaches"], "depths": labels.meta["depths"],
                "hand_poses_tried": labels.meta["tried"],
+               "support_plane": None if support is None else support.to_dict(),
                "seconds": round(seconds, 3),
                "grasps_per_second": round(len(labels) / seconds) if seconds > 0 else None,
                "out": args.out}
@@ -1261,11 +1299,12 @@ def build_parser() -> argparse.ArgumentParser:
                    help="compute failed and timed-out objects again")
     t.add_argument("--json", action="store_true", help="print the summary as JSON")
     # parallel-jaw grasps per object (docs/datasets.md, docs/gripper.md)
-    t.add_argument("--gripper", choices=("parallel-jaw", "panda", "graspnet"),
+    t.add_argument("--gripper", metavar="NAME|FILE.urdf",
                    help="instead of regions, sample --count jaw poses the hand can take on "
                         "every mesh and label them (verdict, least friction, epsilon, "
                         "collision): an .npz per object and grasps.parquet; needs --mu, and "
-                        "--width for the generic 'parallel-jaw' (built-ins: metres)")
+                        "--width for the generic 'parallel-jaw' (built-ins 'panda', "
+                        "'graspnet', or a hand's .urdf: metres)")
     t.add_argument("--width", type=float, default=None,
                    help="with --gripper parallel-jaw: the widest opening (object units)")
     t.add_argument("--count", type=int, default=None,
@@ -1276,6 +1315,9 @@ def build_parser() -> argparse.ArgumentParser:
                         "default: bounded by the hand's rectangular pad")
     t.add_argument("--no-least-friction", action="store_true",
                    help="with --gripper: skip the least friction (saved as NaN)")
+    from .dataset_options import add_grasps_options
+
+    add_grasps_options(t)  # grasps's labelling and export options, same names and meanings
     # not given: the job's own defaults (regions: synthesize's; --gripper: soft contacts),
     # so that region-only options given with --gripper can be refused
     t.set_defaults(run=_cmd_dataset, mu=None, contact=None, top=None, margin=None,
@@ -1294,10 +1336,17 @@ def build_parser() -> argparse.ArgumentParser:
                    help="accept open or non-manifold meshes (oriented outward, with a "
                         "warning) instead of refusing them")
     _outside_meshes_option(g)
-    g.add_argument("--gripper", metavar="NAME", choices=("parallel-jaw", "panda", "graspnet"),
+    g.add_argument("--gripper", metavar="NAME|FILE.urdf",
                    help="the hand: a built-in with its real sizes ('panda': Franka Emika's, "
-                        "'graspnet': GraspNet-1Billion's model; metres), or 'parallel-jaw' "
-                        "(the default), a generic hand sized from --width")
+                        "'graspnet': GraspNet-1Billion's model; metres), a hand's URDF file "
+                        "(two fingers on prismatic joints, measured from their geometry; a "
+                        "robot's URDF with its hand works too), or 'parallel-jaw' (the "
+                        "default), a generic hand sized from --width")
+    g.add_argument("--gripper-links", metavar="PALM[,FINGER1,FINGER2]",
+                   help="with --gripper FILE.urdf: the hand's root link (its frame is the "
+                        "hand's) and its two finger links, where the URDF does not make them "
+                        "plain (default: the children of its two prismatic joints, and their "
+                        "nearest common parent); ',F1,F2' names the fingers alone")
     g.add_argument("--width", type=float, default=None,
                    help="the generic gripper's widest opening (object units)")
     g.add_argument("--count", type=int, default=1000, help="grasps to sample (default 1000)")
@@ -1350,6 +1399,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="spread the closing lines about the surface normals over this share "
                         "(0 to 1) of the friction cone's half-angle (default 0: along the "
                         "normals, where flat pads meet a surface flush)")
+    g.add_argument("--support-plane", action="store_true",
+                   help="rest the object on a table in its most stable pose (trimesh's "
+                        "stable poses): the hand must not cross the table; poses stay in "
+                        "the object's frame, the plane is in the summary and the labels' meta")
     g.add_argument("--depths", type=int, default=None, metavar="K",
                    help="fingertip depths tried per approach axis, spread over the pad "
                         "(default 3; 1: the pad's middle)")

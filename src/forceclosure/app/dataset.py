@@ -645,6 +645,8 @@ def _check_job(out: Path, job: Job, warn: Callable[[str], object] | None = None)
         if isinstance(held, dict):
             held.setdefault("allow_open", False)  # written before the option existed
             held.setdefault("allow_outside_meshes", False)
+            for key, value in getattr(job, "IDENTITY_DEFAULTS", {}).items():
+                held.setdefault(key, value)  # options added since the file was written
         if held != wanted:
             diff = ([k for k in sorted(set(held) | set(wanted)) if held.get(k) != wanted.get(k)]
                     if isinstance(held, dict) else ["the whole file"])

@@ -33,14 +33,17 @@ import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
 from ..errors import InputError, OutputError
 
-__all__ = ["GRASP_COLUMNS", "GripperJob", "object_seed", "read_labels", "sha256_of",
-           "write_grasp_table"]
+__all__ = ["EXPORTS_FILE", "GRASP_COLUMNS", "GripperJob", "object_seed", "read_labels",
+           "sha256_of", "write_exports", "write_grasp_table", "write_pictures"]
+
+#: The report of a dataset's exports (``--export``), in its folder.
+EXPORTS_FILE = "exports.json"
 
 
 def sha256_of(file: Path) -> str:
@@ -104,14 +107,51 @@ class GripperJob:
         Soft pads' torsion: None bounded by the hand's pad, ``a`` by a disc of radius ``a``
         ((2/3) μ a), 0 the paper's soft finger (unlimited).
     hand : str
-        The gripper: ``"parallel-jaw"`` (the generic one of ``width``) or a built-in
-        (:mod:`forceclosure.gripper.grippers`).
+        The gripper: ``"parallel-jaw"`` (the generic one of ``width``), a built-in
+        (:mod:`forceclosure.gripper.grippers`) or a hand's ``.urdf`` file (its sizes are
+        part of the job's identity).
     seed : int
         The job's seed; each object's is :func:`object_seed` of it.
     least_friction : bool
         Compute μ* (closed form for soft pads; milliseconds a grasp with a pad radius); False: NaN.
     timeout, allow_open, allow_outside_meshes
         As for :class:`forceclosure.app.dataset.Job`.
+    collision, clearance, approaches, depths, tilt, epsilon
+        As ``forceclosure grasps`` takes them (``--no-collision``, ``--clearance``,
+        ``--approaches``, ``--depths``, ``--tilt``, ``--no-epsilon``;
+        :func:`forceclosure.gripper.labels.grasp_labels`): the collision check and the
+        search of the approach and depth (None: the defaults, 12 approaches and 3
+        depths), the closing lines' tilt, and the Ferrari–Canny ε (False: NaN).
+    robust : dict, optional
+        ``grasps --robust``'s settings (``samples``, ``pose_sigma``, ``angle_sigma``,
+        ``mu_sigma``, ``normal_sigma``, ``confidence``, ``epsilon``): the labels get the
+        ``robust_*`` arrays (:func:`forceclosure.gripper.robust.robust_labels`, seeded by
+        the object's seed).
+    metrics : bool
+        ``grasps --metrics``: the grasp-matrix metrics' arrays too.
+    task : dict, optional
+        ``grasps --task-mass``'s settings (``mass``, ``gravity``, ``f_max``, ``edges``): the
+        task arrays against the object's weight at its mesh's centre of mass.
+    exports : tuple of (kind, folder)
+        ``--export KIND FOLDER``: each object's labels also as ``FOLDER/<stem>.npy``
+        (``graspnet``) or ``.h5`` (``acronym``), written after every run from the records
+        done (:func:`forceclosure.app.export_cmd.export_folder`).
+    graspnet_score : {"friction", "epsilon"}
+        The GraspGroup score of the ``graspnet`` exports.
+    hand_links : str, optional
+        ``--gripper-links``: a URDF hand's palm and finger links
+        (:func:`forceclosure.gripper.grippers.parse_links`).
+    support_plane : bool
+        ``grasps --support-plane``: each object rests on a table in its most stable pose,
+        which the hand must not cross (:mod:`forceclosure.gripper.support`).
+    plot, html, plot_top
+        ``--plot FOLDER``, ``--html FOLDER``, ``--plot-top K``: each object's ``K`` best
+        poses drawn as ``FOLDER/<stem>.png`` (``grasps --plot``'s picture) and
+        ``FOLDER/<stem>.html`` (``grasps --html``'s page), after every run
+        (:func:`write_pictures`).
+
+    Every option that decides the results or the files is in :meth:`identity`, the job
+    file's content: a resumed run must ask for the same ones.
 
     Examples
     --------
@@ -137,6 +177,30 @@ class GripperJob:
     allow_open: bool = False
     allow_outside_meshes: bool = False
     hand: str = "parallel-jaw"
+    collision: bool = True
+    clearance: float | None = None
+    approaches: int | None = None
+    depths: int | None = None
+    tilt: float = 0.0
+    epsilon: bool = True
+    robust: dict[str, Any] | None = None
+    metrics: bool = False
+    task: dict[str, Any] | None = None
+    exports: tuple[tuple[str, str], ...] = ()
+    graspnet_score: str = "friction"
+    plot: str | None = None
+    html: str | None = None
+    plot_top: int = 10
+    support_plane: bool = False
+    hand_links: str | None = None
+
+    #: What a job file written before these options existed means by their absence (the
+    #: defaults then, and now): :func:`forceclosure.app.dataset._check_job` fills them in.
+    IDENTITY_DEFAULTS: ClassVar[dict[str, Any]] = {
+        "clearance": None, "approaches": 12, "depths": 3, "tilt": 0.0, "epsilon": True,
+        "robust": None, "metrics": False, "task": None, "exports": [],
+        "graspnet_score": "friction", "plot": None, "html": None, "plot_top": 10,
+        "support_plane": False, "hand_links": None}
 
     #: The dataset's dispatch key (:func:`forceclosure.app.dataset.process_object`).
     mode = "gripper"
@@ -157,30 +221,130 @@ class GripperJob:
                                                 and 0 <= self.pad_radius <= 1e150):
             raise InputError(f"--pad-radius must be finite and >= 0, got {self.pad_radius}")
         try:
-            make_gripper(self.hand, self.width, self.pad_radius)
+            make_gripper(self.hand, self.width, self.pad_radius, self.hand_links)
         except InputError as e:
-            raise InputError(f"--gripper {self.hand}: {str(e).replace('width:', '--width:')}"
-                             ) from None
+            text = str(e).replace("width:", "--width:")
+            if text.startswith("links"):
+                text = "--gripper-links" + text[len("links"):]
+            raise InputError(f"--gripper {self.hand}: {text}") from None
+        self._check_grasps_options()
+        if self.robust is not None and self.robust.get("pose_sigma") is None:  # as grasps
+            object.__setattr__(self, "robust", {**self.robust, "pose_sigma": round(
+                0.01 * self.gripper().width_max, 15)})
         if self.timeout is not None and not self.timeout > 0:
             raise InputError(f"--timeout must be a positive number of seconds, got "
                              f"{self.timeout:g}")
         if self.timeout is not None and math.isinf(self.timeout):
             object.__setattr__(self, "timeout", None)  # inf: no limit
 
+    def _check_grasps_options(self) -> None:
+        """Refuse, in ``grasps``'s words, what ``grasps`` refuses of the same options."""
+        from ..io.export import KINDS
+
+        if self.clearance is not None:
+            if not (math.isfinite(self.clearance) and self.clearance >= 0):
+                raise InputError(f"--clearance must be finite and >= 0, got {self.clearance}")
+            if not self.collision:
+                raise InputError("--clearance is the collision check's; it has no use with "
+                                 "--no-collision")
+        for flag, value in (("--approaches", self.approaches), ("--depths", self.depths)):
+            if value is None:
+                continue
+            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+                raise InputError(f"{flag} must be a whole number >= 1, got {value}")
+            if not self.collision:
+                raise InputError(f"{flag} is searched by the collision check; it has no use "
+                                 "with --no-collision")
+        if self.support_plane and not self.collision:
+            raise InputError("--support-plane is part of the collision check; it has no use "
+                             "with --no-collision")
+        if not (isinstance(self.tilt, (int, float)) and 0 <= self.tilt <= 1):
+            raise InputError(f"--tilt must be a share from 0 to 1, got {self.tilt}")
+        if self.graspnet_score not in ("friction", "epsilon"):
+            raise InputError(f"--graspnet-score must be friction or epsilon, got "
+                             f"{self.graspnet_score!r}")
+        if not self.epsilon and self.graspnet_score == "epsilon":
+            raise InputError("--graspnet-score epsilon needs the epsilon: drop --no-epsilon")
+        if self.task is not None and not {"mass", "gravity", "f_max", "edges"} <= set(self.task):
+            raise InputError("task: needs mass, gravity, f_max and edges")
+        if self.robust is not None and not {
+                "samples", "pose_sigma", "angle_sigma", "mu_sigma", "normal_sigma",
+                "confidence", "epsilon"} <= set(self.robust):
+            raise InputError("robust: needs samples, pose_sigma, angle_sigma, mu_sigma, "
+                             "normal_sigma, confidence and epsilon")
+        object.__setattr__(self, "exports", tuple((str(k), str(f)) for k, f in self.exports))
+        for kind, _ in self.exports:
+            if kind not in KINDS:
+                raise InputError(f"--export: unknown kind {kind!r}; the kinds are "
+                                 + ", ".join(KINDS))
+            if (kind == "graspnet" and self.graspnet_score == "friction"
+                    and not self.least_friction):
+                raise InputError("--export graspnet: the friction score needs the least "
+                                 "friction; drop --no-least-friction or pass --graspnet-score "
+                                 "epsilon")
+        if isinstance(self.plot_top, bool) or not isinstance(self.plot_top, int) or (
+                self.plot_top < 0):
+            raise InputError(f"--plot-top must be a whole number >= 0, got {self.plot_top}")
+        folders = [f for _, f in self.exports] + [f for f in (self.plot, self.html) if f]
+        if len(set(folders)) < len(folders):
+            raise InputError("--export, --plot and --html: each needs its own folder")
+        for flag, folder in (("--plot", self.plot), ("--html", self.html)):
+            if folder and Path(folder).exists() and not Path(folder).is_dir():
+                raise InputError(f"{flag} {folder}: a dataset's pictures go in a folder (this "
+                                 "is a file)")
+        if len({f for _, f in self.exports}) < len(self.exports):
+            raise InputError("--export: each kind needs its own folder")
+        for kind, folder in self.exports:
+            if Path(folder).exists() and not Path(folder).is_dir():
+                raise InputError(f"--export {kind} {folder}: a dataset's exports go in a "
+                                 "folder (this is a file)")
+            if kind == "acronym":
+                from ..io.export import require_h5py
+
+                require_h5py()
+
+    def _search(self) -> tuple[int | None, int | None]:
+        """The approaches and depths searched (None without the collision check)."""
+        from ..gripper.hand_poses import APPROACHES, DEPTHS
+
+        if not self.collision:
+            return None, None
+        return (APPROACHES if self.approaches is None else int(self.approaches),
+                DEPTHS if self.depths is None else int(self.depths))
+
     def identity(self) -> dict[str, Any]:
-        """The options that decide the results (the time limit does not)."""
+        """The options that decide the results and the files written (the time limit does
+        not)."""
+        approaches, depths = self._search()
         return {"mode": "gripper", "gripper": self.hand, "width": self.gripper().width_max,
                 "mu": float(self.mu), "count": int(self.count), "contact": self.contact,
                 "pad_radius": self.pad_radius, "seed": int(self.seed),
-                "least_friction": bool(self.least_friction), "collision": True,
+                "least_friction": bool(self.least_friction), "collision": bool(self.collision),
                 "allow_open": self.allow_open,
-                "allow_outside_meshes": self.allow_outside_meshes}
+                "allow_outside_meshes": self.allow_outside_meshes,
+                "clearance": self.clearance, "approaches": approaches, "depths": depths,
+                "tilt": float(self.tilt), "epsilon": bool(self.epsilon),
+                "robust": None if self.robust is None else dict(self.robust),
+                "metrics": bool(self.metrics),
+                "task": None if self.task is None else dict(self.task),
+                "exports": [list(e) for e in self.exports],
+                "graspnet_score": self.graspnet_score, "plot": self.plot, "html": self.html,
+                "plot_top": int(self.plot_top), "support_plane": bool(self.support_plane),
+                "hand_links": self.hand_links,
+                **self._hand_identity()}
+
+    def _hand_identity(self) -> dict[str, Any]:
+        """A URDF hand's sizes (so that a changed file is another job); nothing for a
+        built-in or the generic hand."""
+        from ..gripper.urdf_hand import is_urdf_name
+
+        return {"hand": self.gripper().shape()} if is_urdf_name(self.hand) else {}
 
     def gripper(self):
         """The hand (:func:`forceclosure.gripper.grippers.make_gripper`)."""
         from ..gripper.grippers import make_gripper
 
-        return make_gripper(self.hand, self.width, self.pad_radius)
+        return make_gripper(self.hand, self.width, self.pad_radius, self.hand_links)
 
     # -- on a worker ----------------------------------------------------------------------
 
@@ -193,8 +357,20 @@ class GripperJob:
         if obj.dim != 3:
             raise InputError(f"{path.name}: a polygon; a parallel-jaw gripper grasps meshes")
         seed = object_seed(self.seed, fingerprint(path, self))
-        labels = grasp_labels(obj, self.gripper(), self.mu, self.count, seed, self.contact,
-                              least_friction=self.least_friction)
+        gripper = self.gripper()
+        approaches, depths = self._search()
+        support = None
+        if self.support_plane:
+            from ..gripper.support import support_plane
+
+            support = support_plane(obj)
+        labels = grasp_labels(obj, gripper, self.mu, self.count, seed, self.contact,
+                              least_friction=self.least_friction, collision=self.collision,
+                              clearance=self.clearance, approaches=approaches or 1,
+                              depths=depths or 1, tilt=float(self.tilt), epsilon=self.epsilon,
+                              support=support)
+        extra = self._more_labels(obj, path, gripper, seed, labels)
+        labels = extra.pop("_labels")
         closed = labels.epsilon[labels.code == 2]
         finite = labels.least_friction[np.isfinite(labels.least_friction)]
         hit = labels.collides
@@ -209,7 +385,45 @@ class GripperJob:
                 "attempts": int(labels.meta["attempts"]),
                 "rejected": int(sum(labels.meta["rejected"].values())),
                 "rejected_reasons": dict(labels.meta["rejected"]),
-                "_labels": labels}
+                **extra, "_labels": labels}
+
+    def _more_labels(self, obj: Any, path: Path, gripper: Any, seed: int, labels: Any
+                     ) -> dict[str, Any]:
+        """Robustness, metrics and the task test, as asked: the record's extra fields, and
+        the labels with their arrays under ``"_labels"``."""
+        out: dict[str, Any] = {}
+        if self.robust is not None:
+            from ..gripper.robust import robust_labels
+
+            r = self.robust
+            rob = robust_labels(obj, labels, gripper, self.mu, samples=int(r["samples"]),
+                                seed=seed, pose_sigma=r["pose_sigma"],
+                                angle_sigma=r["angle_sigma"], mu_sigma=r["mu_sigma"],
+                                normal_sigma=r["normal_sigma"], contact=self.contact,
+                                confidence=r["confidence"], epsilon=bool(r["epsilon"]))
+            labels = labels.with_robustness(rob)
+            out["robust_probability_mean"] = (float(np.mean(rob.probability)) if len(rob)
+                                              else None)
+        if self.metrics:
+            from ..gripper.labels import label_metrics
+
+            labels = labels.with_metrics(label_metrics(labels))
+        if self.task is not None:
+            from ..analysis.task import gravity_wrench
+            from ..gripper.jaw import surface_mesh
+            from ..gripper.labels import TASK_VERDICTS, label_task
+
+            if getattr(obj, "watertight", True) is False:
+                raise InputError(f"{path.name}: --task-mass needs a closed mesh for its centre "
+                                 "of mass; this one is open")
+            t = self.task
+            com = [float(x) for x in surface_mesh(obj)[1].center_mass]
+            wrench = gravity_wrench(t["mass"], com, t["gravity"])
+            code, spare, upper = label_task(labels, wrench, t["f_max"], t["edges"])
+            labels = labels.with_task(code, spare, upper, {**t, "center_of_mass": com})
+            out["task_counts"] = {v: int(np.sum(code == c)) for c, v in enumerate(TASK_VERDICTS)}
+        out["_labels"] = labels
+        return out
 
     def warm_up(self) -> None:
         """Compile the kernels the job uses, on a few grasps of the bundled cube."""
@@ -254,8 +468,15 @@ class GripperJob:
         return None
 
     def write_tables(self, out: Path, records: Iterable[dict[str, Any]]) -> Path:
-        """Write ``out/grasps.parquet`` from the done records' labels files."""
-        return write_grasp_table(out, records)
+        """Write ``out/grasps.parquet`` from the done records' labels files, then the
+        exports (:func:`write_exports`)."""
+        records = list(records)
+        table = write_grasp_table(out, records)
+        if self.exports:
+            write_exports(out, records, self.exports, self.graspnet_score)
+        if self.plot or self.html:
+            write_pictures(out, records, self)
+        return table
 
 
 def read_labels(file: str | Path) -> dict[str, np.ndarray]:
@@ -310,3 +531,121 @@ def write_grasp_table(out: str | Path, records: Iterable[dict[str, Any]]) -> Pat
             arrays = read_labels(out / "objects" / record["labels_file"])
             writer.write_table(pa.table(_grasp_columns(record, arrays), schema=schema))
     return path
+
+
+def write_exports(out: str | Path, records: Iterable[dict[str, Any]],
+                  exports: Iterable[tuple[str, str]], score: str = "friction"
+                  ) -> dict[str, Any]:
+    """Each done record's labels as the files of ``exports`` (``(kind, folder)``:
+    ``graspnet`` ``folder/<stem>.npy``, ``acronym`` ``folder/<stem>.h5``, ``<stem>`` the
+    labels file's), as ``forceclosure export`` writes them; a file at least as new as its
+    labels file is kept. Returns, and writes to ``out/exports.json``, the files written or
+    kept per kind and the objects that could not be exported (one line each)."""
+    import argparse
+    import json
+
+    from ..io.outdir import write_atomically
+    from .export_cmd import _export_one
+
+    out = Path(out)
+    exports = list(exports)
+    job = json.loads((out / "job.json").read_text(encoding="utf-8"))
+    args = argparse.Namespace(graspnet_score=score, mesh_root=None, object=None, part=None,
+                              allow_outside_meshes=False)
+    report: dict[str, Any] = {"files": {kind: 0 for kind, _ in exports}, "errors": []}
+    for _, folder in exports:
+        Path(folder).mkdir(parents=True, exist_ok=True)
+    done = sorted((r for r in records if r.get("status") == "done"
+                   and isinstance(r.get("labels_file"), str)), key=lambda r: r["labels_file"])
+    for record in done:
+        labels_file = out / "objects" / Path(record["labels_file"]).name
+        stem = labels_file.stem
+        for kind, folder in exports:
+            target = Path(folder) / (stem + (".npy" if kind == "graspnet" else ".h5"))
+            try:
+                if (target.is_file() and labels_file.is_file()
+                        and target.stat().st_mtime_ns >= labels_file.stat().st_mtime_ns):
+                    report["files"][kind] += 1
+                    continue
+                _export_one(args, str(labels_file),
+                            str(target) if kind == "graspnet" else None,
+                            str(target) if kind == "acronym" else None, record, job)
+                report["files"][kind] += 1
+            except (InputError, OSError) as e:
+                report["errors"].append(f"{kind} {target.name}: {str(e).splitlines()[0]}")
+    write_atomically(out / EXPORTS_FILE, json.dumps(report, indent=2) + "\n")
+    return report
+
+
+
+def _stale(target: Path, source: Path) -> bool:
+    """Whether ``target`` is missing or older than ``source``."""
+    return not (target.is_file() and source.is_file()
+                and target.stat().st_mtime_ns >= source.stat().st_mtime_ns)
+
+
+def write_pictures(out: str | Path, records: Iterable[dict[str, Any]], job: GripperJob
+                   ) -> dict[str, Any]:
+    """Each done record's ``job.plot_top`` best poses as ``job.plot/<stem>.png`` and
+    ``job.html/<stem>.html`` (those ``grasps --plot`` and ``--html`` draw; a file at least as
+    new as its labels file is kept). Returns the files per kind and the objects that could
+    not be drawn, also added to ``out/exports.json``."""
+    import json
+
+    from ..gripper.labels import GraspLabels
+    from ..io.outdir import write_atomically
+    from ..objects.io import load_object
+    from ..pictures.plot import upright_axis
+
+    out = Path(out)
+    kinds = [(k, Path(f)) for k, f in (("plot", job.plot), ("html", job.html)) if f]
+    report: dict[str, Any] = {"files": {k: 0 for k, _ in kinds}, "errors": []}
+    for _, folder in kinds:
+        folder.mkdir(parents=True, exist_ok=True)
+    gripper = job.gripper()
+    done = sorted((r for r in records if r.get("status") == "done"
+                   and isinstance(r.get("labels_file"), str)), key=lambda r: r["labels_file"])
+    for record in done:
+        labels_file = out / "objects" / Path(record["labels_file"]).name
+        targets = [(k, folder / (labels_file.stem + (".png" if k == "plot" else ".html")))
+                   for k, folder in kinds]
+        todo = [(k, t) for k, t in targets if _stale(t, labels_file)]
+        report_done = [k for k, t in targets if (k, t) not in todo]
+        for k in report_done:
+            report["files"][k] += 1
+        if not todo:
+            continue
+        try:
+            source = record.get("path")
+            obj = load_object(source, allow_open=job.allow_open,
+                              allow_outside_meshes=job.allow_outside_meshes)
+            labels = GraspLabels.load(str(labels_file))
+            up = upright_axis(source, obj)
+            for kind, target in todo:
+                if kind == "plot":
+                    from ..pictures.grasp_plot import plot_grasps
+
+                    plot_grasps(obj, labels, str(target), top=job.plot_top, gripper=gripper,
+                                up=up)
+                else:
+                    from ..pictures.view import write_grasps_html
+
+                    write_grasps_html(obj, labels, target, top=job.plot_top, gripper=gripper,
+                                      up=up)
+                report["files"][kind] += 1
+        except (InputError, OSError) as e:
+            report["errors"].append(f"pictures of {labels_file.stem}: "
+                                    f"{str(e).splitlines()[0]}")
+    file = out / EXPORTS_FILE
+    try:
+        held = json.loads(file.read_text(encoding="utf-8")) if file.is_file() else {}
+    except (OSError, ValueError):
+        held = {}
+    if not isinstance(held, dict) or not isinstance(held.get("files"), dict):
+        held = {"files": {}, "errors": []}
+    merged = {"files": {**{k: v for k, v in held["files"].items() if k not in ("plot", "html")},
+                        **report["files"]},
+              "errors": [e for e in held.get("errors", []) if not e.startswith("pictures of ")]
+              + report["errors"]}
+    write_atomically(file, json.dumps(merged, indent=2) + "\n")
+    return report

@@ -30,14 +30,22 @@ axis):
 
 A built-in's boxes enclose the real hand's parts (never smaller), so a pose
 called clear of the object is clear for the real hand.
+
+A user's hand is read from its URDF (a name ending in ``.urdf``):
+:func:`~forceclosure.gripper.urdf_hand.gripper_from_urdf` measures the same
+sizes from the file's finger joints and geometry (the Panda's URDF gives the
+``panda`` hand above, to the rounding of its sizes and with boxes that enclose
+its meshes exactly).
 """
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 from ..errors import InputError
 from .jaw import ParallelJaw
 
-__all__ = ["GENERIC", "GRIPPERS", "gripper_named", "make_gripper"]
+__all__ = ["GENERIC", "GRIPPERS", "gripper_named", "make_gripper", "parse_links"]
 
 #: The name of the generic hand, whose sizes follow from its opening (:class:`ParallelJaw`).
 GENERIC = "parallel-jaw"
@@ -73,15 +81,20 @@ def gripper_named(name: str) -> ParallelJaw:
         return GRIPPERS[name]
     except (KeyError, TypeError):
         raise InputError(f"unknown gripper {name!r}; the built-in grippers are "
-                         + ", ".join(sorted(GRIPPERS))) from None
+                         + ", ".join(sorted(GRIPPERS)) + " (or give a hand's .urdf file)"
+                         ) from None
 
 
 def make_gripper(name: str | None = None, width: float | None = None,
-                 pad_radius: float | None = None) -> ParallelJaw:
+                 pad_radius: float | None = None, links: str | None = None) -> ParallelJaw:
     """A hand from what a user names: a built-in by ``name`` (its opening is its own:
-    ``width`` refused), or the generic hand (``name`` None or :data:`GENERIC`) opening
+    ``width`` refused), a hand's URDF file (``name`` ending in ``.urdf``, read by
+    :func:`~forceclosure.gripper.urdf_hand.gripper_from_urdf`; its opening is its own),
+    or the generic hand (``name`` None or :data:`GENERIC`) opening
     ``width``; ``pad_radius`` replaces the pads' torsion model (0: the paper's
-    unlimited torque; see :class:`~forceclosure.gripper.jaw.ParallelJaw`).
+    unlimited torque; see :class:`~forceclosure.gripper.jaw.ParallelJaw`). ``links``
+    names a URDF hand's links (:func:`parse_links`): ``"PALM"``, ``"PALM,FINGER1,FINGER2"``
+    or ``",FINGER1,FINGER2"`` (the palm found).
 
     Examples
     --------
@@ -96,13 +109,58 @@ def make_gripper(name: str | None = None, width: float | None = None,
     """
     from dataclasses import replace
 
+    from .urdf_hand import is_urdf_name
+
+    if links is not None and not is_urdf_name(name):
+        raise InputError(f"links: name a URDF hand's links; {name or GENERIC!r} is not a "
+                         ".urdf file")
     if name is None or name == GENERIC:
         if width is None:
             raise InputError(f"width: the {GENERIC} gripper needs its opening (or name a "
                              f"built-in gripper: {', '.join(sorted(GRIPPERS))})")
         return ParallelJaw(width, pad_radius)
-    hand = gripper_named(name)
+    hand = _urdf_hand(name, *parse_links(links)) if is_urdf_name(name) else gripper_named(name)
     if width is not None:
-        raise InputError(f"width: the {name} gripper opens {hand.width_max:g} (its own); give "
+        raise InputError(f"width: the {hand.name} gripper opens {hand.width_max:g} (its own); give "
                          "one or the other")
     return hand if pad_radius is None else replace(hand, pad_radius=pad_radius)
+
+
+def parse_links(links: str | None) -> tuple[str | None, tuple[str, str] | None]:
+    """The palm and finger links a ``--gripper-links`` value names: ``"PALM"``,
+    ``"PALM,FINGER1,FINGER2"`` or ``",FINGER1,FINGER2"``; None: found in the URDF.
+
+    Examples
+    --------
+    >>> parse_links("panda_hand"), parse_links(",a,b"), parse_links(None)
+    (('panda_hand', None), (None, ('a', 'b')), (None, None))
+    """
+    if links is None:
+        return None, None
+    parts = [p.strip() for p in str(links).split(",")]
+    if len(parts) not in (1, 3) or (len(parts) == 1 and not parts[0]) or (
+            len(parts) == 3 and not (parts[1] and parts[2])):
+        raise InputError(f"links {links!r}: give PALM, PALM,FINGER1,FINGER2 or "
+                         ",FINGER1,FINGER2 (link names of the URDF)")
+    return parts[0] or None, (parts[1], parts[2]) if len(parts) == 3 else None
+
+
+def _urdf_hand(path: str, palm: str | None = None,
+               fingers: tuple[str, str] | None = None) -> ParallelJaw:
+    """The hand of a URDF file, read once per version of the file (its path, size and time)."""
+    import os
+
+    try:
+        stat = os.stat(path)
+    except OSError:
+        raise InputError(f"{path}: no such URDF file") from None
+    return _read_urdf_hand(os.path.abspath(path), stat.st_size, stat.st_mtime_ns, palm,
+                           fingers)
+
+
+@lru_cache(maxsize=8)
+def _read_urdf_hand(path: str, size: int, mtime: int, palm: str | None,
+                    fingers: tuple[str, str] | None) -> ParallelJaw:
+    from .urdf_hand import gripper_from_urdf
+
+    return gripper_from_urdf(path, palm_link=palm, finger_links=fingers)

@@ -45,6 +45,7 @@ NOTHING = "the pads close on nothing: no surface under them along this line"
 TOO_WIDE = "the object is wider than the opening under the pads"
 COINCIDE = (f"the two contacts nearly coincide (closer than {COINCIDE_RTOL:g} of the "
             "object's size)")
+CROSSES = "the hand crosses the support plane at every approach and depth tried"
 
 #: Rounds of line drawing before giving up on reaching ``count`` poses.
 ROUNDS = 8
@@ -145,7 +146,7 @@ def _turned(closing: NDArray, approach: NDArray, angle: float) -> NDArray:
 def search_poses(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: int = 0,
                  approaches: int = APPROACHES, depths: int = DEPTHS,
                  clearance: float | None = None, collision: bool = True,
-                 tilt: float = 0.0) -> HandPoses:
+                 tilt: float = 0.0, support: Any = None) -> HandPoses:
     """Up to ``count`` jaw poses on ``obj`` whose pads hold it, each searched for an
     approach and depth at which ``gripper`` clears the object (module text).
 
@@ -170,6 +171,11 @@ def search_poses(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
     tilt : float
         The closing lines' spread about the inward normals, as a share (0 to 1) of the
         friction cone's half-angle ``atan(mu)``; 0 (default): along the normals.
+    support : SupportPlane, optional
+        A table under the object (:mod:`forceclosure.gripper.support`): a pose whose hand
+        (its boxes, opened as the collision check opens them) crosses it is never kept,
+        not even as a line's colliding fallback; a line where every pose tried crosses
+        it makes no pose (counted by reason). Needs the collision check.
 
     Examples
     --------
@@ -196,6 +202,14 @@ def search_poses(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
         raise InputError(f"tilt must be a number from 0 to 1, got {tilt!r}") from None
     if not 0 <= tilt <= 1:
         raise InputError(f"tilt must be a number from 0 to 1, got {tilt!r}")
+    if support is not None:
+        from .support import SupportPlane
+
+        if not isinstance(support, SupportPlane):
+            raise InputError(f"support must be a SupportPlane, got {type(support).__name__}")
+        if not collision:
+            raise InputError("a support plane is part of the collision check; it has no use "
+                             "without it")
     poly, mesh = surface_mesh(obj)
     size = poly.size
     angles = 2 * np.pi * _spread(int(approaches)) / int(approaches)
@@ -249,6 +263,17 @@ def search_poses(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
                 continue
             lines = active[sel]
             center = origin[lines] + 0.5 * (y[sel, 0] + y[sel, 1])[:, None] * closing[lines]
+            if support is not None:  # through the table: no pose at all
+                from .support import crosses_plane
+
+                through = crosses_plane(support, gripper, center, closing[lines],
+                                        approach[sel], width[sel],
+                                        np.full(len(sel), depth), clearance)
+                why[lines[through & ~have[lines]]] = CROSSES
+                keep = ~through
+                sel, lines, center = sel[keep], lines[keep], center[keep]
+                if not len(sel):
+                    continue
             if collision:
                 tried += len(sel)
                 hit = np.asarray(hand_collides(

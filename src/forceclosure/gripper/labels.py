@@ -412,7 +412,8 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
                  contact: str = "soft", progress: Callable[[int], object] | None = None,
                  least_friction: bool = True, collision: bool = True,
                  clearance: float | None = None, approaches: int = APPROACHES,
-                 epsilon: bool = True, depths: int = DEPTHS, tilt: float = 0.0) -> GraspLabels:
+                 epsilon: bool = True, depths: int = DEPTHS, tilt: float = 0.0,
+                 support: Any = None) -> GraspLabels:
     """Sample ``count`` jaw poses on ``obj`` that ``gripper`` can take, and label them.
 
     Closing lines are drawn through surface points along their inward normals
@@ -436,6 +437,10 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
     ``approaches`` and ``depths`` tried (None without the check), ``tried`` (hand
     poses checked), ``tilt`` and ``warnings`` (an opening far from the object's
     size).
+
+    ``support`` (a :class:`~forceclosure.gripper.support.SupportPlane`): a table the hand
+    must not cross (:func:`~forceclosure.gripper.hand_poses.search_poses`), recorded in
+    ``meta["support_plane"]``.
 
     Examples
     --------
@@ -464,7 +469,7 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
     poly, _ = surface_mesh(obj)
     warning = units_warning(gripper, poly.size)
     poses = search_poses(poly, gripper, mu, count, seed, approaches if collision else 1,
-                         depths if collision else 1, clearance, collision, tilt)
+                         depths if collision else 1, clearance, collision, tilt, support)
     pressed = contact == "soft" and gripper.pad_radius is None
     torsion = (mu * poses.lever if pressed else gripper.torsion(mu) if contact == "soft"
                else None)
@@ -487,6 +492,8 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
             "gripper": gripper.name, "tip_offset": gripper.tip_offset, "tilt": tilt,
             "hand": gripper.shape(),
             "contacts": "pads", "warnings": [warning] if warning else []}
+    if support is not None:
+        meta["support_plane"] = support.to_dict()
     return GraspLabels(poses.center, poses.closing_axis, poses.approach_axis, poses.width,
                        poses.points, poses.normals, code, mu_star, eps, meta,
                        collides=poses.collides, depth=poses.depth,

@@ -1,0 +1,121 @@
+"""``forceclosure dataset --gripper``: the options it shares with ``forceclosure grasps``.
+
+Same names, meanings and defaults as ``grasps``'s; given without ``--gripper`` they are
+refused. Light to import (no numpy: ``forceclosure --help`` loads nothing heavy); the job
+is :class:`forceclosure.app.dataset_gripper.GripperJob`.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+__all__ = ["GRASPS_OPTIONS", "add_grasps_options", "given_grasps_options",
+           "grasps_job_options"]
+
+
+#: ``dataset`` options that are ``grasps``'s, with the same names, meanings and defaults
+#: (:func:`add_grasps_options`), as (flag, attribute, is a switch).
+GRASPS_OPTIONS = (("--gripper-links", "gripper_links", False),
+                  ("--no-collision", "no_collision", True), ("--clearance", "clearance", False),
+                  ("--approaches", "approaches", False), ("--depths", "depths", False),
+                  ("--tilt", "tilt", False), ("--no-epsilon", "no_epsilon", True),
+                  ("--robust", "robust", True), ("--robust-samples", "robust_samples", False),
+                  ("--pose-sigma", "pose_sigma", False), ("--angle-sigma", "angle_sigma", False),
+                  ("--mu-sigma", "mu_sigma", False), ("--normal-sigma", "normal_sigma", False),
+                  ("--robust-confidence", "robust_confidence", False),
+                  ("--no-robust-epsilon", "no_robust_epsilon", True),
+                  ("--metrics", "metrics", True), ("--task-mass", "task_mass", False),
+                  ("--gravity", "gravity", False), ("--f-max", "f_max", False),
+                  ("--export", "export", False), ("--graspnet-score", "graspnet_score", False),
+                  ("--plot", "plot", False), ("--html", "html", False),
+                  ("--plot-top", "plot_top", False), ("--support-plane", "support_plane", True))
+
+
+def add_grasps_options(parser: Any) -> None:
+    """Add ``grasps``'s labelling and export options to the ``dataset`` parser (defaults
+    None, resolved by :class:`GripperJob` as ``grasps`` resolves them, so that one given
+    without ``--gripper`` can be refused)."""
+    p = parser
+    p.add_argument("--gripper-links", metavar="PALM[,FINGER1,FINGER2]",
+                   help="with --gripper FILE.urdf: the hand's root link and its two finger "
+                        "links (as grasps --gripper-links)")
+    p.add_argument("--no-collision", action="store_true",
+                   help="with --gripper: as grasps --no-collision (no hand-object check)")
+    p.add_argument("--clearance", type=float, metavar="D",
+                   help="with --gripper: each pad stands D off its contact in the collision "
+                        "check (default 0.01 x the opening)")
+    p.add_argument("--approaches", type=int, metavar="K",
+                   help="with --gripper: approach axes tried per closing line (default 12)")
+    p.add_argument("--depths", type=int, metavar="K",
+                   help="with --gripper: fingertip depths tried per approach (default 3)")
+    p.add_argument("--support-plane", action="store_true",
+                   help="with --gripper: rest each object on a table in its most stable pose; "
+                        "the hand must not cross it (as grasps --support-plane)")
+    p.add_argument("--tilt", type=float, metavar="SHARE",
+                   help="with --gripper: the closing lines' spread about the normals, a share "
+                        "of the friction cone's half-angle (default 0)")
+    p.add_argument("--no-epsilon", action="store_true",
+                   help="with --gripper: skip the Ferrari-Canny epsilon (saved as NaN)")
+    p.add_argument("--robust", action="store_true",
+                   help="with --gripper: also the probability of force closure and expected "
+                        "epsilon under noise (as grasps --robust; robust_* arrays in each .npz)")
+    p.add_argument("--robust-samples", type=int, metavar="K",
+                   help="noise samples per grasp (default 100)")
+    p.add_argument("--pose-sigma", type=float, metavar="S",
+                   help="jaw translation noise (default 1%% of the opening)")
+    p.add_argument("--angle-sigma", type=float, metavar="RAD",
+                   help="closing-axis rotation noise (default 0.05)")
+    p.add_argument("--mu-sigma", type=float, metavar="S", help="friction noise (default 0.05)")
+    p.add_argument("--normal-sigma", type=float, metavar="RAD",
+                   help="contact normal noise (default 0)")
+    p.add_argument("--robust-confidence", type=float, metavar="C",
+                   help="confidence of the intervals (default 0.95)")
+    p.add_argument("--no-robust-epsilon", action="store_true",
+                   help="skip the expected epsilon under noise")
+    p.add_argument("--metrics", action="store_true",
+                   help="with --gripper: also the grasp-matrix metrics (arrays in each .npz)")
+    p.add_argument("--task-mass", type=float, metavar="M",
+                   help="with --gripper: also test every grasp against the object's weight "
+                        "(as grasps --task-mass; arrays in each .npz)")
+    p.add_argument("--gravity", metavar="GX,GY,GZ",
+                   help="gravity of the task test (default 0,0,-9.81)")
+    p.add_argument("--f-max", type=float, metavar="F",
+                   help="the task test's bound on each jaw's normal force (default 70)")
+    p.add_argument("--export", nargs=2, action="append", default=None,
+                   metavar=("KIND", "FOLDER"),
+                   help="with --gripper: also write each object's labelled poses for a "
+                        "trainer, FOLDER/<object>.npy ('graspnet') or .h5 ('acronym'), as "
+                        "'forceclosure export' does, after every run; repeatable")
+    p.add_argument("--graspnet-score", choices=("friction", "epsilon"),
+                   help="the graspnet exports' score (default friction)")
+    p.add_argument("--plot", metavar="FOLDER",
+                   help="with --gripper: also a picture of each object's best jaw poses, "
+                        "FOLDER/<object>.png (grasps --plot's), after every run")
+    p.add_argument("--html", metavar="FOLDER",
+                   help="with --gripper: also an interactive view of each object's best jaw "
+                        "poses, FOLDER/<object>.html (grasps --html's)")
+    p.add_argument("--plot-top", type=int, metavar="K",
+                   help="how many of the best poses the pictures and pages draw (default 10)")
+
+
+def grasps_job_options(args: Any, robust: dict[str, Any] | None,
+                       task: dict[str, Any] | None) -> dict[str, Any]:
+    """:class:`GripperJob`'s keyword arguments from the options of
+    :func:`add_grasps_options` (``robust`` and ``task``: ``grasps``'s checked settings)."""
+    if robust is not None:
+        robust = {**robust, "epsilon": not args.no_robust_epsilon}
+    return {"hand_links": args.gripper_links, "collision": not args.no_collision,
+            "clearance": args.clearance,
+            "approaches": args.approaches, "depths": args.depths,
+            "tilt": 0.0 if args.tilt is None else args.tilt, "epsilon": not args.no_epsilon,
+            "robust": robust, "metrics": bool(args.metrics), "task": task,
+            "exports": tuple(tuple(e) for e in args.export or ()),
+            "graspnet_score": args.graspnet_score or "friction", "plot": args.plot,
+            "html": args.html, "plot_top": 10 if args.plot_top is None else args.plot_top,
+            "support_plane": bool(args.support_plane)}
+
+
+def given_grasps_options(args: Any) -> list[str]:
+    """The flags of :func:`add_grasps_options` given on the command line."""
+    return [flag for flag, name, switch in GRASPS_OPTIONS
+            if (getattr(args, name) if switch else getattr(args, name) is not None)]

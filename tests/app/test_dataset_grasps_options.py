@@ -1,0 +1,116 @@
+"""``dataset --gripper`` takes ``grasps``'s options (issue 24): recorded in job.json,
+honoured on every object, refused without --gripper or when a resumed run changes them.
+
+"Honoured" is checked against the library called directly with the same options and the
+seed the dataset documents for each object (object_seed of the job's seed and the object's
+fingerprint): the dataset's saved labels must be exactly those.
+"""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from forceclosure.app.cli import main
+from forceclosure.app.dataset import fingerprint, record_name, run_dataset
+from forceclosure.app.dataset_gripper import GripperJob, object_seed
+from forceclosure.errors import InputError
+from forceclosure.gripper.jaw import ParallelJaw
+from forceclosure.gripper.labels import GraspLabels, grasp_labels
+from forceclosure.gripper.robust import robust_labels
+from forceclosure.gripper.support import support_plane
+
+OBJECTS = ("cube", "hexagonal-prism")
+OPTIONS = ["--approaches", "2", "--depths", "1", "--tilt", "0.3", "--clearance", "0.05",
+           "--no-epsilon", "--robust", "--robust-samples", "3", "--metrics", "--support-plane"]
+BASE = ["--gripper", "parallel-jaw", "--width", "3", "--mu", "0.5", "--count", "6",
+        "--workers", "1"]
+
+
+def _labels(out: Path, name: str) -> GraspLabels:
+    return GraspLabels.load(str(out / "objects" / record_name(Path(name)).replace(".json",
+                                                                                  ".npz")))
+
+
+def test_options_are_recorded_and_honoured(tmp_path, capsys):
+    out, exports = tmp_path / "out", tmp_path / "gn"
+    pictures = tmp_path / "pictures"
+    argv = ["dataset", *OBJECTS, "--out", str(out), *BASE, *OPTIONS,
+            "--export", "graspnet", str(exports), "--plot", str(pictures), "--plot-top", "2"]
+    assert main(argv) == 0
+    err = capsys.readouterr().err
+    assert "export graspnet: 2 files" in err and "export plot: 2 files" in err
+    job = json.loads((out / "job.json").read_text())
+    assert (job["approaches"], job["depths"], job["tilt"], job["clearance"]) == (2, 1, 0.3, 0.05)
+    assert job["epsilon"] is False and job["metrics"] is True and job["collision"] is True
+    assert job["support_plane"] is True
+    assert job["robust"]["samples"] == 3 and job["robust"]["pose_sigma"] == 0.03  # 1 % of 3
+    assert job["exports"] == [["graspnet", str(exports)]]
+    assert (job["plot"], job["plot_top"], job["html"]) == (str(pictures), 2, None)
+    stamp_job = GripperJob(width=3.0, mu=0.5, count=6)  # the fingerprint does not depend on them
+    for name in OBJECTS:
+        saved = _labels(out, name)
+        seed = object_seed(0, fingerprint(name, stamp_job))
+        direct = grasp_labels(name, ParallelJaw(3.0), 0.5, 6, seed, approaches=2, depths=1,
+                              tilt=0.3, clearance=0.05, epsilon=False,
+                              support=support_plane(name))
+        for key in ("center", "closing_axis", "approach_axis", "width", "points", "code",
+                    "least_friction"):
+            assert np.array_equal(getattr(saved, key), getattr(direct, key)), (name, key)
+        assert np.all(np.isnan(saved.epsilon))
+        assert saved.meta["approaches"] == 2 and saved.meta["tilt"] == 0.3
+        assert saved.meta["collision"]["clearance"] == 0.05
+        assert saved.meta["support_plane"] == support_plane(name).to_dict()
+        rob = robust_labels(name, direct, ParallelJaw(3.0), 0.5, samples=3, seed=seed,
+                            pose_sigma=0.03)
+        assert np.array_equal(saved.robust_probability, rob.probability), name
+        assert saved.sigma_min.shape == (6,) and np.all(saved.sigma_min >= 0)
+        npy = np.load(exports / (Path(record_name(Path(name))).stem + ".npy"))
+        assert npy.shape == (6, 17)
+        assert np.allclose(npy[:, 1], saved.width)  # GraspNet's column 1: the width
+        png = pictures / (Path(record_name(Path(name))).stem + ".png")
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    # a resumed run must ask for the same options: another tilt is another job
+    other = [("0" if a == "0.3" else a) for a in argv]  # --tilt 0
+    assert other != argv and main(other) == 2
+    assert "tilt 0.3 there, 0.0 here" in capsys.readouterr().err
+    assert main(argv) == 0  # the same options: resumed, nothing redone
+    assert "2 skipped" in capsys.readouterr().out
+
+
+def test_a_job_file_from_before_the_options_still_resumes(tmp_path):
+    out = tmp_path / "out"
+    job = GripperJob(width=3.0, mu=0.5, count=4)
+    assert run_dataset(["cube"], out, job, workers=1, progress=False).computed == 1
+    held = json.loads((out / "job.json").read_text())
+    for key in GripperJob.IDENTITY_DEFAULTS:
+        del held[key]
+    (out / "job.json").write_text(json.dumps(held))
+    assert run_dataset(["cube"], out, job, workers=1, progress=False).skipped == 1
+    with pytest.raises(InputError, match=r"tilt 0\.0 there, 0\.5 here"):
+        run_dataset(["cube"], out, GripperJob(width=3.0, mu=0.5, count=4, tilt=0.5),
+                    workers=1, progress=False)
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--tilt", "0.3"], "--tilt is for --gripper"),
+    (["--robust"], "--robust is for --gripper"),
+    (["--export", "graspnet", "g"], "--export is for --gripper"),
+    (["--plot", "p"], "--plot is for --gripper"),
+    (["--support-plane"], "--support-plane is for --gripper"),
+    ([*BASE, "--support-plane", "--no-collision"], "--support-plane is part of the collision"),
+    ([*BASE, "--plot-top", "-1", "--plot", "p"], "--plot-top must be a whole number >= 0"),
+    ([*BASE, "--no-collision", "--approaches", "2"], "--approaches is searched by the "
+                                                      "collision check"),
+    ([*BASE, "--tilt", "2"], "--tilt must be a share from 0 to 1"),
+    ([*BASE, "--robust-samples", "5"], "--robust-samples needs --robust"),
+    ([*BASE, "--no-epsilon", "--graspnet-score", "epsilon"], "needs the epsilon"),
+    ([*BASE, "--export", "stl", "x"], "--export: unknown kind 'stl'"),
+])
+def test_refusals(tmp_path, capsys, argv, message):
+    out = tmp_path / "out"
+    assert main(["dataset", "cube", "--out", str(out), *argv]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1, err
+    assert not out.exists()
