@@ -114,3 +114,11 @@ def test_refusals(tmp_path, capsys, argv, message):
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1, err
     assert not out.exists()
+
+
+def test_exports_stay_out_of_the_dataset_folder(tmp_path, capsys):
+    out = tmp_path / "out"
+    for flags in (["--export", "graspnet", str(out)], ["--plot", str(out / "objects")]):
+        assert main(["dataset", "cube", "--out", str(out), *BASE, *flags]) == 2
+        assert "the dataset's own folder" in capsys.readouterr().err
+    assert not out.exists()

@@ -11,6 +11,7 @@ hold one link each).
 import json
 from pathlib import Path
 
+import numpy as np
 import pybullet_data
 import pytest
 import trimesh
@@ -65,15 +66,37 @@ def test_panda_sizes_are_its_meshes_bounds(panda, meshes):
     assert panda.depth == pytest.approx(panda.pad_length / 2)
 
 
+@pytest.mark.parametrize("which, tolerance", [("urdf", 1e-9), ("builtin", 1e-4)])
+def test_panda_boxes_enclose_its_meshes(panda, meshes, which, tolerance):
+    """Every vertex of the opened Panda hand (its meshes placed here by panda.urdf's joints,
+    the right finger turned half a turn about z) lies in the boxes of the model: the one read
+    from the URDF exactly, the built-in to its rounding (0.1 mm), both opened to the pads'
+    real gap."""
+    from forceclosure.gripper.collision import hand_boxes
+
+    finger, hand = meshes
+    model = panda if which == "urdf" else gripper_named("panda")
+    F = np.asarray(finger.vertices)
+    left = F + np.array([0, TRAVEL, FINGER_MOUNT])
+    right = F * np.array([-1, -1, 1]) + np.array([0, -TRAVEL, FINGER_MOUNT])
+    centre = model.tip_offset - model.depth  # the jaw centre on the approach axis (z)
+    boxes = hand_boxes(model, panda.width_max, clearance=0.0)
+    for part in (left, right, np.asarray(hand.vertices)):
+        # the jaw frame: x the approach (hand z), y the closing axis (hand y), z = x * y
+        local = np.column_stack([part[:, 2] - centre, part[:, 1], -part[:, 0]])
+        inside = np.zeros(len(local), bool)
+        for _, extents, middle in boxes:
+            inside |= np.all(np.abs(local - middle) <= extents / 2 + tolerance, axis=1)
+        assert inside.all(), local[~inside][:3]
+
+
 def test_panda_matches_the_builtin(panda):
-    """The built-in was measured by hand from the same files (rounded to 0.1 mm, and its palm
-    taken as the hand's extent, 0.2044, where the URDF's box encloses the off-centre hand)."""
+    """The built-in was measured by hand from the same files (rounded to 0.1 mm)."""
     builtin = gripper_named("panda")
     for field in ("width_max", "tip_offset", "finger_length", "finger_thickness",
-                  "finger_height", "palm_thickness", "palm_height", "pad_length", "pad_height",
-                  "depth"):
+                  "finger_height", "palm_thickness", "palm_width", "palm_height", "pad_length",
+                  "pad_height", "depth"):
         assert getattr(panda, field) == pytest.approx(getattr(builtin, field), abs=5e-4), field
-    assert builtin.palm_width <= panda.palm_width <= builtin.palm_width + 0.004
     assert panda.name == "panda"
 
 

@@ -628,6 +628,13 @@ def _cmd_dataset(args: argparse.Namespace) -> int:
     if args.scheduler and args.workers is not None:
         raise InputError("--workers is for the local pool; a Dask cluster has its own workers")
     job = _dataset_job(args)
+    outputs = [f for _, f in getattr(job, "exports", ())] + [
+        f for f in (getattr(job, "plot", None), getattr(job, "html", None)) if f]
+    inside = {os.path.abspath(args.out), os.path.abspath(os.path.join(args.out, "objects"))}
+    for folder in outputs:
+        if os.path.abspath(folder) in inside:
+            raise InputError(f"{folder}: the dataset's own folder; write exports and pictures "
+                             "elsewhere")
     if args.scheduler:
         try:
             from distributed import Client
@@ -1025,6 +1032,10 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     if labels.collides is not None:
         print(f"  closure and clear: {summary['closure_clear']:,} of {len(labels):,} "
               f"(clear {len(labels) - summary['collides']:,}; closure {counts['closure']:,})")
+    if support is not None:
+        print(f"  on a table: normal {[round(float(x), 6) for x in support.normal]}, offset "
+              f"{support.offset:.6g} (object frame; its most stable pose, probability "
+              f"{support.probability:.3g}); no hand crosses it")
     for reason, n in labels.meta["rejected"].items():
         print(f"  {n:,} lines made no pose: {reason}")
     print(f"  closure {counts['closure']:,}, marginal {counts['marginal']:,}, "

@@ -15,8 +15,9 @@ axis):
     hand's body reaches 0.066 forward, so 0.0462 of each finger stands
     free of it; the finger is 0.021 across (z) and up to 0.0266 thick (y);
     its flat pad is the last 0.0175 of the inner face, 0.0175 across; the
-    hand's body is 0.2044 wide (y) and 0.0632 high (z), and reaches
-    0.0259 behind the frame. Its pads are taken to press 1 mm (a rubber
+    hand's body is 0.2044 wide (y, from -0.104 to 0.1004: off the jaws'
+    line, so the palm box centred on it is 0.208 wide to hold it) and 0.0632
+    high (z), and reaches 0.0259 behind the frame. Its pads are taken to press 1 mm (a rubber
     fingertip; an assumption, not a datum).
 ``graspnet``
     GraspNet-1Billion's collision model (graspnetAPI
@@ -55,7 +56,7 @@ GRIPPERS: dict[str, ParallelJaw] = {
     "panda": ParallelJaw(
         0.08, name="panda", finger_length=0.0462, finger_thickness=0.0266,
         finger_height=0.021, depth=0.00875, pad_length=0.0175, pad_height=0.0175,
-        palm_thickness=0.0919, palm_width=0.2044, palm_height=0.0632, tip_offset=0.1122,
+        palm_thickness=0.0919, palm_width=0.208, palm_height=0.0632, tip_offset=0.1122,
         pad_compliance=0.001),
     "graspnet": ParallelJaw(
         0.1, name="graspnet", finger_length=0.06, finger_thickness=0.01, finger_height=0.02,
