@@ -9,9 +9,10 @@ import numpy as np
 import pytest
 
 from forceclosure.app.cli import main
+from forceclosure.schemas import load_schema
 
 DATA = Path(__file__).parents[1] / "data"
-SCHEMA = json.loads((Path(__file__).parents[2] / "docs" / "grasp-file.schema.json").read_text())
+SCHEMA = load_schema("grasp-file")
 EXAMPLES = resources.files("forceclosure") / "examples"
 RESULT_KEYS = {"verdict", "force_closure", "rank", "margin", "force_direction_closure",
                "torque_closure", "unresisted_twist", "epsilon", "least_friction"}

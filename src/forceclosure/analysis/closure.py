@@ -130,6 +130,10 @@ class VectorClosure:
     repelling: float
     reason: str
 
+    def __bool__(self) -> bool:
+        """True iff the verdict is ``closure`` (``marginal`` and ``none`` are False)."""
+        return self.verdict is Verdict.CLOSURE
+
 
 def check_tolerance(tol: object, name: str = "tol") -> float:
     """``tol`` as a float, refused unless it is a number with 0 <= tol < 1.
@@ -516,6 +520,20 @@ class Analysis:
     def force_closure(self) -> bool:
         """True iff the verdict is ``closure``."""
         return self.verdict is Verdict.CLOSURE
+
+    def __bool__(self) -> bool:
+        """``if analyze(grasp):`` reads "if the grasp is force-closure": True iff the verdict
+        is ``closure``; a ``marginal`` grasp (within the tolerance of the boundary, not
+        certified) and a ``none`` one are False.
+
+        Examples
+        --------
+        >>> from forceclosure import point_contact
+        >>> pinch = [point_contact([x, 0], [x, 0], "hard", 0.5) for x in (-1, 1)]
+        >>> bool(analyze(pinch)), bool(analyze(pinch[:1]))
+        (True, False)
+        """
+        return self.force_closure
 
     def explain(self) -> str:
         """A few lines a person can read: the verdict, what failed, what moves.

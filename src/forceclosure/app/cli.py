@@ -1,7 +1,7 @@
 """The ``forceclosure`` command.
 
 ``forceclosure analyze FILE`` reads a grasp file (one grasp or many; see
-``docs/grasp-file.schema.json``) and says, for each grasp, whether it is
+``forceclosure/schemas/grasp-file.schema.json``) and says, for each grasp, whether it is
 force-closure, what failed, and which motion nothing resists;
 ``--json`` prints the same for machines. ``forceclosure demo`` analyses the
 bundled examples.
@@ -1168,7 +1168,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     p = sub.add_parser("analyze", help="is each grasp in a grasp file force-closure?",
                        description="Analyse the grasps of a JSON grasp file "
-                                   "(docs/grasp-file.schema.json; '-' reads standard input), "
+                                   "(schema: forceclosure/schemas/grasp-file.schema.json; "
+                                   "'-' reads standard input), "
                                    "or of an .npz file of arrays (points, normals, mu, model; "
                                    "see docs/analysis.md), any number of grasps, in chunks.")
     p.add_argument("file", metavar="FILE")

@@ -1,4 +1,4 @@
-"""The grasp file: JSON in, JSON out (schema: ``docs/grasp-file.schema.json``).
+"""The grasp file: JSON in, JSON out (schema: ``forceclosure/schemas/grasp-file.schema.json``).
 
 Input holds one grasp or many::
 
