@@ -26,6 +26,7 @@ from typing import Any, NoReturn
 
 from .. import __version__
 from ..errors import InputError, clip, printable
+from ..extras import require
 from ..io.files import read_text
 from ..tolerance import TOLERANCE
 
@@ -458,6 +459,8 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
 
     if args.html and not args.html.lower().endswith((".html", ".htm")):
         raise InputError(f"--html {args.html}: an interactive view is saved as .html")
+    if args.html:  # before any work
+        require("plotly", "the interactive HTML view", "view")
     _check_picture(args.plot, args.object)
     obj = load_object(args.object, allow_open=args.allow_open, part=args.part,
                       allow_outside_meshes=args.allow_outside_meshes)
@@ -626,10 +629,7 @@ def _cmd_dataset(args: argparse.Namespace) -> int:
         raise InputError("--workers is for the local pool; a Dask cluster has its own workers")
     job = _dataset_job(args)
     if args.scheduler:
-        try:
-            from distributed import Client
-        except ImportError:
-            raise InputError("--scheduler needs Dask: pip install 'forceclosure[dask]'") from None
+        Client = require("distributed", "--scheduler (a Dask cluster)", "dask").Client
         try:
             client = Client(args.scheduler, timeout="20s")
         except (OSError, TimeoutError) as e:

@@ -80,6 +80,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
+from ..extras import require
 from ..io.outdir import atomic_file, locked, remove_temporaries, write_atomically
 from ..objects.io import MESH_SUFFIXES, POLYGON_SUFFIXES, ROBOT_SUFFIXES
 from ..objects.urdf import mesh_files
@@ -644,7 +645,7 @@ def row_of(record: dict[str, Any]) -> dict[str, Any]:
 
 
 def _table(records: Iterable[dict[str, Any]]) -> Any:
-    import pyarrow as pa
+    pa = require("pyarrow", "the dataset's table", "table")
 
     types = {"string": pa.string(), "float64": pa.float64(), "int64": pa.int64(),
              "bool": pa.bool_(), "list<float64>": pa.list_(pa.float64())}
@@ -655,8 +656,7 @@ def _table(records: Iterable[dict[str, Any]]) -> Any:
 
 def write_table(out: Path, records: Iterable[dict[str, Any]]) -> Path:
     """Write ``out/results.parquet`` (atomically) from object records."""
-    import pyarrow.parquet as pq
-
+    pq = require("pyarrow.parquet", "the dataset's table", "table")
     table = _table(records)
     path = out / "results.parquet"
     with atomic_file(path) as f:
@@ -791,6 +791,7 @@ def run_dataset(inputs: Sequence[str | Path], out: str | Path, job: Job = Job(),
     ...             progress=False).skipped
     2
     """
+    require("pyarrow.parquet", "the dataset's table", "table")  # refused before any work
     paths = expand_inputs(inputs)
     if job.mode == "synthesize":  # a hand no object can serve: refuse before any work
         from ..synthesis.best import check_hand

@@ -38,6 +38,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, OutputError
+from ..extras import require
 
 __all__ = ["GRASP_COLUMNS", "GripperJob", "object_seed", "read_labels", "sha256_of",
            "write_grasp_table"]
@@ -265,7 +266,7 @@ def read_labels(file: str | Path) -> dict[str, np.ndarray]:
 
 
 def _schema() -> Any:
-    import pyarrow as pa
+    pa = require("pyarrow", "the dataset's table", "table")
 
     types = {"string": pa.string(), "float64": pa.float64(), "int64": pa.int64(),
              "bool": pa.bool_()}
@@ -295,10 +296,10 @@ def write_grasp_table(out: str | Path, records: Iterable[dict[str, Any]]) -> Pat
     """Write ``out/grasps.parquet`` (atomically): one row per grasp (:data:`GRASP_COLUMNS`)
     of every done record's labels file, objects in the order of their paths, grasps in the
     order of the file."""
-    import pyarrow as pa
-    import pyarrow.parquet as pq
-
     from ..io.outdir import atomic_file
+
+    pa = require("pyarrow", "the dataset's table", "table")
+    pq = require("pyarrow.parquet", "the dataset's table", "table")
 
     out = Path(out)
     schema = _schema()

@@ -80,6 +80,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
+from ..extras import require
 from ..gripper.jaw import ParallelJaw
 
 __all__ = ["DIRECT_MESHES", "KINDS", "AcronymObject", "acronym_object", "acronym_transforms",
@@ -283,12 +284,7 @@ def acronym_transforms(labels: Any, offset: float | ArrayLike) -> NDArray[np.flo
 
 def require_h5py():
     """h5py, or one line naming the extra that installs it."""
-    try:
-        import h5py
-    except ImportError:
-        raise InputError("ACRONYM export needs h5py: install forceclosure's 'export' extra "
-                         "(pip install 'forceclosure[export]')") from None
-    return h5py
+    return require("h5py", "ACRONYM export", "export")
 
 
 #: Mesh files that ``trimesh.load`` opens as one ``Trimesh`` (ACRONYM's ``load_mesh`` then
