@@ -32,7 +32,6 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from enum import StrEnum
 from functools import partial
 
 import numpy as np
@@ -52,6 +51,7 @@ from ..contacts import (
 )
 from ..errors import InputError
 from ..tolerance import TOLERANCE
+from ..verdicts import Verdict
 from .motion import Motion, motion_of, shift_twist
 
 __all__ = ["EXACT_CONE_EDGES", "FRICTION_CAP", "TOLERANCE", "TORSION_MAX", "Analysis",
@@ -76,17 +76,7 @@ TORSION_MAX = 1e6
 EXACT_CONE_EDGES = (8, 16, 32, 64, 128, 256)
 
 
-class Verdict(StrEnum):
-    """``closure``: force-closure with margin; ``none``: provably not;
-    ``marginal``: within the tolerance of the boundary."""
-
-    CLOSURE = "closure"
-    MARGINAL = "marginal"
-    NONE = "none"
-
-
-#: Verdicts by the kernels' codes (0, 1, 2), and the kernels' codes of contact models.
-_BY_CODE = (Verdict.NONE, Verdict.MARGINAL, Verdict.CLOSURE)
+#: The kernels' codes of contact models (their verdicts' codes: :class:`VerdictCode`).
 _MODEL_CODE = {m: i for i, m in enumerate(MODELS)}
 
 
@@ -891,6 +881,6 @@ def _compiled(contacts: list[Contact], cone: str | Cone, tol: float,
     code, rank, margin = int(code[0]), rank[0], margin[0]
     if code == kernel.DEFER:
         return None
-    return (_BY_CODE[code], int(rank), None if math.isnan(margin) else float(margin))
+    return (Verdict.of_code(code), int(rank), None if math.isnan(margin) else float(margin))
 
 

@@ -29,6 +29,7 @@ from ..errors import InputError, clip, printable
 from ..extras import require
 from ..io.files import read_text
 from ..tolerance import TOLERANCE
+from ..verdicts import VERDICT_WORDS, VerdictCode
 
 __all__ = ["ANY_POSITIVE", "DEFAULT_F_MAX", "FLAGS", "SWITCHES", "as_flags", "build_parser",
            "main"]
@@ -208,7 +209,7 @@ def _analyze_arrays(args: argparse.Namespace) -> int:
                "grasps_per_second": round(ran / seconds) if seconds > 0 else None,
                "out": args.out, "resumed": before}
     if results.epsilon is not None:
-        closed = results.epsilon[results.code == 2]
+        closed = results.epsilon[results.code == VerdictCode.CLOSURE]
         summary["epsilon_median"] = float(np.median(closed)) if len(closed) else None
     if args.json:
         json.dump(summary, sys.stdout, indent=2, allow_nan=False)
@@ -356,7 +357,7 @@ def _demo_objects() -> None:
     from ..gripper.labels import grasp_labels
 
     labels = grasp_labels(cube, ParallelJaw(3.0), 0.5, 20, seed=0)
-    clear = int(np.sum(~labels.collides & (labels.code == 2)))
+    clear = int(np.sum(~labels.collides & (labels.code == VerdictCode.CLOSURE)))
     print(f"== the cube in a parallel-jaw hand opening 3 (docs/gripper.md), mu 0.5 ==\n"
           f"  20 poses the hand can take: closure and clear {clear}, least friction median "
           f"{float(np.median(labels.least_friction)):.3g}")
@@ -734,8 +735,8 @@ def _collision_summary(labels) -> dict:
     hit = labels.collides
     return {"collides": int(hit.sum()),
             **{f"collides_{v}": int(np.sum(hit & (labels.code == c)))
-               for c, v in enumerate(("none", "marginal", "closure"))},
-            "closure_clear": int(np.sum(~hit & (labels.code == 2)))}
+               for c, v in enumerate(VERDICT_WORDS)},
+            "closure_clear": int(np.sum(~hit & (labels.code == VerdictCode.CLOSURE)))}
 
 
 #: ``grasps --f-max`` default: each jaw's normal force, N (a Franka Emika hand's
@@ -956,7 +957,8 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     counts = labels.counts()
     mu_star = (float(np.median(labels.least_friction))
                if len(labels) and not args.no_least_friction else math.nan)
-    closed = labels.epsilon[labels.code == 2] if not args.no_epsilon else np.zeros(0)
+    closed = (labels.epsilon[labels.code == VerdictCode.CLOSURE] if not args.no_epsilon
+              else np.zeros(0))
     summary = {"object": args.object, "candidates": len(labels), "requested": args.count,
                "attempts": labels.meta["attempts"], "rejected": labels.meta["rejected"],
                "contact": args.contact, "mu": args.mu, "width": gripper.width_max,

@@ -84,6 +84,7 @@ from ..extras import require
 from ..io.outdir import atomic_file, locked, remove_temporaries, write_atomically
 from ..objects.io import MESH_SUFFIXES, POLYGON_SUFFIXES, ROBOT_SUFFIXES
 from ..objects.urdf import mesh_files
+from ..verdicts import Verdict, VerdictCode
 from .progress import ProgressLines, every_from_environment
 from .workers import Relay, Watchdog, die_with_run, number_worker, tell_compiling, tell_dask_run
 
@@ -504,7 +505,7 @@ def _analyze(obj, path: Path, job: Job) -> dict[str, Any]:
                 parts.append(c["points"].reshape(-1, obj.dim))
         points = np.concatenate(parts) if parts else np.empty((0, obj.dim))
         counts = results.counts()
-        closed = results.epsilon[results.code == 2]
+        closed = results.epsilon[results.code == VerdictCode.CLOSURE]
         verdicts = results.code.tolist()
         errors = results.errors
         eps_median = float(np.median(closed)) if len(closed) else None
@@ -512,10 +513,9 @@ def _analyze(obj, path: Path, job: Job) -> dict[str, Any]:
     else:
         grasp_file = parse_grasp_file(source.read_text(encoding="utf-8"), source.name)
         per_grasp = [result_record(entry, grasp_file.cone)[0] for entry in grasp_file.grasps]
-        names = {"closure": 2, "marginal": 1, "none": 0}
+        names = {v.value: int(v.code) for v in Verdict}
         verdicts = [names.get(r.get("verdict"), -1) for r in per_grasp]
-        counts = {k: verdicts.count(c) for k, c in (("closure", 2), ("marginal", 1),
-                                                      ("none", 0), ("errors", -1))}
+        counts = {k: verdicts.count(c) for k, c in (*names.items(), ("errors", -1))}
         errors = [r["error"] for r in per_grasp if "error" in r]
         eps = [r["epsilon"] for r in per_grasp if r.get("verdict") == "closure"
                and r.get("epsilon") is not None]

@@ -39,6 +39,7 @@ import numpy as np
 
 from ..errors import InputError, OutputError
 from ..extras import require
+from ..verdicts import VERDICT_WORDS, VerdictCode
 
 __all__ = ["GRASP_COLUMNS", "GripperJob", "object_seed", "read_labels", "sha256_of",
            "write_grasp_table"]
@@ -62,7 +63,6 @@ GRASP_COLUMNS = (("name", "string"), ("path", "string"), ("grasp", "int64"),
                  ("verdict", "string"), ("least_friction", "float64"), ("epsilon", "float64"),
                  ("collides", "bool"))
 
-_VERDICTS = ("none", "marginal", "closure")
 
 
 def object_seed(seed: int, stamp: str) -> int:
@@ -196,7 +196,7 @@ class GripperJob:
         seed = object_seed(self.seed, fingerprint(path, self))
         labels = grasp_labels(obj, self.gripper(), self.mu, self.count, seed, self.contact,
                               least_friction=self.least_friction)
-        closed = labels.epsilon[labels.code == 2]
+        closed = labels.epsilon[labels.code == VerdictCode.CLOSURE]
         finite = labels.least_friction[np.isfinite(labels.least_friction)]
         hit = labels.collides
         return {"contact": self.contact, "mu": self.mu, "width": labels.meta["width_max"],
@@ -206,7 +206,8 @@ class GripperJob:
                 "least_friction_median": _finite_or_none(np.median(labels.least_friction))
                 if self.least_friction and len(finite) else None,
                 "collides": None if hit is None else int(hit.sum()),
-                "closure_clear": None if hit is None else int(np.sum(~hit & (labels.code == 2))),
+                "closure_clear": None if hit is None else int(
+                    np.sum(~hit & (labels.code == VerdictCode.CLOSURE))),
                 "attempts": int(labels.meta["attempts"]),
                 "rejected": int(sum(labels.meta["rejected"].values())),
                 "rejected_reasons": dict(labels.meta["rejected"]),
@@ -285,7 +286,7 @@ def _grasp_columns(record: dict[str, Any], arrays: dict[str, np.ndarray]) -> dic
         for key, what in (("points", "point"), ("normals", "normal")):
             for i, a in enumerate("xyz"):
                 columns[f"{what}{jaw}_{a}"] = arrays[key][:, jaw - 1, i]
-    columns["verdict"] = np.array(_VERDICTS, dtype=object)[arrays["code"].astype(np.int64)]
+    columns["verdict"] = np.array(VERDICT_WORDS, dtype=object)[arrays["code"].astype(np.int64)]
     columns["least_friction"] = arrays["least_friction"]
     columns["epsilon"] = arrays["epsilon"]
     columns["collides"] = arrays["collides"] if "collides" in arrays else [None] * n

@@ -39,6 +39,7 @@ from numpy.typing import NDArray
 from ..analysis.batch import CHUNK, analyze_batch, epsilon_batch
 from ..contacts import MODELS, Cone
 from ..errors import InputError, clip
+from ..verdicts import VERDICT_WORDS, Verdict, VerdictCode
 from .atomic import atomic_write
 from .files import regular_file
 from .grasp_file import MAX_COORDINATE
@@ -318,7 +319,7 @@ class NpzResults:
         """How many grasps got each verdict, and how many were refused."""
         code = self.code[:self.done]
         return {name: int(np.sum(code == c))
-                for name, c in (("closure", 2), ("marginal", 1), ("none", 0), ("errors", ERROR))}
+                for name, c in (*((v.value, v.code) for v in Verdict), ("errors", ERROR))}
 
     def save(self, path: str) -> None:
         """Write the results as an ``.npz`` at exactly ``path`` (no ``.npz`` added),
@@ -342,7 +343,7 @@ class NpzResults:
         done = len(self.code) if self.done is None else self.done
         with atomic_write(path) as f:
             np.savez(f, verdict=self.code, rank=self.rank, margin=self.margin,
-                     names=np.array(["none", "marginal", "closure"]), done=np.int64(done),
+                     names=np.array(VERDICT_WORDS), done=np.int64(done),
                      partial=np.bool_(self.partial), **extra)
 
 
@@ -475,7 +476,7 @@ def _analyse_rows(part: dict[str, NDArray], good: NDArray[np.intp], lo: int,
     margin[lo + good] = r.margin
     if eps is not None:
         eps[lo + good] = 0.0
-        closed = np.flatnonzero(r.code == 2)
+        closed = np.flatnonzero(r.code == VerdictCode.CLOSURE)
         eps[lo + good[closed]] = epsilon_batch(
             P[closed], N[closed], mu=mu[closed], model=info.models,
             torsion=None if torsion is None else torsion[closed], tol=tol)
