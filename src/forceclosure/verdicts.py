@@ -6,7 +6,7 @@ tolerance of the boundary). :class:`Verdict` is the word (the value the JSON
 outputs and Parquet columns carry); :class:`VerdictCode` is the integer the
 compiled kernels and every ``code`` array hold (0 ``none``, 1 ``marginal``,
 2 ``closure``, also the order of the words in :data:`VERDICT_WORDS`). This
-module imports nothing of the package.
+module imports nothing of the package, and NumPy only when an array is read.
 
 References
 ----------
@@ -26,9 +26,11 @@ Examples
 from __future__ import annotations
 
 from enum import IntEnum, StrEnum
+from typing import TYPE_CHECKING
 
-import numpy as np
-from numpy.typing import ArrayLike, NDArray
+if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["VERDICT_WORDS", "Verdict", "VerdictCode", "verdict_words"]
 
@@ -93,4 +95,6 @@ def verdict_words(code: ArrayLike) -> NDArray[np.str_]:
     str array
         ``"none"``, ``"marginal"`` or ``"closure"`` for each, shaped like ``code``.
     """
+    import numpy as np
+
     return np.array(VERDICT_WORDS)[np.asarray(code)]
