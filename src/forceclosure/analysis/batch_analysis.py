@@ -32,7 +32,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..contacts import MAX_COORDINATE, MODELS, Cone, Contact, unit_rows
+from ..contacts import MAX_COORDINATE, MODELS, Cone, Contact, fixed_cone, unit_rows
 from ..errors import InputError
 from ..verdicts import VerdictCode, verdict_words
 from .closure import (
@@ -223,12 +223,12 @@ def _kernel_inputs(grasps: _Grasps, part: slice,
 
 
 def _cone_args(cone: str | Cone) -> tuple[bool, int, int]:
-    """``(exact, edges, fit)`` for the kernels."""
-    if cone == "exact":
+    """``(exact, edges, fit)`` for the kernels (the cone read by
+    :func:`forceclosure.contacts.parse_cone`)."""
+    fixed = fixed_cone(cone)
+    if fixed is None:
         return True, 8, 0
-    if isinstance(cone, Cone):
-        return False, cone.edges, int(cone.fit == "circumscribed")
-    raise InputError(f"cone must be 'exact' or a Cone(edges, fit), got {cone!r}")
+    return False, fixed.edges, int(fixed.fit == "circumscribed")
 
 
 def _check_engine(engine: str) -> None:

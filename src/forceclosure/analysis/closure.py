@@ -44,6 +44,7 @@ from ..contacts import (
     Contact,
     WrenchSet,
     check_grasp,
+    fixed_cone,
     frame,
     generating_wrenches,
     own_frame,
@@ -556,14 +557,6 @@ def _spatial_friction(contacts: Sequence[Contact]) -> bool:
     return contacts[0].dim == 3 and any(c.frictional and c.mu > 0 for c in contacts)
 
 
-def _parse_cone(cone: str | Cone) -> Cone | None:
-    if cone == "exact":
-        return None
-    if isinstance(cone, Cone):
-        return cone
-    raise InputError(f"cone must be 'exact' or a Cone(edges, fit), got {cone!r}")
-
-
 def decide(contacts: Sequence[Contact], cone: str | Cone = "exact", tol: float = TOLERANCE,
            reference: ArrayLike | None = None, length_scale: float | None = None,
            ) -> tuple[VectorClosure, WrenchSet, str]:
@@ -594,7 +587,7 @@ def _decision(contacts: Sequence[Contact], cone: str | Cone, tol: float,
     """:func:`decide`, also returning the contacts, pyramid and half-space marks that decided."""
     contacts = check_grasp(contacts)
     check_tolerance(tol)
-    _parse_cone(cone)
+    fixed_cone(cone)
     if reference is not None or length_scale is not None:
         frame(contacts, reference, length_scale)  # refuses a bad frame
     _check_torsion(contacts)
@@ -635,7 +628,7 @@ def _decide(contacts: list[Contact], cone: str | Cone, tol: float,
             ) -> tuple[VectorClosure, WrenchSet, str, Cone]:
     """:func:`decide` in the grasp's own frame, ``half_space`` contacts with unbounded
     friction; also returns the pyramid that decided."""
-    fixed = _parse_cone(cone)
+    fixed = fixed_cone(cone)
     if fixed is not None or not _spatial_friction(contacts):
         use = fixed or Cone()
         ws = generating_wrenches(contacts, use, half_space=half_space)
@@ -853,7 +846,7 @@ def _compiled(contacts: list[Contact], cone: str | Cone, tol: float,
     beyond ``2**±64``; or is not compiled yet, :func:`forceclosure.kernels.use_compiled`)
     and the reference path decides."""
     tol = check_tolerance(tol)
-    fixed = _parse_cone(cone)
+    fixed = fixed_cone(cone)
     for c in contacts:
         if len(c.points) != 1 or len(c.normals) != 1 or (c.frictional and c.mu > FRICTION_CAP):
             return None

@@ -37,7 +37,7 @@ from numpy.lib import format as npy
 from numpy.typing import NDArray
 
 from ..analysis.batch import CHUNK, analyze_batch, epsilon_batch
-from ..contacts import MODELS, Cone
+from ..contacts import MODELS, Cone, parse_cone
 from ..errors import InputError, clip
 from ..verdicts import VERDICT_WORDS, Verdict, VerdictCode
 from .atomic import atomic_write
@@ -137,15 +137,6 @@ class _Rows:
         return np.frombuffer(data, dtype=self.dtype).reshape(got, *self.shape[1:]).astype(float)
 
 
-def _parse_cone(spec: str) -> str | Cone:
-    if spec == "exact":
-        return "exact"
-    edges, _, fit = spec.partition("-")
-    if not edges.isdigit() or fit not in ("inscribed", "circumscribed"):
-        raise InputError(f"'cone' must be \"exact\" or like \"8-inscribed\", got {spec!r}")
-    return Cone(int(edges), fit)  # type: ignore[arg-type]
-
-
 @dataclass(frozen=True)
 class GraspArrays:
     """What an ``.npz`` grasp file holds, before its rows are read."""
@@ -222,7 +213,7 @@ def open_npz(path: str) -> GraspArrays:
                                  f"of them; got {m.tolist()}")
         cone: str | Cone = "exact"
         if "cone" in names:
-            cone = _parse_cone(str(_small(archive, "cone", path)))
+            cone = parse_cone(str(_small(archive, "cone", path)))
         streamed, constant = ["points", "normals"], {}
         for name in ("mu", "torsion"):
             if name not in names:
