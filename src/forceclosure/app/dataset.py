@@ -79,7 +79,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, printable
 from ..extras import require
 from ..io.outdir import atomic_file, locked, remove_temporaries, write_atomically
 from ..objects.io import MESH_SUFFIXES, POLYGON_SUFFIXES, ROBOT_SUFFIXES
@@ -915,21 +915,6 @@ def _run_locked(paths: list[Path], out: Path, job: Job, executor: Executor | Non
                    computed=computed, skipped=skipped,
                    seconds=time.perf_counter() - start, workers=workers, out=out,
                    interrupted=interrupted)
-
-
-_CONTROL = re.compile(r"[\x00-\x1f\x7f-\x9f]")
-
-
-def printable(line: str) -> str:
-    r"""A log line as one line of plain text: control characters (newlines, ANSI escapes in
-    a file name) shown as escapes, so that no name can forge or colour a line.
-
-    Examples
-    --------
-    >>> print(printable("failed: a\nforceclosure: done \x1b[32mok"))
-    failed: a\nforceclosure: done \x1b[32mok
-    """
-    return _CONTROL.sub(lambda m: repr(m.group())[1:-1], line)
 
 
 def _failed(path: Path, error: str, status: str = "failed") -> dict[str, Any]:
