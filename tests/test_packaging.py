@@ -56,10 +56,19 @@ def test_the_wheel_carries_licence_type_marker_and_schemas(tmp_path):
     subprocess.run(["uv", "build", "--wheel", "--out-dir", str(tmp_path), str(ROOT)],
                    check=True, capture_output=True)
     (wheel,) = tmp_path.glob("forceclosure-*.whl")
-    names = set(zipfile.ZipFile(wheel).namelist())
+    archive = zipfile.ZipFile(wheel)
+    names = set(archive.namelist())
     assert "forceclosure/py.typed" in names
     assert {f"forceclosure/schemas/{n}.schema.json" for n in SCHEMAS} <= names
     assert any(n.endswith(".dist-info/licenses/LICENSE") for n in names), sorted(names)
+    # a plain install brings no optional package: each comes with its extra only
+    (metadata,) = [n for n in names if n.endswith(".dist-info/METADATA")]
+    requires = [line.split(":", 1)[1].strip() for line in
+                archive.read(metadata).decode().splitlines() if line.startswith("Requires-Dist:")]
+    for package, extra in (("pyarrow", "table"), ("plotly", "view"), ("distributed", "dask")):
+        mine = [r for r in requires if r.startswith(package)]
+        assert mine and all("extra ==" in r for r in mine), requires
+        assert any(f"extra == '{extra}'" in r or f'extra == "{extra}"' in r for r in mine)
     code = ("import sys; sys.path.insert(0, sys.argv[1]); import forceclosure.schemas as s; "
             "assert s.__file__.startswith(sys.argv[1]), s.__file__; "
             "print(s.load_schema('regions')['title'])")
