@@ -56,21 +56,8 @@ def schema_text(name: str) -> str:
 
 
 def load_schema(name: str) -> dict[str, Any]:
-    """The schema ``name`` (JSON Schema, draft 2020-12) as a dictionary.
+    """The schema ``name`` (JSON Schema, draft 2020-12) parsed: a new dictionary on each call.
 
-    Parameters
-    ----------
-    name : str
-        One of :data:`SCHEMAS`.
-
-    Returns
-    -------
-    dict
-        The parsed schema, a new dictionary on each call.
-
-    Raises
-    ------
-    InputError
-        For a name that is not one of :data:`SCHEMAS`.
+    ``name`` is one of :data:`SCHEMAS`; any other is refused as by :func:`schema_text`.
     """
     return json.loads(schema_text(name))
