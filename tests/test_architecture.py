@@ -177,9 +177,12 @@ def test_geometry_imports_nothing_above_it():
 #: The layers, bottom up: a module imports only from its own layer and those below (the package's
 #: ``__init__``, the lazy facade of public names, and ``__main__`` stand outside). ``io.files``
 #: and ``io.atomic`` are leaf primitives (read a user's file, write one atomically) that import
-#: only ``errors``, so every layer may use them; ``_moved`` keeps the old module paths.
+#: only ``errors``, so every layer may use them, as may ``schemas`` (the shipped JSON schemas),
+#: ``extras`` (the optional packages, imported on use) and ``verdicts`` (the verdicts' words and
+#: codes); ``_moved`` keeps the old module paths.
 LAYERS = [
-    ["errors", "tolerance", "_moved", "io.files", "io.atomic"],
+    ["errors", "tolerance", "_moved", "io.files", "io.atomic", "schemas", "extras",
+     "verdicts"],
     ["geometry"],
     ["contacts", "kernels"],
     ["objects", "simulators"],

@@ -6,6 +6,7 @@ import pytest
 from forceclosure import (
     Cone,
     InputError,
+    analyze,
     edge_contact,
     face_contact,
     generating_wrenches,
@@ -73,3 +74,47 @@ def test_bad_contacts_are_refused_in_one_line(kwargs, message):
 
 def test_normals_are_normalised():
     assert point_contact([0, 0], [0, 5]).normal.tolist() == [0.0, 1.0]
+
+
+CONE_FORMS = [("exact", "exact"), ({"edges": 4}, Cone(4)), ({}, Cone(8)),
+              ({"edges": 6, "fit": "circumscribed"}, Cone(6, "circumscribed")),
+              ("16-circumscribed", Cone(16, "circumscribed")), ("3-inscribed", Cone(3))]
+BAD_CONES = [("8", "cone must be"), ("8-outside", "cone must be"), ({"edges": "8"}, "'edges'"),
+             ({"edges": 2}, "'edges' must be an integer >= 3"), ({"k": 8}, "cone must be"),
+             ("2-inscribed", "'edges' must be an integer >= 3"), (8, "cone must be")]
+
+
+@pytest.mark.parametrize("spec, cone", CONE_FORMS)
+def test_one_cone_reader_for_the_api_and_both_grasp_files(spec, cone, tmp_path):
+    """A cone asked for as the API's argument, a JSON grasp file's field and an .npz grasp
+    file's array (text only) reads the same."""
+    import json
+
+    from forceclosure.contacts import fixed_cone, parse_cone
+    from forceclosure.io.grasp_arrays import open_npz
+    from forceclosure.io.grasp_file import parse_grasp_file
+
+    assert parse_cone(spec) == cone and fixed_cone(spec) == (None if cone == "exact" else cone)
+    grasp = {"contacts": [{"point": [0, 0, 1], "normal": [0, 0, 1], "mu": 0.5},
+                          {"point": [0, 0, -1], "normal": [0, 0, -1], "mu": 0.5}], "cone": spec}
+    assert parse_grasp_file(json.dumps(grasp)).cone == cone
+    if isinstance(spec, str):
+        path = tmp_path / "g.npz"
+        np.savez(path, points=np.zeros((1, 2, 3)), normals=np.ones((1, 2, 3)), cone=spec)
+        assert open_npz(str(path)).cone == cone
+
+
+@pytest.mark.parametrize("spec, message", BAD_CONES)
+def test_a_bad_cone_is_refused_in_one_line_by_every_reader(spec, message):
+    import json
+
+    from forceclosure.contacts import parse_cone
+    from forceclosure.io.grasp_file import parse_grasp_file
+
+    grasp = [point_contact([x, 0, 0], [x, 0, 0], "hard", 0.5) for x in (-1, 1)]
+    for read in (parse_cone, lambda s: analyze(grasp, cone=s),
+                 lambda s: parse_grasp_file(json.dumps({"contacts": [
+                     {"point": [1, 0, 0], "normal": [1, 0, 0]}], "cone": s}))):
+        with pytest.raises(InputError, match=message) as e:
+            read(spec)
+        assert "\n" not in str(e.value)

@@ -98,7 +98,9 @@ def objects_made_before():
     from forceclosure.synthesis.planar import maximal_regions
 
     regions = maximal_regions(bundled("square"), 0, 2, mu=0.3)
-    return [(Verdict.CLOSURE, "forceclosure.closure", "forceclosure.analysis.closure"),
+    # Verdict lives in forceclosure.verdicts now; pickles naming either earlier home load
+    return [(Verdict.CLOSURE, "forceclosure.closure", "forceclosure.verdicts"),
+            (Verdict.MARGINAL, "forceclosure.analysis.closure", "forceclosure.verdicts"),
             (JawPose([0, 0, 0], [1, 0, 0], [0, 0, 1], 1.0),
              "forceclosure.gripper", "forceclosure.gripper.jaw"),
             (regions, "forceclosure.synthesis.edge_pair",
@@ -120,4 +122,4 @@ def test_an_old_pickle_loads_in_a_fresh_interpreter():
             "print(type(v).__module__, v.value)")
     out = subprocess.run([sys.executable, "-c", code], input=old_pickle(obj, old, new),
                          capture_output=True, check=True).stdout.decode().split()
-    assert out == ["forceclosure.analysis.closure", "closure"]
+    assert out == ["forceclosure.verdicts", "closure"]

@@ -41,7 +41,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .errors import InputError
+from .errors import InputError, shown
 from .geometry.cones import (
     friction_forces,
     grasp_tangents,
@@ -50,11 +50,35 @@ from .geometry.cones import (
     tangent_basis,
 )
 
-__all__ = ["MAX_CONTACTS", "MAX_COORDINATE", "MAX_EDGES", "MODELS", "ORIENTATIONS", "Cone",
-           "Contact", "Fit", "Model", "Orientation", "WrenchSet",
-           "binary_unit", "check_grasp", "edge_contact", "face_contact", "frame",
-           "generating_wrenches", "half_space_wrenches", "make_contact", "own_frame",
-           "point_contact", "primitive_wrenches", "tangent_basis", "unit_rows", "vertex_contact"]
+__all__ = [
+    "MAX_CONTACTS",
+    "MAX_COORDINATE",
+    "MAX_EDGES",
+    "MODELS",
+    "ORIENTATIONS",
+    "Cone",
+    "Contact",
+    "Fit",
+    "Model",
+    "Orientation",
+    "WrenchSet",
+    "binary_unit",
+    "check_grasp",
+    "edge_contact",
+    "face_contact",
+    "fixed_cone",
+    "frame",
+    "generating_wrenches",
+    "half_space_wrenches",
+    "make_contact",
+    "own_frame",
+    "parse_cone",
+    "point_contact",
+    "primitive_wrenches",
+    "tangent_basis",
+    "unit_rows",
+    "vertex_contact",
+]
 
 MODELS = ("frictionless", "hard", "soft")
 Model = Literal["frictionless", "hard", "soft"]
@@ -111,6 +135,64 @@ class Cone:
 
     def __str__(self) -> str:
         return f"{self.edges}-edge {self.fit} pyramid"
+
+
+def parse_cone(spec: object) -> Literal["exact"] | Cone:
+    """The friction cones asked for, in any form forceclosure takes them.
+
+    The one reader of a cone choice: the API's ``cone`` argument, a grasp file's
+    ``"cone"`` field (JSON) and an ``.npz`` grasp file's ``cone`` array all go
+    through it.
+
+    Parameters
+    ----------
+    spec : "exact", Cone, dict or str
+        ``"exact"`` (true circular cones, bracketed by pyramids); a :class:`Cone`;
+        ``{"edges": k, "fit": "inscribed" | "circumscribed"}`` (either key may be left
+        out: 8, inscribed); or the text ``"k-inscribed"`` / ``"k-circumscribed"``.
+
+    Returns
+    -------
+    "exact" or Cone
+
+    Raises
+    ------
+    InputError
+        For anything else, or a pyramid :class:`Cone` refuses (fewer than 3 edges...).
+
+    Examples
+    --------
+    >>> parse_cone("exact"), parse_cone({"edges": 4}), parse_cone("16-circumscribed")
+    ('exact', Cone(edges=4, fit='inscribed'), Cone(edges=16, fit='circumscribed'))
+    >>> parse_cone("8")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    forceclosure.errors.InputError: cone must be "exact", ... or a Cone(edges, fit); got "8"
+    """
+    if isinstance(spec, Cone):
+        return spec
+    if isinstance(spec, str):
+        if spec == "exact":
+            return "exact"
+        edges, _, fit = spec.partition("-")
+        if edges.isdigit() and fit in ("inscribed", "circumscribed"):
+            return Cone(int(edges), fit)  # type: ignore[arg-type]
+    elif isinstance(spec, dict) and set(spec) <= {"edges", "fit"}:
+        return Cone(spec.get("edges", 8), spec.get("fit", "inscribed"))
+    raise InputError('cone must be "exact", {"edges": k, "fit": "inscribed"|"circumscribed"}, '
+                     f'like "8-inscribed", or a Cone(edges, fit); got {shown(spec)}')
+
+
+def fixed_cone(spec: object) -> Cone | None:
+    """The pyramid asked for, or None for ``"exact"`` cones (see :func:`parse_cone`).
+
+    Examples
+    --------
+    >>> fixed_cone("exact") is None, fixed_cone(Cone(6))
+    (True, Cone(edges=6, fit='inscribed'))
+    """
+    cone = parse_cone(spec)
+    return None if cone == "exact" else cone
 
 
 def _vector(value: ArrayLike, field: str) -> NDArray[np.float64]:

@@ -72,8 +72,11 @@ _UNPRINTABLE = re.compile(r"[\x00-\x1f\x7f-\x9f\u2028\u2029\u202a-\u202e\u2066-\
 
 
 def printable(text: str, limit: int | None = None) -> str:
-    """``text`` safe for a terminal line: control characters, ANSI escapes, separators and lone
-    surrogates written as ``\\xNN`` / ``\\uNNNN``; cut to ``limit`` characters if given.
+    """``text`` safe for a terminal line: control characters, ANSI escapes, separators,
+    bidirectional overrides and lone surrogates written as ``\\xNN`` / ``\\uNNNN``; cut to
+    ``limit`` characters if given. The one rule for every line forceclosure prints or logs
+    with a user's text in it (the CLI's messages, the dataset's log lines), so that no file
+    name can forge, colour or reorder a line.
 
     Examples
     --------

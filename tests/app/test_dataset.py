@@ -248,21 +248,29 @@ def test_killed_run_resumes(reference, tmp_path):
 
 def test_time_limit(tmp_path):
     """Over the limit: recorded as 'timeout', in the main thread (signal) and in another
-    thread (as on a Dask worker); the run goes on."""
+    thread (as on a Dask worker); the run goes on. No clock decides the test: the work timed
+    out is far beyond any limit (or never ends), the limits end blocks that would not."""
+    from forceclosure.objects.io import load_object
+
+    # loaded once first: the modules trimesh imports on first use are in, so the limit lands
+    # in the computation (trimesh's import guards catch BaseException: a limit firing inside
+    # one of those imports is swallowed, and the object runs to its end)
+    load_object(_objects(1)[0])
     slow = Job(fingers=3, contact="hard", mu=0.5, top=1, samples=200_000, timeout=0.2)
     record = process_object(_objects(1)[0], slow)
     assert record["status"] == "timeout" and "0.2 s" in record["error"]
-    assert record["seconds"] < 5
+    assert record["seconds"] >= 0.2  # stopped by the limit, not before it
     box = []
     thread = threading.Thread(target=lambda: box.append(process_object(_objects(1)[0], slow)))
     thread.start()
     thread.join()
     assert box[0]["status"] == "timeout"
-    with deadline(5):  # a block that ends in time is left alone, and so is what follows
+    with deadline(60):  # a block that ends in time is left alone, and so is what follows
         pass
     # no `except Exception` on the way (a file reader's, say) swallows the time limit
     with pytest.raises(ObjectTimeout), deadline(0.05), suppress(Exception):
-        time.sleep(2)
+        while True:  # ends by the limit alone
+            time.sleep(0.01)
     escaped = []
 
     def busy() -> None:
@@ -276,13 +284,22 @@ def test_time_limit(tmp_path):
 
     worker = threading.Thread(target=busy)
     worker.start()
-    worker.join(timeout=30)
+    worker.join()  # the busy loop ends by the limit alone
     assert escaped == [True]
     time.sleep(0.01)
-    summary = run_dataset(["cube", str(_objects(1)[0])], tmp_path,
+    # on the pool, with a limit: every object gets its record, done or over the limit (which
+    # of the two is the clock's to say, not this test's: a worker stuck past its limit is the
+    # long profile's test_worker_stuck_in_compiled_code), and a done one is complete
+    summary = run_dataset([str(_objects(1)[0]), "cube"], tmp_path,
                           Job(contact="soft", mu=0.5, top=1, samples=200_000, timeout=0.5),
                           workers=1, progress=False, log=lambda line: None)
-    assert (summary.done, summary.timeout) == (1, 1)
+    records = {r["name"]: r for r in _records(tmp_path).values()}
+    assert sorted(records) == ["000", "cube"] and summary.computed == 2
+    assert summary.done + summary.timeout == 2 and summary.failed == 0
+    for record in records.values():
+        assert record["status"] in ("done", "timeout")
+        assert (len(record["grasps"]) == 1) if record["status"] == "done" else (
+            "over the time limit of 0.5 s" in record["error"])
 
 
 def test_analyze_mode(tmp_path):
@@ -372,9 +389,9 @@ def test_grasps_pattern_and_outer_alarm():
     # an alarm set around a deadline (pytest-timeout's, say) survives it
     signal.setitimer(signal.ITIMER_REAL, 50)
     try:
-        with deadline(5):
+        with deadline(100):  # longer than the outer one: what is left after it is the outer's
             pass
         remaining, _ = signal.getitimer(signal.ITIMER_REAL)
-        assert 45 < remaining <= 50
+        assert 0 < remaining <= 50
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)

@@ -74,12 +74,12 @@ def test_the_corpus_is_covered():
 def test_open_and_non_manifold_meshes_are_described_and_refused_by_synthesize(name):
     refusal, facts = DESCRIBED[name]
     proc = subprocess.run([sys.executable, "-m", "forceclosure.app.cli", "inspect",
-                           str(BAD / name)], capture_output=True, text=True, timeout=120)
+                           str(BAD / name)], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
     assert facts in proc.stdout and "synthesize and dataset need --allow-open" in proc.stdout
     proc = subprocess.run([sys.executable, "-m", "forceclosure.app.cli", "synthesize",
                            str(BAD / name), "--contact", "soft"],
-                          capture_output=True, text=True, timeout=120)
+                          capture_output=True, text=True)
     assert proc.returncode == 2, proc.stderr
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and refusal in lines[0] and "--allow-open" in lines[0], lines
@@ -88,7 +88,7 @@ def test_open_and_non_manifold_meshes_are_described_and_refused_by_synthesize(na
 @pytest.mark.parametrize("name", sorted(EXPECTED))
 def test_bad_objects_one_line_exit_2(name):
     proc = subprocess.run([sys.executable, "-m", "forceclosure.app.cli", "inspect",
-                           str(BAD / name)], capture_output=True, text=True, timeout=120)
+                           str(BAD / name)], capture_output=True, text=True)
     assert proc.returncode == 2, proc.stderr
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and "Traceback" not in proc.stderr, proc.stderr

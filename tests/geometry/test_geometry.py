@@ -164,3 +164,26 @@ def test_clip_matches_shapely(thetas, direction, offset):
     truth = polygon.intersection(box).area
     got = shapely.Polygon(out).area if len(out) >= 3 else 0.0
     assert got == pytest.approx(truth, abs=1e-9)
+
+
+def test_signed_area_closed_forms_and_shapely():
+    """The one polygon area (geometry.rings): a regular n-gon of circumradius r is
+    (n/2) r^2 sin(2 pi / n), anticlockwise positive, clockwise negative, unchanged by a
+    translation far from the origin; and it agrees with shapely (GEOS) on glyph outlines."""
+    from matplotlib.textpath import TextPath
+
+    from forceclosure.geometry import signed_area
+
+    for n in (3, 4, 7, 40):
+        t = 2 * np.pi * np.arange(n) / n
+        ring = 2.0 * np.column_stack([np.cos(t), np.sin(t)])
+        expected = n / 2 * 4.0 * np.sin(2 * np.pi / n)
+        assert signed_area(ring) == pytest.approx(expected, rel=1e-12)
+        assert signed_area(ring[::-1]) == pytest.approx(-expected, rel=1e-12)
+        assert signed_area(ring + 1e8) == pytest.approx(expected, rel=1e-6)
+    assert signed_area(np.zeros((2, 2))) == 0.0 and signed_area(np.zeros((0, 2))) == 0.0
+    for glyph in "SQ&":
+        for loop in TextPath((0, 0), glyph, size=10).to_polygons():
+            ring = loop[:-1]  # the path repeats its first point
+            assert signed_area(ring) == pytest.approx(
+                shapely.Polygon(ring).area * np.sign(signed_area(ring)), rel=1e-9, abs=1e-9)

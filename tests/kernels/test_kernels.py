@@ -21,7 +21,6 @@ from hypothesis import strategies as st
 from exact import planar_hard_wrenches, positively_spans, spatial_pyramid4_wrenches
 from forceclosure import Cone, InputError, point_contact
 from forceclosure.analysis.batch import analyze_batch, least_friction_batch
-from forceclosure.analysis.batch_analysis import _CODES
 from forceclosure.analysis.closure import decide
 from forceclosure.analysis.quality import least_friction_reference
 from forceclosure.analysis.two_finger import two_finger_closure
@@ -115,7 +114,7 @@ def _reference_chunk(args):
     rows = []
     for g in range(len(P)):
         vc, _, _ = decide(grasps.contacts(g), cone)
-        rows.append((_CODES[vc.verdict], vc.rank, np.nan if vc.margin is None else vc.margin))
+        rows.append((vc.verdict.code, vc.rank, np.nan if vc.margin is None else vc.margin))
     return rows
 
 
@@ -185,7 +184,7 @@ def test_single_grasps_agree_with_the_reference(agreement):
                                    None if np.isnan(tor_[g, i]) else float(tor_[g, i]))
                      for i in range(k)]
             a = analyze(grasp, cone=cone)
-            assert _CODES[a.verdict] == ref[g, 0] and a.rank == ref[g, 1], (name, g)
+            assert a.verdict.code == ref[g, 0] and a.rank == ref[g, 1], (name, g)
             if a.margin is not None and np.isfinite(ref[g, 2]):  # as the batch's margins
                 assert abs(a.margin - ref[g, 2]) <= MARGIN_ATOL * max(1.0, abs(ref[g, 2])), \
                     (name, g)

@@ -404,7 +404,7 @@ def test_cli_bad_svg_exit_2(tmp_path):
     path = tmp_path / "shape.svg"
     path.write_text(SEVERAL)
     proc = subprocess.run([sys.executable, "-m", "forceclosure.app.cli", "inspect", str(path),
-                           "--part", "nope"], capture_output=True, text=True, timeout=120)
+                           "--part", "nope"], capture_output=True, text=True)
     lines = proc.stderr.strip().splitlines()
     assert proc.returncode == 2 and len(lines) == 1 and "Traceback" not in proc.stderr
     assert "no element with id 'nope'" in lines[0]

@@ -146,7 +146,7 @@ def _screenshot(page: Path, png: Path) -> np.ndarray:
                         "--disable-sync", f"--user-data-dir={profile}", "--hide-scrollbars",
                         "--window-size=900,700", "--virtual-time-budget=10000",
                         f"--screenshot={png}", page.resolve().as_uri()],
-                       check=True, capture_output=True, timeout=120)
+                       check=True, capture_output=True)
     return (matplotlib.image.imread(png)[..., :3] * 255).round().astype(int)
 
 

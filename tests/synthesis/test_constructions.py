@@ -4,7 +4,7 @@ For each entry of the table of constructions and each bundled object of its
 dimension, the search's result is empty or made of certified region sets,
 ranked by the one rule; each survives an independent check (Theorem 1's
 general test, ``analyze``, on points drawn from every region, the regions'
-ends and corners included); each record follows ``docs/regions.schema.json``
+ends and corners included); each record follows ``forceclosure/schemas/regions.schema.json``
 and round-trips through JSON; a construction's bound is an upper bound; and
 pruning never removes a site on which the construction builds certified
 regions. A new construction is tested by registering it.
@@ -12,7 +12,6 @@ regions. A new construction is tested by registering it.
 
 import json
 import pickle
-from pathlib import Path
 
 import jsonschema
 import numpy as np
@@ -20,6 +19,7 @@ import pytest
 
 from forceclosure import Verdict, analyze, point_contact, vertex_contact
 from forceclosure.objects import POLYGONS, POLYHEDRA, bundled
+from forceclosure.schemas import load_schema
 from forceclosure.synthesis import (
     Hand,
     RegionSet,
@@ -30,7 +30,7 @@ from forceclosure.synthesis import (
 )
 from forceclosure.synthesis.regions import tie_rounded
 
-SCHEMA = json.loads((Path(__file__).parents[2] / "docs" / "regions.schema.json").read_text())
+SCHEMA = load_schema("regions")
 
 #: The hand each construction is tried with (frictions where every bundled object has grasps
 #: for most of them), and the region sets asked for.

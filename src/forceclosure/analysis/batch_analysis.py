@@ -32,13 +32,13 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..contacts import MAX_COORDINATE, MODELS, Cone, Contact, unit_rows
+from ..contacts import MAX_COORDINATE, MODELS, Cone, Contact, fixed_cone, unit_rows
 from ..errors import InputError
+from ..verdicts import VerdictCode, verdict_words
 from .closure import (
     FRICTION_CAP,
     TOLERANCE,
     TORSION_MAX,
-    Verdict,
     check_tolerance,
     decide,
     force_direction_closure,
@@ -50,9 +50,6 @@ __all__ = ["CHUNK", "BatchAnalysis", "Engine", "analyze_batch"]
 
 #: The two ways every batch function can run: compiled kernels, or the reference path.
 Engine = Literal["compiled", "reference"]
-
-_VERDICTS = np.array([Verdict.NONE.value, Verdict.MARGINAL.value, Verdict.CLOSURE.value])
-_CODES = {Verdict.NONE: 0, Verdict.MARGINAL: 1, Verdict.CLOSURE: 2}
 
 #: Grasps handed to the kernel at a time: bounds the memory of the outputs in flight.
 CHUNK = 65_536
@@ -67,12 +64,12 @@ class VerdictCodes:
     @property
     def verdict(self) -> NDArray[np.str_]:
         """``"closure"``, ``"marginal"`` or ``"none"`` for each."""
-        return _VERDICTS[self.code]
+        return verdict_words(self.code)
 
     @property
     def force_closure(self) -> NDArray[np.bool_]:
         """True where the verdict is ``closure``."""
-        return self.code == 2
+        return self.code == VerdictCode.CLOSURE
 
 
 @dataclass(frozen=True, eq=False)
@@ -226,12 +223,12 @@ def _kernel_inputs(grasps: _Grasps, part: slice,
 
 
 def _cone_args(cone: str | Cone) -> tuple[bool, int, int]:
-    """``(exact, edges, fit)`` for the kernels."""
-    if cone == "exact":
+    """``(exact, edges, fit)`` for the kernels (the cone read by
+    :func:`forceclosure.contacts.parse_cone`)."""
+    fixed = fixed_cone(cone)
+    if fixed is None:
         return True, 8, 0
-    if isinstance(cone, Cone):
-        return False, cone.edges, int(cone.fit == "circumscribed")
-    raise InputError(f"cone must be 'exact' or a Cone(edges, fit), got {cone!r}")
+    return False, fixed.edges, int(fixed.fit == "circumscribed")
 
 
 def _check_engine(engine: str) -> None:
@@ -300,7 +297,8 @@ def analyze_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
                 code[part], rank[part], margin[part], twist[part])
             # friction above the cap: the kernel's closure with the cap is a proof; the rest
             # is decided by the reference (closure.FRICTION_CAP), as are extreme coordinates
-            above = np.any(grasps.mu[part] > FRICTION_CAP, axis=1) & (code[part] != 2)
+            above = (np.any(grasps.mu[part] > FRICTION_CAP, axis=1)
+                     & (code[part] != VerdictCode.CLOSURE))
             code[part][above | extreme[part]] = kernel.DEFER
             if progress is not None:
                 progress(part.stop - part.start)
@@ -309,7 +307,7 @@ def analyze_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
         todo = np.arange(n)
     for g in todo:
         vc, ws, _ = decide(grasps.contacts(g), cone, tol)
-        code[g] = _CODES[vc.verdict]
+        code[g] = vc.verdict.code
         rank[g] = vc.rank
         margin[g] = np.nan if vc.margin is None else vc.margin
         twist[g] = np.nan
@@ -320,9 +318,9 @@ def analyze_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
             progress(1)
     fd = tc = None
     if explain:
-        fd = code == 2
-        tc = code == 2
-        for g in np.flatnonzero(code != 2):
+        fd = code == VerdictCode.CLOSURE
+        tc = code == VerdictCode.CLOSURE
+        for g in np.flatnonzero(code != VerdictCode.CLOSURE):
             vc, ws, _ = decide(grasps.contacts(g), cone, tol)
             fd[g] = force_direction_closure(ws.wrenches, tol)
             tc[g] = not fd[g] and torque_closure(ws.wrenches)

@@ -32,7 +32,6 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from enum import StrEnum
 from functools import partial
 
 import numpy as np
@@ -45,6 +44,7 @@ from ..contacts import (
     Contact,
     WrenchSet,
     check_grasp,
+    fixed_cone,
     frame,
     generating_wrenches,
     own_frame,
@@ -52,6 +52,7 @@ from ..contacts import (
 )
 from ..errors import InputError
 from ..tolerance import TOLERANCE
+from ..verdicts import Verdict
 from .motion import Motion, motion_of, shift_twist
 
 __all__ = ["EXACT_CONE_EDGES", "FRICTION_CAP", "TOLERANCE", "TORSION_MAX", "Analysis",
@@ -76,17 +77,7 @@ TORSION_MAX = 1e6
 EXACT_CONE_EDGES = (8, 16, 32, 64, 128, 256)
 
 
-class Verdict(StrEnum):
-    """``closure``: force-closure with margin; ``none``: provably not;
-    ``marginal``: within the tolerance of the boundary."""
-
-    CLOSURE = "closure"
-    MARGINAL = "marginal"
-    NONE = "none"
-
-
-#: Verdicts by the kernels' codes (0, 1, 2), and the kernels' codes of contact models.
-_BY_CODE = (Verdict.NONE, Verdict.MARGINAL, Verdict.CLOSURE)
+#: The kernels' codes of contact models (their verdicts' codes: :class:`VerdictCode`).
 _MODEL_CODE = {m: i for i, m in enumerate(MODELS)}
 
 
@@ -129,6 +120,10 @@ class VectorClosure:
     twist: NDArray[np.float64] | None
     repelling: float
     reason: str
+
+    def __bool__(self) -> bool:
+        """True iff the verdict is ``closure`` (``marginal`` and ``none`` are False)."""
+        return self.verdict is Verdict.CLOSURE
 
 
 def check_tolerance(tol: object, name: str = "tol") -> float:
@@ -517,6 +512,20 @@ class Analysis:
         """True iff the verdict is ``closure``."""
         return self.verdict is Verdict.CLOSURE
 
+    def __bool__(self) -> bool:
+        """``if analyze(grasp):`` reads "if the grasp is force-closure": True iff the verdict
+        is ``closure``; a ``marginal`` grasp (within the tolerance of the boundary, not
+        certified) and a ``none`` one are False.
+
+        Examples
+        --------
+        >>> from forceclosure import point_contact
+        >>> pinch = [point_contact([x, 0], [x, 0], "hard", 0.5) for x in (-1, 1)]
+        >>> bool(analyze(pinch)), bool(analyze(pinch[:1]))
+        (True, False)
+        """
+        return self.force_closure
+
     def explain(self) -> str:
         """A few lines a person can read: the verdict, what failed, what moves.
 
@@ -546,14 +555,6 @@ class Analysis:
 
 def _spatial_friction(contacts: Sequence[Contact]) -> bool:
     return contacts[0].dim == 3 and any(c.frictional and c.mu > 0 for c in contacts)
-
-
-def _parse_cone(cone: str | Cone) -> Cone | None:
-    if cone == "exact":
-        return None
-    if isinstance(cone, Cone):
-        return cone
-    raise InputError(f"cone must be 'exact' or a Cone(edges, fit), got {cone!r}")
 
 
 def decide(contacts: Sequence[Contact], cone: str | Cone = "exact", tol: float = TOLERANCE,
@@ -586,7 +587,7 @@ def _decision(contacts: Sequence[Contact], cone: str | Cone, tol: float,
     """:func:`decide`, also returning the contacts, pyramid and half-space marks that decided."""
     contacts = check_grasp(contacts)
     check_tolerance(tol)
-    _parse_cone(cone)
+    fixed_cone(cone)
     if reference is not None or length_scale is not None:
         frame(contacts, reference, length_scale)  # refuses a bad frame
     _check_torsion(contacts)
@@ -627,7 +628,7 @@ def _decide(contacts: list[Contact], cone: str | Cone, tol: float,
             ) -> tuple[VectorClosure, WrenchSet, str, Cone]:
     """:func:`decide` in the grasp's own frame, ``half_space`` contacts with unbounded
     friction; also returns the pyramid that decided."""
-    fixed = _parse_cone(cone)
+    fixed = fixed_cone(cone)
     if fixed is not None or not _spatial_friction(contacts):
         use = fixed or Cone()
         ws = generating_wrenches(contacts, use, half_space=half_space)
@@ -845,7 +846,7 @@ def _compiled(contacts: list[Contact], cone: str | Cone, tol: float,
     beyond ``2**±64``; or is not compiled yet, :func:`forceclosure.kernels.use_compiled`)
     and the reference path decides."""
     tol = check_tolerance(tol)
-    fixed = _parse_cone(cone)
+    fixed = fixed_cone(cone)
     for c in contacts:
         if len(c.points) != 1 or len(c.normals) != 1 or (c.frictional and c.mu > FRICTION_CAP):
             return None
@@ -873,6 +874,6 @@ def _compiled(contacts: list[Contact], cone: str | Cone, tol: float,
     code, rank, margin = int(code[0]), rank[0], margin[0]
     if code == kernel.DEFER:
         return None
-    return (_BY_CODE[code], int(rank), None if math.isnan(margin) else float(margin))
+    return (Verdict.of_code(code), int(rank), None if math.isnan(margin) else float(margin))
 
 

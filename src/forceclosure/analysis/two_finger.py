@@ -41,7 +41,8 @@ from numpy.typing import ArrayLike, NDArray
 from ..contacts import MAX_COORDINATE, point_contact, unit_rows
 from ..errors import InputError
 from ..geometry.cones import angle_between as _angle
-from .batch_analysis import _CODES, Engine, VerdictCodes, analyze_batch
+from ..verdicts import VerdictCode
+from .batch_analysis import Engine, VerdictCodes, analyze_batch
 from .closure import TOLERANCE, analyze, check_tolerance
 
 __all__ = ["SERIAL_BELOW", "PairClosure", "pair_codes", "pair_labels", "pair_least_friction",
@@ -417,7 +418,7 @@ def _reference(p, n_p, q, n_q, mu_p, mu_q, model, tol):
         unit_p, unit_q = n_p / norm_p, n_q / norm_q
         antiparallel = np.linalg.norm(unit_p + unit_q, axis=-1) <= 1e-9
         code = np.array(code)
-        open_ = np.argwhere((code != 2) & apart & ~antiparallel)
+        open_ = np.argwhere((code != VerdictCode.CLOSURE) & apart & ~antiparallel)
         if len(open_):
             shape = code.shape
             P, Q, NP, NQ = (np.broadcast_to(a, (*shape, 3)) for a in (p, q, unit_p, unit_q))
@@ -425,5 +426,5 @@ def _reference(p, n_p, q, n_q, mu_p, mu_q, model, tol):
             for idx in map(tuple, open_):
                 grasp = [point_contact(P[idx], NP[idx], "soft", float(MP[idx])),
                          point_contact(Q[idx], NQ[idx], "soft", float(MQ[idx]))]
-                code[idx] = _CODES[analyze(grasp, tol=tol).verdict]
+                code[idx] = analyze(grasp, tol=tol).verdict.code
     return code, least

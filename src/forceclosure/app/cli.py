@@ -1,7 +1,7 @@
 """The ``forceclosure`` command.
 
 ``forceclosure analyze FILE`` reads a grasp file (one grasp or many; see
-``docs/grasp-file.schema.json``) and says, for each grasp, whether it is
+``forceclosure/schemas/grasp-file.schema.json``) and says, for each grasp, whether it is
 force-closure, what failed, and which motion nothing resists;
 ``--json`` prints the same for machines. ``forceclosure demo`` analyses the
 bundled examples.
@@ -26,8 +26,10 @@ from typing import Any, NoReturn
 
 from .. import __version__
 from ..errors import InputError, clip, printable
+from ..extras import require
 from ..io.files import read_text
 from ..tolerance import TOLERANCE
+from ..verdicts import VERDICT_WORDS, VerdictCode
 
 __all__ = ["ANY_POSITIVE", "DEFAULT_F_MAX", "FLAGS", "SWITCHES", "as_flags", "build_parser",
            "main"]
@@ -207,7 +209,7 @@ def _analyze_arrays(args: argparse.Namespace) -> int:
                "grasps_per_second": round(ran / seconds) if seconds > 0 else None,
                "out": args.out, "resumed": before}
     if results.epsilon is not None:
-        closed = results.epsilon[results.code == 2]
+        closed = results.epsilon[results.code == VerdictCode.CLOSURE]
         summary["epsilon_median"] = float(np.median(closed)) if len(closed) else None
     if args.json:
         json.dump(summary, sys.stdout, indent=2, allow_nan=False)
@@ -355,7 +357,7 @@ def _demo_objects() -> None:
     from ..gripper.labels import grasp_labels
 
     labels = grasp_labels(cube, ParallelJaw(3.0), 0.5, 20, seed=0)
-    clear = int(np.sum(~labels.collides & (labels.code == 2)))
+    clear = int(np.sum(~labels.collides & (labels.code == VerdictCode.CLOSURE)))
     print(f"== the cube in a parallel-jaw hand opening 3 (docs/gripper.md), mu 0.5 ==\n"
           f"  20 poses the hand can take: closure and clear {clear}, least friction median "
           f"{float(np.median(labels.least_friction)):.3g}")
@@ -458,6 +460,8 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
 
     if args.html and not args.html.lower().endswith((".html", ".htm")):
         raise InputError(f"--html {args.html}: an interactive view is saved as .html")
+    if args.html:  # before any work
+        require("plotly", "the interactive HTML view", "view")
     _check_picture(args.plot, args.object)
     obj = load_object(args.object, allow_open=args.allow_open, part=args.part,
                       allow_outside_meshes=args.allow_outside_meshes)
@@ -636,10 +640,7 @@ def _cmd_dataset(args: argparse.Namespace) -> int:
             raise InputError(f"{folder}: the dataset's own folder; write exports and pictures "
                              "elsewhere")
     if args.scheduler:
-        try:
-            from distributed import Client
-        except ImportError:
-            raise InputError("--scheduler needs Dask: pip install 'forceclosure[dask]'") from None
+        Client = require("distributed", "--scheduler (a Dask cluster)", "dask").Client
         try:
             client = Client(args.scheduler, timeout="20s")
         except (OSError, TimeoutError, ValueError) as e:
@@ -769,8 +770,8 @@ def _collision_summary(labels) -> dict:
     hit = labels.collides
     return {"collides": int(hit.sum()),
             **{f"collides_{v}": int(np.sum(hit & (labels.code == c)))
-               for c, v in enumerate(("none", "marginal", "closure"))},
-            "closure_clear": int(np.sum(~hit & (labels.code == 2)))}
+               for c, v in enumerate(VERDICT_WORDS)},
+            "closure_clear": int(np.sum(~hit & (labels.code == VerdictCode.CLOSURE)))}
 
 
 #: ``grasps --f-max`` default: each jaw's normal force, N (a Franka Emika hand's
@@ -1000,7 +1001,8 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     counts = labels.counts()
     mu_star = (float(np.median(labels.least_friction))
                if len(labels) and not args.no_least_friction else math.nan)
-    closed = labels.epsilon[labels.code == 2] if not args.no_epsilon else np.zeros(0)
+    closed = (labels.epsilon[labels.code == VerdictCode.CLOSURE] if not args.no_epsilon
+              else np.zeros(0))
     summary = {"object": args.object, "candidates": len(labels), "requested": args.count,
                "attempts": labels.meta["attempts"], "rejected": labels.meta["rejected"],
                "contact": args.contact, "mu": args.mu, "width": gripper.width_max,
@@ -1217,7 +1219,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     p = sub.add_parser("analyze", help="is each grasp in a grasp file force-closure?",
                        description="Analyse the grasps of a JSON grasp file "
-                                   "(docs/grasp-file.schema.json; '-' reads standard input), "
+                                   "(schema: forceclosure/schemas/grasp-file.schema.json; "
+                                   "'-' reads standard input), "
                                    "or of an .npz file of arrays (points, normals, mu, model; "
                                    "see docs/analysis.md), any number of grasps, in chunks.")
     p.add_argument("file", metavar="FILE")

@@ -79,10 +79,12 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, printable
+from ..extras import require
 from ..io.outdir import atomic_file, locked, remove_temporaries, write_atomically
 from ..objects.io import MESH_SUFFIXES, POLYGON_SUFFIXES, ROBOT_SUFFIXES
 from ..objects.urdf import mesh_files
+from ..verdicts import Verdict, VerdictCode
 from .progress import ProgressLines, every_from_environment
 from .workers import Relay, Watchdog, die_with_run, number_worker, tell_compiling, tell_dask_run
 
@@ -525,7 +527,7 @@ def _analyze(obj, path: Path, job: Job) -> dict[str, Any]:
                 parts.append(c["points"].reshape(-1, obj.dim))
         points = np.concatenate(parts) if parts else np.empty((0, obj.dim))
         counts = results.counts()
-        closed = results.epsilon[results.code == 2]
+        closed = results.epsilon[results.code == VerdictCode.CLOSURE]
         verdicts = results.code.tolist()
         errors = results.errors
         eps_median = float(np.median(closed)) if len(closed) else None
@@ -533,10 +535,9 @@ def _analyze(obj, path: Path, job: Job) -> dict[str, Any]:
     else:
         grasp_file = parse_grasp_file(source.read_text(encoding="utf-8"), source.name)
         per_grasp = [result_record(entry, grasp_file.cone)[0] for entry in grasp_file.grasps]
-        names = {"closure": 2, "marginal": 1, "none": 0}
+        names = {v.value: int(v.code) for v in Verdict}
         verdicts = [names.get(r.get("verdict"), -1) for r in per_grasp]
-        counts = {k: verdicts.count(c) for k, c in (("closure", 2), ("marginal", 1),
-                                                      ("none", 0), ("errors", -1))}
+        counts = {k: verdicts.count(c) for k, c in (*names.items(), ("errors", -1))}
         errors = [r["error"] for r in per_grasp if "error" in r]
         eps = [r["epsilon"] for r in per_grasp if r.get("verdict") == "closure"
                and r.get("epsilon") is not None]
@@ -701,7 +702,7 @@ def row_of(record: dict[str, Any]) -> dict[str, Any]:
 
 
 def _table(records: Iterable[dict[str, Any]]) -> Any:
-    import pyarrow as pa
+    pa = require("pyarrow", "the dataset's table", "table")
 
     types = {"string": pa.string(), "float64": pa.float64(), "int64": pa.int64(),
              "bool": pa.bool_(), "list<float64>": pa.list_(pa.float64())}
@@ -712,8 +713,7 @@ def _table(records: Iterable[dict[str, Any]]) -> Any:
 
 def write_table(out: Path, records: Iterable[dict[str, Any]]) -> Path:
     """Write ``out/results.parquet`` (atomically) from object records."""
-    import pyarrow.parquet as pq
-
+    pq = require("pyarrow.parquet", "the dataset's table", "table")
     table = _table(records)
     path = out / "results.parquet"
     with atomic_file(path) as f:
@@ -848,6 +848,7 @@ def run_dataset(inputs: Sequence[str | Path], out: str | Path, job: Job = Job(),
     ...             progress=False).skipped
     2
     """
+    require("pyarrow.parquet", "the dataset's table", "table")  # refused before any work
     paths = expand_inputs(inputs, exclude=out)  # never its own job.json and records
     if job.mode == "synthesize":  # a hand no object can serve: refuse before any work
         from ..synthesis.best import check_hand
@@ -971,21 +972,6 @@ def _run_locked(paths: list[Path], out: Path, job: Job, executor: Executor | Non
                    computed=computed, skipped=skipped,
                    seconds=time.perf_counter() - start, workers=workers, out=out,
                    interrupted=interrupted)
-
-
-_CONTROL = re.compile(r"[\x00-\x1f\x7f-\x9f]")
-
-
-def printable(line: str) -> str:
-    r"""A log line as one line of plain text: control characters (newlines, ANSI escapes in
-    a file name) shown as escapes, so that no name can forge or colour a line.
-
-    Examples
-    --------
-    >>> print(printable("failed: a\nforceclosure: done \x1b[32mok"))
-    failed: a\nforceclosure: done \x1b[32mok
-    """
-    return _CONTROL.sub(lambda m: repr(m.group())[1:-1], line)
 
 
 def _failed(path: Path, error: str, status: str = "failed") -> dict[str, Any]:

@@ -38,6 +38,8 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ..errors import InputError, OutputError
+from ..extras import require
+from ..verdicts import VERDICT_WORDS, VerdictCode
 
 __all__ = ["EXPORTS_FILE", "GRASP_COLUMNS", "GripperJob", "object_seed", "read_labels",
            "sha256_of", "write_exports", "write_grasp_table", "write_pictures"]
@@ -64,7 +66,6 @@ GRASP_COLUMNS = (("name", "string"), ("path", "string"), ("grasp", "int64"),
                  ("verdict", "string"), ("least_friction", "float64"), ("epsilon", "float64"),
                  ("collides", "bool"))
 
-_VERDICTS = ("none", "marginal", "closure")
 
 
 def object_seed(seed: int, stamp: str) -> int:
@@ -371,7 +372,7 @@ class GripperJob:
                               support=support)
         extra = self._more_labels(obj, path, gripper, seed, labels)
         labels = extra.pop("_labels")
-        closed = labels.epsilon[labels.code == 2]
+        closed = labels.epsilon[labels.code == VerdictCode.CLOSURE]
         finite = labels.least_friction[np.isfinite(labels.least_friction)]
         hit = labels.collides
         return {"contact": self.contact, "mu": self.mu, "width": labels.meta["width_max"],
@@ -381,7 +382,8 @@ class GripperJob:
                 "least_friction_median": _finite_or_none(np.median(labels.least_friction))
                 if self.least_friction and len(finite) else None,
                 "collides": None if hit is None else int(hit.sum()),
-                "closure_clear": None if hit is None else int(np.sum(~hit & (labels.code == 2))),
+                "closure_clear": None if hit is None else int(
+                    np.sum(~hit & (labels.code == VerdictCode.CLOSURE))),
                 "attempts": int(labels.meta["attempts"]),
                 "rejected": int(sum(labels.meta["rejected"].values())),
                 "rejected_reasons": dict(labels.meta["rejected"]),
@@ -486,7 +488,7 @@ def read_labels(file: str | Path) -> dict[str, np.ndarray]:
 
 
 def _schema() -> Any:
-    import pyarrow as pa
+    pa = require("pyarrow", "the dataset's table", "table")
 
     types = {"string": pa.string(), "float64": pa.float64(), "int64": pa.int64(),
              "bool": pa.bool_()}
@@ -505,7 +507,7 @@ def _grasp_columns(record: dict[str, Any], arrays: dict[str, np.ndarray]) -> dic
         for key, what in (("points", "point"), ("normals", "normal")):
             for i, a in enumerate("xyz"):
                 columns[f"{what}{jaw}_{a}"] = arrays[key][:, jaw - 1, i]
-    columns["verdict"] = np.array(_VERDICTS, dtype=object)[arrays["code"].astype(np.int64)]
+    columns["verdict"] = np.array(VERDICT_WORDS, dtype=object)[arrays["code"].astype(np.int64)]
     columns["least_friction"] = arrays["least_friction"]
     columns["epsilon"] = arrays["epsilon"]
     columns["collides"] = arrays["collides"] if "collides" in arrays else [None] * n
@@ -516,10 +518,10 @@ def write_grasp_table(out: str | Path, records: Iterable[dict[str, Any]]) -> Pat
     """Write ``out/grasps.parquet`` (atomically): one row per grasp (:data:`GRASP_COLUMNS`)
     of every done record's labels file, objects in the order of their paths, grasps in the
     order of the file."""
-    import pyarrow as pa
-    import pyarrow.parquet as pq
-
     from ..io.outdir import atomic_file
+
+    pa = require("pyarrow", "the dataset's table", "table")
+    pq = require("pyarrow.parquet", "the dataset's table", "table")
 
     out = Path(out)
     schema = _schema()

@@ -5,6 +5,7 @@ A leaf package: it imports nothing from :mod:`forceclosure` but
 above may use it.
 
 * :mod:`.clip` — a convex polygon cut by half-planes.
+* :mod:`.rings` — the signed area of a polygon ring.
 * :mod:`.cones` — friction cones: the angle between two axes, whether two
   cones counter-overlap, tangent bases (from the coordinate axes, or from
   the grasp itself), and the friction pyramid.
@@ -23,7 +24,8 @@ from .cones import (
     pyramid_rim,
     tangent_basis,
 )
+from .rings import signed_area
 
 __all__ = ["angle_between", "clip", "counter_overlap", "counter_overlap_angle",
            "friction_forces", "grasp_tangents", "pyramid_radius", "pyramid_rim",
-           "tangent_basis"]
+           "signed_area", "tangent_basis"]

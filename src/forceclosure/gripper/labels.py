@@ -20,12 +20,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
+from ..verdicts import VERDICT_WORDS, VerdictCode, verdict_words
 from .hand_poses import APPROACHES, DEPTHS
 from .jaw import ParallelJaw
 
 __all__ = ["GraspLabels", "grasp_labels", "label_grasps", "label_metrics", "label_task"]
 
-_VERDICTS = np.array(["none", "marginal", "closure"])
 
 #: The arrays of a saved label file, in order (``GraspLabels.save``).
 #: ``collides`` is written only when the collision check ran (``meta["collision"]`` not None).
@@ -143,11 +143,11 @@ class GraspLabels:
     @property
     def verdict(self) -> NDArray[np.str_]:
         """``"closure"``, ``"marginal"`` or ``"none"`` per grasp."""
-        return _VERDICTS[self.code]
+        return verdict_words(self.code)
 
     def counts(self) -> dict[str, int]:
         """How many grasps have each verdict."""
-        return {v: int(np.sum(self.code == c)) for c, v in enumerate(_VERDICTS)}
+        return {v: int(np.sum(self.code == c)) for c, v in enumerate(VERDICT_WORDS)}
 
     def with_robustness(self, robustness: Any) -> GraspLabels:
         """These labels with the arrays of a :class:`~forceclosure.gripper.robust.Robustness` of the
@@ -399,7 +399,8 @@ def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str 
             code[part] = pair_codes(P, N, mu, contact, T)
             if least_friction:
                 mu_star[part] = least_friction_batch(P, N, model=contact, torsion=T)
-        closed = np.flatnonzero(code[part] == 2) if epsilon else np.zeros(0, np.int64)
+        closed = (np.flatnonzero(code[part] == VerdictCode.CLOSURE) if epsilon
+                  else np.zeros(0, np.int64))
         if len(closed):
             eps[lo + closed] = epsilon_batch(P[closed], N[closed], mu=mu, model=contact,
                                              torsion=T[closed] if per_pair else T)

@@ -42,6 +42,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError
+from ..verdicts import VerdictCode
 from .jaw import JawPose, ParallelJaw, surface_mesh
 
 __all__ = ["Noise", "Robustness", "robust_labels", "wilson_interval"]
@@ -366,7 +367,7 @@ def robust_labels(obj: Any, poses: Any, gripper: ParallelJaw, mu: float, *,
         code = np.zeros(m, dtype=np.int8)
         if len(ok):
             code[ok] = pair_codes(P, N, f, contact, torsion)
-        won = code == 2
+        won = code == VerdictCode.CLOSURE
         closed[part] = won.reshape(-1, s).sum(axis=1)
         missed[part] = (~held).reshape(-1, s).sum(axis=1)
         if eps is not None:

@@ -80,7 +80,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
+from ..extras import require
 from ..gripper.jaw import ParallelJaw
+from ..verdicts import VerdictCode, verdict_words
 
 __all__ = ["DIRECT_MESHES", "KINDS", "AcronymObject", "acronym_object", "acronym_transforms",
            "as_labels", "graspnet_array", "labels_gripper", "object_source", "pose_depths",
@@ -182,7 +184,7 @@ def tip_offset(labels: Any, gripper: ParallelJaw) -> float:
 
 
 def _accepted(labels: Any) -> NDArray[np.bool_]:
-    ok = np.asarray(labels.code) == 2
+    ok = np.asarray(labels.code) == VerdictCode.CLOSURE
     if labels.collides is not None:
         ok &= ~np.asarray(labels.collides, dtype=bool)
     return ok
@@ -283,12 +285,7 @@ def acronym_transforms(labels: Any, offset: float | ArrayLike) -> NDArray[np.flo
 
 def require_h5py():
     """h5py, or one line naming the extra that installs it."""
-    try:
-        import h5py
-    except ImportError:
-        raise InputError("ACRONYM export needs h5py: install forceclosure's 'export' extra "
-                         "(pip install 'forceclosure[export]')") from None
-    return h5py
+    return require("h5py", "ACRONYM export", "export")
 
 
 #: Mesh files that ``trimesh.load`` opens as one ``Trimesh`` (ACRONYM's ``load_mesh`` then
@@ -520,7 +517,7 @@ def save_acronym(path: str, labels: Any, object_file: Any = None, scale: float |
     ...     f["grasps/transforms"].shape, f["object/file"][()].decode(), f["object/scale"][()]
     ((3, 4, 4), 'cube.obj', np.float64(1.0))
     """
-    from ..gripper.labels import _VERDICTS, ARRAYS
+    from ..gripper.labels import ARRAYS
     from .atomic import atomic_write
 
     h5py = require_h5py()
@@ -563,7 +560,7 @@ def save_acronym(path: str, labels: Any, object_file: Any = None, scale: float |
             value = getattr(labels, name, None)
             if value is not None and name not in ours:
                 ours.create_dataset(name, data=np.asarray(value))
-        ours.create_dataset("verdict", data=_VERDICTS[np.asarray(labels.code)].tolist(),
+        ours.create_dataset("verdict", data=verdict_words(labels.code).tolist(),
                             dtype=h5py.string_dtype())
         ours.attrs["meta"] = json.dumps(labels.meta)
     write_acronym_object(found)

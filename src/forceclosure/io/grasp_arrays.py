@@ -37,8 +37,9 @@ from numpy.lib import format as npy
 from numpy.typing import NDArray
 
 from ..analysis.batch import CHUNK, analyze_batch, epsilon_batch
-from ..contacts import MAX_CONTACTS, MODELS, Cone
+from ..contacts import MAX_CONTACTS, MODELS, Cone, parse_cone
 from ..errors import InputError, clip
+from ..verdicts import VERDICT_WORDS, Verdict, VerdictCode
 from .atomic import atomic_write
 from .files import regular_file
 from .grasp_file import MAX_COORDINATE
@@ -136,15 +137,6 @@ class _Rows:
         return np.frombuffer(data, dtype=self.dtype).reshape(got, *self.shape[1:]).astype(float)
 
 
-def _parse_cone(spec: str) -> str | Cone:
-    if spec == "exact":
-        return "exact"
-    edges, _, fit = spec.partition("-")
-    if not edges.isdigit() or fit not in ("inscribed", "circumscribed"):
-        raise InputError(f"'cone' must be \"exact\" or like \"8-inscribed\", got {spec!r}")
-    return Cone(int(edges), fit)  # type: ignore[arg-type]
-
-
 @dataclass(frozen=True)
 class GraspArrays:
     """What an ``.npz`` grasp file holds, before its rows are read."""
@@ -224,7 +216,7 @@ def open_npz(path: str) -> GraspArrays:
                                  f"of them; got {m.tolist()}")
         cone: str | Cone = "exact"
         if "cone" in names:
-            cone = _parse_cone(str(_small(archive, "cone", path)))
+            cone = parse_cone(str(_small(archive, "cone", path)))
         streamed, constant = ["points", "normals"], {}
         for name in ("mu", "torsion"):
             if name not in names:
@@ -321,7 +313,7 @@ class NpzResults:
         """How many grasps got each verdict, and how many were refused."""
         code = self.code[:self.done]
         return {name: int(np.sum(code == c))
-                for name, c in (("closure", 2), ("marginal", 1), ("none", 0), ("errors", ERROR))}
+                for name, c in (*((v.value, v.code) for v in Verdict), ("errors", ERROR))}
 
     def save(self, path: str) -> None:
         """Write the results as an ``.npz`` at exactly ``path`` (no ``.npz`` added),
@@ -345,7 +337,7 @@ class NpzResults:
         done = len(self.code) if self.done is None else self.done
         with atomic_write(path) as f:
             np.savez(f, verdict=self.code, rank=self.rank, margin=self.margin,
-                     names=np.array(["none", "marginal", "closure"]), done=np.int64(done),
+                     names=np.array(VERDICT_WORDS), done=np.int64(done),
                      partial=np.bool_(self.partial), **extra)
 
 
@@ -478,7 +470,7 @@ def _analyse_rows(part: dict[str, NDArray], good: NDArray[np.intp], lo: int,
     margin[lo + good] = r.margin
     if eps is not None:
         eps[lo + good] = 0.0
-        closed = np.flatnonzero(r.code == 2)
+        closed = np.flatnonzero(r.code == VerdictCode.CLOSURE)
         eps[lo + good[closed]] = epsilon_batch(
             P[closed], N[closed], mu=mu[closed], model=info.models,
             torsion=None if torsion is None else torsion[closed], tol=tol)

@@ -1,4 +1,4 @@
-"""The grasp file: JSON in, JSON out (schema: ``docs/grasp-file.schema.json``).
+"""The grasp file: JSON in, JSON out (schema: ``forceclosure/schemas/grasp-file.schema.json``).
 
 Input holds one grasp or many::
 
@@ -28,7 +28,7 @@ import numpy as np
 
 from ..analysis.closure import Analysis, Verdict, analyze_explained
 from ..analysis.quality import epsilon, least_friction
-from ..contacts import MODELS, Cone, Contact, check_grasp, make_contact
+from ..contacts import MODELS, Cone, Contact, check_grasp, make_contact, parse_cone
 from ..errors import InputError, clip, parse_json, shown
 
 __all__ = ["CONTACT_KEYS", "FILE_KEYS", "GRASP_KEYS", "MAX_COORDINATE", "NOT_COMPUTED",
@@ -96,19 +96,6 @@ def _coord_list(value: Any, field: str) -> list[list[float]]:
         raise InputError(f"field '{field}' must be a non-empty list of coordinate lists, "
                          f"got {shown(value)}")
     return [_coords(v, field) for v in value]
-
-
-def parse_cone(spec: Any) -> str | Cone:
-    """``"exact"`` or ``{"edges": k, "fit": "inscribed" | "circumscribed"}``."""
-    if spec == "exact":
-        return "exact"
-    if isinstance(spec, dict) and set(spec) <= {"edges", "fit"}:
-        edges = spec.get("edges", 8)
-        if isinstance(edges, bool) or not isinstance(edges, int):
-            raise InputError(f"cone: 'edges' must be an integer, got {shown(edges)}")
-        return Cone(edges, spec.get("fit", "inscribed"))
-    raise InputError(f"field 'cone' must be \"exact\" or {{\"edges\": k, \"fit\": "
-                     f"\"inscribed\"|\"circumscribed\"}}, got {shown(spec)}")
 
 
 def parse_contact(data: Any) -> Contact:

@@ -25,6 +25,7 @@ import shapely
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
+from ..geometry.rings import signed_area
 
 __all__ = ["RTOL", "Edge", "EdgeArrays", "Polygon"]
 
@@ -115,11 +116,9 @@ def _check_ring(ring: NDArray[np.float64], what: str, tol: float) -> None:
                          f"{ring[i].round(9).tolist()} (a zero-length edge)")
 
 
-def _signed_area(ring: NDArray[np.float64]) -> float:
-    # about the ring's first vertex: products of far-away coordinates would cancel
-    x, y = (ring - ring[0]).T
-    x1, y1 = np.concatenate((x[1:], x[:1])), np.concatenate((y[1:], y[:1]))  # np.roll(., -1)
-    return 0.5 * float(np.sum(x * y1 - x1 * y))
+#: the old private name, still imported by synthesis.spatial (patches, two_soft, zones): use
+#: :func:`forceclosure.geometry.signed_area`
+_signed_area = signed_area
 
 
 def _straight(ring: NDArray[np.float64]) -> NDArray[np.bool_]:
@@ -229,7 +228,7 @@ class Polygon:
         _validity(rings[0], rings[1:], name)
         oriented = []
         for i, ring in enumerate(rings):
-            ccw = _signed_area(ring) > 0
+            ccw = signed_area(ring) > 0
             oriented.append(ring if ccw == (i == 0) else ring[::-1].copy())
         # input edge numbering follows the input order of each ring
         offsets = np.cumsum([0] + [len(r) for r in rings])
@@ -301,7 +300,7 @@ class Polygon:
     @property
     def area(self) -> float:
         """Area of the material (holes excluded)."""
-        return _signed_area(self.outer) + sum(_signed_area(h) for h in self.holes)
+        return signed_area(self.outer) + sum(signed_area(h) for h in self.holes)
 
     @property
     def perimeter(self) -> float:

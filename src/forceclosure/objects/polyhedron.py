@@ -37,6 +37,7 @@ from scipy.sparse.csgraph import connected_components
 
 from ..contacts import tangent_basis
 from ..errors import InputError
+from ..geometry.rings import signed_area
 from .orient import (
     boundary_loops,
     edge_table,
@@ -47,7 +48,7 @@ from .orient import (
     walk_loops,
 )
 from .outer import outer_surface
-from .polygon import Polygon, _signed_area
+from .polygon import Polygon
 
 __all__ = ["COORDINATE_LIMIT", "FACE_ANGLE", "FLAT_RTOL", "MERGE_RTOL", "OPEN_HINT", "PlanarFace",
            "Polyhedron"]
@@ -658,6 +659,6 @@ def _loops(V, boundary, axes):
     loops = tuple(walk_loops(boundary.tolist()))
     if len(loops) == 1:
         return loops
-    signed = [_signed_area((V[loop] - V[loop[0]]) @ axes.T) for loop in loops]
+    signed = [signed_area((V[loop] - V[loop[0]]) @ axes.T) for loop in loops]
     first = int(np.argmax(signed))
     return (loops[first], *(lp for i, lp in enumerate(loops) if i != first))

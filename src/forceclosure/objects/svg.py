@@ -58,7 +58,8 @@ import svgelements as se
 from numpy.typing import NDArray
 
 from ..errors import InputError, first_line
-from .polygon import RTOL, Polygon, _signed_area
+from ..geometry.rings import signed_area
+from .polygon import RTOL, Polygon
 
 __all__ = ["MAX_DEPTH", "SVG_TOLERANCE", "polygon_from_svg"]
 
@@ -504,14 +505,14 @@ def _candidate(shape: _Drawn, name: str, tolerance: float) -> _Candidate | str:
     kept = [r for r in rings if len(np.unique(r, axis=0)) >= 3]
     if not kept:
         return "it encloses no area"
-    areas = sorted((abs(_signed_area(r)) for r in kept), reverse=True)
+    areas = sorted((abs(signed_area(r)) for r in kept), reverse=True)
     return _Candidate(shape, rings, closed, curved, tol, areas[0] - sum(areas[1:]), tolerance)
 
 
 def _clip_check(svg: se.SVG, chosen: _Candidate, name: str) -> None:
     """Refuse a shape cut by a clip-path or mask: what is drawn is then not the shape."""
     shape = chosen.shape
-    outer = max((r for r in chosen.rings if len(r) >= 3), key=lambda r: abs(_signed_area(r)))
+    outer = max((r for r in chosen.rings if len(r) >= 3), key=lambda r: abs(signed_area(r)))
     region = shapely.Polygon(outer)
     for node in [*shape.ancestors, shape.element]:
         where = f"{name}: {shape.label}"
@@ -573,7 +574,7 @@ def _assemble(chosen: _Candidate, name: str, flip: float | None) -> Polygon:
         warnings.append(f"{shape.label} is drawn with a stroke {shape.stroke_width:g} wide: "
                         "read as its fill's outline, without the half of the stroke a browser "
                         "paints outside it")
-    outer_at = max(range(len(rings)), key=lambda k: abs(_signed_area(rings[k][1])))
+    outer_at = max(range(len(rings)), key=lambda k: abs(signed_area(rings[k][1])))
     outer_index, outer = rings[outer_at]
     outer_poly = shapely.Polygon(outer)
     others = [(i, r) for k, (i, r) in enumerate(rings) if k != outer_at]
@@ -589,7 +590,7 @@ def _assemble(chosen: _Candidate, name: str, flip: float | None) -> Polygon:
         if host:
             raise InputError(f"{where}: subpath {i} lies inside subpath {host[0]}, itself "
                              "inside the outer boundary: nested islands are not read")
-        same_way = (_signed_area(ring) > 0) == (_signed_area(outer) > 0)
+        same_way = (signed_area(ring) > 0) == (signed_area(outer) > 0)
         if (not shape.evenodd and same_way and polys[i].is_valid
                 and outer_poly.is_valid and outer_poly.contains(polys[i])):
             warnings.append(f"subpath {i} of {shape.label} winds like the outer boundary, so "

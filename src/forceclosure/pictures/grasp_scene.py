@@ -35,6 +35,7 @@ from numpy.typing import NDArray
 
 from ..gripper.collision import CLEARANCE, hand_boxes, jaw_frames
 from ..gripper.jaw import ParallelJaw
+from ..verdicts import VERDICT_WORDS, VerdictCode
 
 __all__ = [
     "CONE_SIDES",
@@ -89,7 +90,8 @@ def categories(labels: Any) -> NDArray[np.int64]:
     code = np.asarray(labels.code)
     hit = (np.zeros(len(code), bool) if labels.collides is None
            else np.asarray(labels.collides, dtype=bool))
-    return np.select([(code == 2) & ~hit, code == 2, code == 1], [0, 1, 2], 3)
+    return np.select([(code == VerdictCode.CLOSURE) & ~hit, code == VerdictCode.CLOSURE,
+                      code == VerdictCode.MARGINAL], [0, 1, 2], 3)
 
 
 @dataclass(frozen=True)
@@ -259,7 +261,7 @@ def _value(labels: Any, name: str, i: int) -> float:
 
 
 def _caption(rank: int, labels: Any, i: int) -> str:
-    verdict = ("none", "marginal", "closure")[int(labels.code[i])]
+    verdict = VERDICT_WORDS[int(labels.code[i])]
     hand = ("hand not checked" if labels.collides is None
             else "collides" if labels.collides[i] else "clear")
     return (f"{rank}. {verdict}, {hand}\n"

@@ -23,6 +23,8 @@ import html
 import json
 import re
 
+from ..extras import require
+
 __all__ = ["small_page"]
 
 _LOADER = """(async function () {
@@ -47,9 +49,8 @@ def _packed() -> str:
     process)."""
     import gzip
 
-    import plotly.offline
-
-    packed = gzip.compress(plotly.offline.get_plotlyjs().encode("utf-8"), 9, mtime=0)
+    offline = require("plotly.offline", "the interactive HTML view", "view")
+    packed = gzip.compress(offline.get_plotlyjs().encode("utf-8"), 9, mtime=0)
     return base64.b64encode(packed).decode("ascii")
 
 
@@ -76,9 +77,8 @@ def small_page(fig, title: str = "forceclosure", config: dict | None = None) -> 
     >>> 1_000_000 < len(page) < 2_500_000, "<script src=" in page
     (True, False)
     """
-    import plotly.io
-
-    figure = json.loads(plotly.io.to_json(fig, validate=False))
+    plotly_io = require("plotly.io", "the interactive HTML view", "view")
+    figure = json.loads(plotly_io.to_json(fig, validate=False))
     text = re.sub(r"<[^>]*>", " ", str(title))
     script = _LOADER % {"data": _json(figure.get("data", [])),
                         "layout": _json(figure.get("layout", {})),

@@ -19,17 +19,23 @@ from __future__ import annotations
 from collections import Counter
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import plotly.graph_objects as go
 from numpy.typing import NDArray
 
 from ..contacts import tangent_basis
 from ..errors import InputError
+from ..extras import require
 from ..objects import Polyhedron
 from ..synthesis.regions import RegionSet
 from ..synthesis.spatial.patches import SpatialRegions
 from .plot import _one_object, corner_cone, on_vertex
+
+if TYPE_CHECKING:
+    import plotly.graph_objects as go
+else:  # imported with this module, which the HTML view alone imports
+    go = require("plotly.graph_objects", "the interactive HTML view", "view")
 
 __all__ = ["COLOURS", "CONE_SIDES", "check_html_path", "grasps_figure", "planar_figure",
            "spatial_figure", "write_grasps_html", "write_html"]

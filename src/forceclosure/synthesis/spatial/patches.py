@@ -23,6 +23,7 @@ from ...errors import InputError
 from ...geometry.clip import clip
 from ...objects.polygon import _signed_area
 from ...objects.polyhedron import PlanarFace, Polyhedron
+from ...verdicts import VerdictCode
 from ..regions import Certificate, RegionSet
 
 __all__ = ["CONVEX_RTOL", "FacePatch", "SpatialRegions", "clip", "convex_pieces", "sampling_check",
@@ -287,7 +288,7 @@ def sampling_check(regions: SpatialRegions, samples: int = 2000, seed: int = 0,
         normals = np.concatenate([normals, np.stack(
             [n[pick] for n, pick in zip(vert_normals, picks, strict=True)], axis=1)])
     result = analyze_batch(points, normals, mu=regions.mu, model=regions.model, cone="exact")
-    bad = np.flatnonzero(result.code != 2)
+    bad = np.flatnonzero(result.code != VerdictCode.CLOSURE)
     detail = (f"{len(points)} point tuples, each force-closure with exact cones"
               if not len(bad) else
               f"{len(bad)} of {len(points)} point tuples are not force-closure, e.g. "
