@@ -413,7 +413,7 @@ def analyze_npz(path: str, *, chunk: int = CHUNK, tol: float | None = None,
     if epsilon and info.dim == 3 and info.contacts > MAX_QUALITY_CONTACTS:
         raise InputError(f"{path}: {info.contacts:,} spatial contacts a grasp: epsilon is "
                          f"computed for at most {MAX_QUALITY_CONTACTS} (minutes a grasp beyond); "
-                         "the verdicts alone are not limited by it (drop --epsilon)")
+                         "the verdicts alone are not limited by it (analyse without epsilon)")
     if resume is not None:
         _check_resume(resume, info, epsilon)
     code = np.full(info.count, ERROR, dtype=np.int8)
