@@ -7,7 +7,12 @@ work (reading the object) would name the missing file instead: the line names
 the option only if the check came first.
 """
 
+import contextlib
+import io
+
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from forceclosure.app.cli import main
 from forceclosure.app.limits import check_scheduler, memory_budget
@@ -108,3 +113,34 @@ def test_limits_accept_the_edges(tmp_path, capsys):
             "--no-epsilon", "--no-collision", "--out", str(out), "--json"]
     assert main(argv) == 0, capsys.readouterr().err
     assert out.is_file()
+
+
+# -- a light fuzz of every numeric option: one line, exit 2, never an internal error --------
+
+NUMBERS = st.sampled_from(["0", "-0", "-1", "1", "1e-320", "1e-300", "1e300", "1e308", "nan",
+                           "inf", "-inf", "1" + "0" * 30, "-" + "9" * 25, "2.5", "0x10", ""])
+GRASPS_OPTIONS = ["--width", "--count", "--mu", "--pad-radius", "--seed", "--clearance",
+                  "--approaches", "--depths", "--tilt", "--plot-top", "--robust-samples",
+                  "--pose-sigma", "--angle-sigma", "--mu-sigma", "--normal-sigma",
+                  "--robust-confidence", "--task-mass", "--f-max"]
+
+
+@settings(max_examples=150, deadline=None, derandomize=True,
+          suppress_health_check=list(HealthCheck))
+@given(st.lists(st.tuples(st.sampled_from(GRASPS_OPTIONS), NUMBERS), min_size=1, max_size=4),
+       st.booleans())
+def test_grasps_option_fuzz(options, robust):
+    """The object does not exist, so every run ends with exit 2: from an option's own check
+    (named), argparse's, or the missing file; never an internal error, never two lines."""
+    argv = ["grasps", MISSING] + (["--robust"] if robust else [])
+    for flag, value in options:
+        argv += [f"{flag}={value}"]
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+        try:
+            status = main(argv)
+        except SystemExit as e:
+            status = e.code
+    lines = err.getvalue().strip().splitlines()
+    assert status == 2 and len(lines) == 1, (argv, lines)
+    assert "internal error" not in lines[0] and "Traceback" not in lines[0], lines
