@@ -144,3 +144,23 @@ def test_grasps_option_fuzz(options, robust):
     lines = err.getvalue().strip().splitlines()
     assert status == 2 and len(lines) == 1, (argv, lines)
     assert "internal error" not in lines[0] and "Traceback" not in lines[0], lines
+
+
+def test_library_output_check_refuses_a_folder_spelling(tmp_path):
+    """io.atomic.check_output (every results file of the library): 'x.npz/' was taken as
+    x.npz (abspath drops the slash) and failed only at the rename, after the work."""
+    from forceclosure.errors import OutputError
+    from forceclosure.io.atomic import check_output
+
+    for path in (str(tmp_path / "x.npz") + "/", ""):
+        with pytest.raises(OutputError):
+            check_output(path)
+    assert check_output(str(tmp_path / "x.npz")) == str(tmp_path / "x.npz")
+
+
+def test_export_folder_with_a_slash_passes_the_spelling_check(tmp_path, capsys):
+    """export writes a dataset's poses into a folder: 'out/' is a folder's spelling there,
+    so the line that answers is about the missing labels, not the slash."""
+    status, err = run(["export", str(tmp_path / "none"), "--graspnet", str(tmp_path) + "/"],
+                      capsys)
+    assert status == 2 and len(err) == 1 and "ends with '/'" not in err[0], err

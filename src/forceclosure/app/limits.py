@@ -219,8 +219,10 @@ def check_options(args: argparse.Namespace) -> None:
         check_path_spelling("--out", get("out"), folder=True)
         check_scheduler(get("scheduler"))
     else:
-        for flag in ("out", "plot", "html", "graspnet", "acronym"):
+        for flag in ("out", "plot", "html"):
             check_path_spelling(f"--{flag}", get(flag))
+        for flag in ("graspnet", "acronym"):  # export: a file, or a folder for a dataset
+            check_path_spelling(f"--{flag}", get(flag), folder=True)
         for kind, path in get("export") or []:
             check_path_spelling(f"--export {printable(kind, 40)}", path)
     if get("count") is not None and get("count") >= 0:
