@@ -54,6 +54,7 @@ __all__ = [
     "MAX_CONTACTS",
     "MAX_COORDINATE",
     "MAX_EDGES",
+    "MAX_QUALITY_CONTACTS",
     "MODELS",
     "ORIENTATIONS",
     "Cone",
@@ -97,8 +98,17 @@ MAX_COORDINATE = 1e290
 MAX_EDGES = 4096
 
 #: Most contacts a grasp may have: a file or call naming more is refused in one line, before
-#: anything is allocated for them (docs/analysis.md, "Bounded work").
+#: anything is allocated for them (docs/analysis.md, "Bounded work"). A verdict on 1,000
+#: spatial hard contacts takes about 0.5 s.
 MAX_CONTACTS = 1024
+
+#: Most contact points (an edge or face contact counts its points) of a spatial grasp whose
+#: quality (Ferrari-Canny epsilon, least friction) a grasp file's analysis computes: the
+#: hulls and bisections grow steeply (measured on a shared 2-core machine, hard fingers with
+#: exact cones: 10 contacts 4 s, 16 in 12 s, 20 in 24 s, 30 in 50 s; 300 did not finish).
+#: Above it the grasp is refused in one line; its verdict alone (``--no-quality``) is not
+#: limited by it. Planar grasps are not limited (1,000 hard contacts: 4 s).
+MAX_QUALITY_CONTACTS = 12
 
 
 @dataclass(frozen=True)
@@ -656,6 +666,9 @@ def check_grasp(contacts: Sequence[Contact]) -> list[Contact]:
     contacts = list(contacts)
     if not contacts:
         raise InputError("a grasp needs at least one contact")
+    if len(contacts) > MAX_CONTACTS:
+        raise InputError(f"a grasp of {len(contacts):,} contacts; at most {MAX_CONTACTS:,} are "
+                         "analysed")
     for i, c in enumerate(contacts):
         if not isinstance(c, Contact):
             raise InputError(f"contact {i + 1} is a {type(c).__name__}, not a Contact")

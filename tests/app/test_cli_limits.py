@@ -7,7 +7,12 @@ work (reading the object) would name the missing file instead: the line names
 the option only if the check came first.
 """
 
+import contextlib
+import io
+
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from forceclosure.app.cli import main
 from forceclosure.app.limits import check_scheduler, memory_budget
@@ -108,3 +113,54 @@ def test_limits_accept_the_edges(tmp_path, capsys):
             "--no-epsilon", "--no-collision", "--out", str(out), "--json"]
     assert main(argv) == 0, capsys.readouterr().err
     assert out.is_file()
+
+
+# -- a light fuzz of every numeric option: one line, exit 2, never an internal error --------
+
+NUMBERS = st.sampled_from(["0", "-0", "-1", "1", "1e-320", "1e-300", "1e300", "1e308", "nan",
+                           "inf", "-inf", "1" + "0" * 30, "-" + "9" * 25, "2.5", "0x10", ""])
+GRASPS_OPTIONS = ["--width", "--count", "--mu", "--pad-radius", "--seed", "--clearance",
+                  "--approaches", "--depths", "--tilt", "--plot-top", "--robust-samples",
+                  "--pose-sigma", "--angle-sigma", "--mu-sigma", "--normal-sigma",
+                  "--robust-confidence", "--task-mass", "--f-max"]
+
+
+@settings(max_examples=150, deadline=None, derandomize=True,
+          suppress_health_check=list(HealthCheck))
+@given(st.lists(st.tuples(st.sampled_from(GRASPS_OPTIONS), NUMBERS), min_size=1, max_size=4),
+       st.booleans())
+def test_grasps_option_fuzz(options, robust):
+    """The object does not exist, so every run ends with exit 2: from an option's own check
+    (named), argparse's, or the missing file; never an internal error, never two lines."""
+    argv = ["grasps", MISSING] + (["--robust"] if robust else [])
+    for flag, value in options:
+        argv += [f"{flag}={value}"]
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+        try:
+            status = main(argv)
+        except SystemExit as e:
+            status = e.code
+    lines = err.getvalue().strip().splitlines()
+    assert status == 2 and len(lines) == 1, (argv, lines)
+    assert "internal error" not in lines[0] and "Traceback" not in lines[0], lines
+
+
+def test_library_output_check_refuses_a_folder_spelling(tmp_path):
+    """io.atomic.check_output (every results file of the library): 'x.npz/' was taken as
+    x.npz (abspath drops the slash) and failed only at the rename, after the work."""
+    from forceclosure.errors import OutputError
+    from forceclosure.io.atomic import check_output
+
+    for path in (str(tmp_path / "x.npz") + "/", ""):
+        with pytest.raises(OutputError):
+            check_output(path)
+    assert check_output(str(tmp_path / "x.npz")) == str(tmp_path / "x.npz")
+
+
+def test_export_folder_with_a_slash_passes_the_spelling_check(tmp_path, capsys):
+    """export writes a dataset's poses into a folder: 'out/' is a folder's spelling there,
+    so the line that answers is about the missing labels, not the slash."""
+    status, err = run(["export", str(tmp_path / "none"), "--graspnet", str(tmp_path) + "/"],
+                      capsys)
+    assert status == 2 and len(err) == 1 and "ends with '/'" not in err[0], err

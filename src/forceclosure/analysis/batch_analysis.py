@@ -32,7 +32,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..contacts import MAX_COORDINATE, MODELS, Cone, Contact, fixed_cone, unit_rows
+from ..contacts import MAX_CONTACTS, MAX_COORDINATE, MODELS, Cone, Contact, fixed_cone, unit_rows
 from ..errors import InputError
 from ..verdicts import VerdictCode, verdict_words
 from .closure import (
@@ -145,6 +145,9 @@ def _validate(points: ArrayLike, normals: ArrayLike, mu: ArrayLike,
     if k == 0:
         raise InputError(f"points and normals have shape {P.shape}: a grasp needs at least "
                          "one contact")
+    if k > MAX_CONTACTS:
+        raise InputError(f"points and normals have shape {P.shape}: {k:,} contacts a grasp; "
+                         f"at most {MAX_CONTACTS:,} are analysed")
     for name, arr in (("point", P), ("normal", N_)):
         bad = np.argwhere(~np.all(np.isfinite(arr), axis=2))
         if len(bad):

@@ -25,10 +25,11 @@ checks answer, as before):
 * ``--samples`` at most :data:`MAX_SAMPLES` (10,000,000), ``--top`` and
   ``--plot-top`` at most :data:`MAX_TOP`, ``--chunk`` at most 2**24;
 * ``--task-mass`` and ``--f-max`` at most 1e100 (their products stay finite);
-* ``--count`` (``grasps``, and per object in ``dataset --gripper``): the
-  labels' memory, estimated as :data:`BYTES_PER_GRASP` (4 KiB) a grasp
-  (measured: about 1.7 KiB on the cube, doubled for objects where more
-  closing lines miss) plus 8 bytes a robust sample, at most
+* ``--count`` (``grasps``, and per object in ``dataset --gripper``, times the
+  local workers labelling at once): the labels' memory, estimated as
+  :data:`BYTES_PER_GRASP` (4 KiB) a grasp (measured: about 1.7 KiB on the
+  cube, doubled for objects where more closing lines miss) plus 8 bytes a
+  robust sample, at most
   :func:`memory_budget` (half the machine's memory);
 * output paths (``--out``, ``--plot``, ``--html``, ``--export``, ``--graspnet``,
   ``--acronym``): not empty,
@@ -172,11 +173,15 @@ def _grasps_memory(args: argparse.Namespace) -> None:
     samples = get("robust_samples") or 100
     if robust and not get("no_robust_epsilon"):
         per += BYTES_PER_ROBUST_SAMPLE * samples
-    need = count * per
+    # dataset: each local worker labels an object at a time
+    copies = (get("workers") or os.cpu_count() or 1) if (get("command") == "dataset"
+                                                          and not get("scheduler")) else 1
+    need = count * per * copies
     budget = memory_budget()
     if need > budget:
         what = (f"--count {count:,} x --robust-samples {samples:,}" if robust
                 and per > BYTES_PER_GRASP else f"--count {count:,}")
+        what += f" on {copies} workers at once" if copies > 1 else ""
         raise InputError(f"{what}: about {_size(need)} of labels ({_size(per)} a grasp), more "
                          f"than the {_size(budget)} this run may use (half this machine's "
                          "memory); sample in several runs with other --seed values")
@@ -219,8 +224,10 @@ def check_options(args: argparse.Namespace) -> None:
         check_path_spelling("--out", get("out"), folder=True)
         check_scheduler(get("scheduler"))
     else:
-        for flag in ("out", "plot", "html", "graspnet", "acronym"):
+        for flag in ("out", "plot", "html"):
             check_path_spelling(f"--{flag}", get(flag))
+        for flag in ("graspnet", "acronym"):  # export: a file, or a folder for a dataset
+            check_path_spelling(f"--{flag}", get(flag), folder=True)
         for kind, path in get("export") or []:
             check_path_spelling(f"--export {printable(kind, 40)}", path)
     if get("count") is not None and get("count") >= 0:

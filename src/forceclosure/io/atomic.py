@@ -47,7 +47,8 @@ def check_output(path: str, inputs: Iterable[str] = ()) -> str:
     folder is missing, not a folder or not writable (tried by creating and
     removing a temporary file there), when it exists and is not a regular file
     (a directory, a device, a FIFO, a socket), or when it is one of ``inputs``
-    (the same file, by :func:`os.path.samefile`, whatever the spelling).
+    (the same file, by :func:`os.path.samefile`, whatever the spelling), or when it is
+    empty or ends with ``/`` (a folder's spelling, which ``abspath`` would silently drop).
 
     Examples
     --------
@@ -61,6 +62,10 @@ def check_output(path: str, inputs: Iterable[str] = ()) -> str:
     forceclosure.errors.OutputError: ...: the folder ... does not exist
     """
     shown = printable(path, 200)
+    if not path:
+        raise OutputError("the results file name is empty")
+    if path.endswith(("/", os.sep)):  # abspath would drop the slash: x.npz/ is no file
+        raise OutputError(f"{shown}: ends with '/', a folder; results go to a file")
     folder = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(folder):
         what = "is not a folder" if os.path.exists(folder) else "does not exist"

@@ -37,7 +37,7 @@ from numpy.lib import format as npy
 from numpy.typing import NDArray
 
 from ..analysis.batch import CHUNK, analyze_batch, epsilon_batch
-from ..contacts import MAX_CONTACTS, MODELS, Cone, parse_cone
+from ..contacts import MAX_CONTACTS, MAX_QUALITY_CONTACTS, MODELS, Cone, parse_cone
 from ..errors import InputError, clip
 from ..verdicts import VERDICT_WORDS, Verdict, VerdictCode
 from .atomic import atomic_write
@@ -402,6 +402,10 @@ def analyze_npz(path: str, *, chunk: int = CHUNK, tol: float | None = None,
 
     tol = TOLERANCE if tol is None else tol
     info = open_npz(path)
+    if epsilon and info.dim == 3 and info.contacts > MAX_QUALITY_CONTACTS:
+        raise InputError(f"{path}: {info.contacts:,} spatial contacts a grasp: epsilon is "
+                         f"computed for at most {MAX_QUALITY_CONTACTS} (minutes a grasp beyond); "
+                         "the verdicts alone are not limited by it (analyse without epsilon)")
     if resume is not None:
         _check_resume(resume, info, epsilon)
     code = np.full(info.count, ERROR, dtype=np.int8)

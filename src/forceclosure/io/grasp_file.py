@@ -28,7 +28,16 @@ import numpy as np
 
 from ..analysis.closure import Analysis, Verdict, analyze_explained
 from ..analysis.quality import epsilon, least_friction
-from ..contacts import MODELS, Cone, Contact, check_grasp, make_contact, parse_cone
+from ..contacts import (
+    MAX_CONTACTS,
+    MAX_QUALITY_CONTACTS,
+    MODELS,
+    Cone,
+    Contact,
+    check_grasp,
+    make_contact,
+    parse_cone,
+)
 from ..errors import InputError, clip, parse_json, shown
 
 __all__ = ["CONTACT_KEYS", "FILE_KEYS", "GRASP_KEYS", "MAX_COORDINATE", "NOT_COMPUTED",
@@ -141,6 +150,9 @@ def _parse_grasp(index: int, data: Any) -> GraspEntry:
             raise InputError("missing field 'contacts'")
         if not isinstance(data["contacts"], list) or not data["contacts"]:
             raise InputError("field 'contacts' must be a non-empty list")
+        if len(data["contacts"]) > MAX_CONTACTS:  # before reading them
+            raise InputError(f"{len(data['contacts']):,} contacts; at most {MAX_CONTACTS:,} "
+                             "are analysed")
         contacts = []
         for j, c in enumerate(data["contacts"], start=1):
             try:
@@ -231,6 +243,11 @@ def _analyse(entry: GraspEntry, cone: str | Cone, quality: bool,
     a = analyze_explained(entry.contacts, cone=cone, reference=entry.reference,
                           length_scale=entry.length_scale)
     eps = mu_star = None
+    points = sum(len(c.points) for c in entry.contacts)
+    if quality and entry.contacts[0].dim == 3 and points > MAX_QUALITY_CONTACTS:
+        raise InputError(f"{points:,} spatial contact points: epsilon and least friction are "
+                         f"computed for at most {MAX_QUALITY_CONTACTS} (minutes beyond); "
+                         "--no-quality gives the verdict alone")
     if quality:
         if a.verdict is Verdict.CLOSURE:
             eps = epsilon(entry.contacts, reference=entry.reference,

@@ -273,10 +273,16 @@ def _is_package(folder: Path, package: str) -> bool:
 
 def _ros_package_path(package: str) -> list[Path]:
     """Package ``package``'s folders under the ``ROS_PACKAGE_PATH`` entries, first entry first
-    (a crawl that stops at packages, skips hidden folders and is bounded)."""
-    found = []
+    (a crawl that stops at packages, skips hidden folders and is bounded; remembered per
+    package and value of the variable, so a dataset of URDFs crawls once)."""
+    return list(_crawl(package, os.environ.get("ROS_PACKAGE_PATH", "")))
+
+
+@lru_cache(maxsize=256)
+def _crawl(package: str, entries: str) -> tuple[Path, ...]:
+    found: list[Path] = []
     seen = 0
-    for entry in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep):
+    for entry in entries.split(os.pathsep):
         if not entry or not Path(entry).is_dir():
             continue
         level = [Path(entry)]
@@ -285,7 +291,7 @@ def _ros_package_path(package: str) -> list[Path]:
             for folder in level:
                 seen += 1
                 if seen > _CRAWL_FOLDERS:
-                    return found
+                    return tuple(found)
                 if _manifest_name(folder) is not None:  # a package: not crawled into
                     if _is_package(folder, package):
                         found.append(folder)
@@ -296,7 +302,7 @@ def _ros_package_path(package: str) -> list[Path]:
                 except OSError:
                     continue
             level = below
-    return found
+    return tuple(found)
 
 
 def _enclosing_package(folder: Path) -> Path | None:

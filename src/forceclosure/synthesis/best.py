@@ -24,7 +24,7 @@ from .construction import Construction, Hand, construction_for, registered
 from .ranked_search import search
 from .regions import MARGIN, RegionSet, check_margin, narrowed
 
-__all__ = ["CONTACTS", "SIZES", "Synthesis", "check_hand", "default_fingers",
+__all__ = ["CONTACTS", "MAX_FINGERS", "SIZES", "Synthesis", "check_hand", "default_fingers",
            "default_fingers_reason", "synthesize"]
 
 CONTACTS = ("hard", "soft", "frictionless")
@@ -97,6 +97,15 @@ about the line between them'
     return f"{n} {contact} fingers, the fewest that can hold a polyhedron: {why}"
 
 
+#: Most fingers of a hand synthesis serves in space (on polygons the table's hands: 2 or 4).
+#: The paper's hands are 2 soft, 3 hard and 7 frictionless; the mesh method takes any, its
+#: time growing steeply with them (measured on a shared 2-core machine, the cube with soft
+#: fingers and the default 20,000 samples, the whole command: 3 in 12 s, 4 in 20 s, 6 in
+#: 120 s, 10 did not finish in 300 s). Beyond it a hand is refused in one line: 8 keeps the
+#: paper's hands and one more than its largest (7 frictionless).
+MAX_FINGERS = 8
+
+
 def check_hand(dim: int, fingers: int | None, contact: str = "hard", mu: float = 0.3, *,
                top: int = 5, construction: str = "maximal", method: str = "auto") -> int:
     """Refuse, in one line, a hand the constructions cannot serve on a ``dim``-D object;
@@ -143,6 +152,11 @@ least 3 hard fingers (two cannot resist rotation about the line between them)
                              f"is for {_hands(_nguyen(table, 2))} fingers; {fingers} use "
                              "construction='maximal'")
         return fingers
+    if not isinstance(fingers, int | np.integer) or isinstance(fingers, bool):
+        raise InputError(f"fingers must be a whole number, got {fingers!r}")
+    if fingers > MAX_FINGERS:
+        raise InputError(f"fingers={fingers}: at most {MAX_FINGERS} fingers a hand are "
+                         "synthesized (the time grows steeply with them)")
     minimum = {"soft": 2, "hard": 3, "frictionless": 7}[contact]
     if fingers < minimum:
         why = {"soft": "", "hard": " (two cannot resist rotation about the line between "
