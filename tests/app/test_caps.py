@@ -1,8 +1,9 @@
 """Stated caps on the work one command asks (issue 28: bounded work).
 
 A grasp has at most MAX_CONTACTS contacts; a spatial grasp's quality is computed for at most
-MAX_QUALITY_CONTACTS contact points; a hand in space has at most MAX_FINGERS fingers. Above
-them: one line naming the cap, exit status 2, before the long work. The verdicts asked
+MAX_QUALITY_CONTACTS contact points (beyond it the verdict comes alone, the quality's null
+saying why); a hand in space has at most MAX_FINGERS fingers. Above the others: one line
+naming the cap, exit status 2, before the long work. The verdicts asked
 for within them are checked against hand-derived cases.
 """
 
@@ -38,18 +39,18 @@ def run(argv, capsys):
     return status, captured.out, captured.err.strip().splitlines()
 
 
-def test_300_spatial_contacts_quality_refused_verdict_kept(tmp_path, capsys):
+def test_300_spatial_contacts_verdict_given_quality_not_computed(tmp_path, capsys):
     """300 hard contacts (the six faces, 50 times each): the quality would run for minutes,
-    so it is refused in one line saying how to get the verdict; the verdict alone is
-    closure; 300 contacts all on one face are not (every force points the same way)."""
+    so it is left out with its reason in null_reasons; the verdict is closure; 300 contacts
+    all on one face are not (every force points the same way)."""
     path = grasp_file(tmp_path, FACES * 50)
-    status, _, err = run(["analyze", str(path)], capsys)
-    assert status == 2 and len(err) == 1
-    assert f"300 spatial contact points: epsilon and least friction are computed for at most " \
-           f"{MAX_QUALITY_CONTACTS}" in err[0] and "--no-quality" in err[0]
-    status, out, err = run(["analyze", str(path), "--no-quality", "--json"], capsys)
+    status, out, err = run(["analyze", str(path), "--json"], capsys)
     assert status == 0 and err == []
-    assert json.loads(out)["results"][0]["verdict"] == "closure"
+    record = json.loads(out)["results"][0]
+    assert record["verdict"] == "closure"
+    assert record["epsilon"] is None and record["least_friction"] is None
+    assert record["null_reasons"]["epsilon"].startswith(
+        f"not computed: more than {MAX_QUALITY_CONTACTS} spatial contact points")
     one_face = grasp_file(tmp_path, FACES[:1] * 300, "one.json")
     status, out, _ = run(["analyze", str(one_face), "--no-quality", "--json"], capsys)
     assert status == 0 and json.loads(out)["results"][0]["verdict"] == "none"

@@ -236,6 +236,8 @@ def _finite(value: Any) -> bool:
 #: Why a value is null in a record, when not for its usual reason (``null_reasons``).
 NOT_COMPUTED = "not computed (--no-quality)"
 NOT_FINITE = "not a finite number (the computation overflowed)"
+TOO_MANY = (f"not computed: more than {MAX_QUALITY_CONTACTS} spatial contact points "
+            "(minutes a grasp beyond)")
 
 
 def _analyse(entry: GraspEntry, cone: str | Cone, quality: bool,
@@ -243,11 +245,6 @@ def _analyse(entry: GraspEntry, cone: str | Cone, quality: bool,
     a = analyze_explained(entry.contacts, cone=cone, reference=entry.reference,
                           length_scale=entry.length_scale)
     eps = mu_star = None
-    points = sum(len(c.points) for c in entry.contacts)
-    if quality and entry.contacts[0].dim == 3 and points > MAX_QUALITY_CONTACTS:
-        raise InputError(f"{points:,} spatial contact points: epsilon and least friction are "
-                         f"computed for at most {MAX_QUALITY_CONTACTS} (minutes beyond); "
-                         "--no-quality gives the verdict alone")
     if quality:
         if a.verdict is Verdict.CLOSURE:
             eps = epsilon(entry.contacts, reference=entry.reference,
@@ -275,8 +272,10 @@ def result_record(entry: GraspEntry, cone: str | Cone, quality: bool = True,
     """
     if entry.error is not None:
         return {"name": entry.name, "error": entry.error}, None
+    too_many = entry.contacts[0].dim == 3 and sum(
+        len(c.points) for c in entry.contacts) > MAX_QUALITY_CONTACTS
     try:
-        a, eps, mu_star = _analyse(entry, cone, quality)
+        a, eps, mu_star = _analyse(entry, cone, quality and not too_many)
     except InputError as e:
         return {"name": entry.name, "error": str(e.within(entry.label))}, None
     closed = a.verdict is Verdict.CLOSURE
@@ -304,6 +303,8 @@ def result_record(entry: GraspEntry, cone: str | Cone, quality: bool = True,
     # infinite when no friction closes the grasp, its usual null
     if not quality:
         reasons.update(epsilon=NOT_COMPUTED, least_friction=NOT_COMPUTED)
+    elif too_many:
+        reasons.update(epsilon=TOO_MANY, least_friction=TOO_MANY)
     for key in reasons:
         record[key] = None
     if reasons:
