@@ -287,6 +287,33 @@ def test_time_limit(tmp_path):
     worker.join()  # the busy loop ends by the limit alone
     assert escaped == [True]
     time.sleep(0.01)
+    # a reader that swallows even BaseException (trimesh's optional imports do) once: the
+    # limit comes again, in the main thread and in another
+    def swallowing() -> None:
+        with deadline(0.05):
+            swallowed = False
+            for _ in range(100_000):  # a limit that came only once would let this end
+                try:
+                    time.sleep(0.01)
+                except BaseException:  # the reader this test stands for
+                    if swallowed:
+                        raise
+                    swallowed = True
+
+    with pytest.raises(ObjectTimeout):
+        swallowing()
+    escaped.clear()
+
+    def in_thread() -> None:
+        try:
+            swallowing()
+        except ObjectTimeout:
+            escaped.append(True)
+
+    worker = threading.Thread(target=in_thread)
+    worker.start()
+    worker.join()
+    assert escaped == [True]
     # on the pool, with a limit: every object gets its record, done or over the limit (which
     # of the two is the clock's to say, not this test's: a worker stuck past its limit is the
     # long profile's test_worker_stuck_in_compiled_code), and a done one is complete

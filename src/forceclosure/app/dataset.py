@@ -370,9 +370,16 @@ class ObjectTimeout(BaseException):
     so that no ``except Exception`` on the way (in a file reader, say) swallows it."""
 
 
+#: Seconds between repeats of :class:`ObjectTimeout` once the time limit has passed: code
+#: that catches every exception (trimesh's optional imports catch ``BaseException``) may
+#: swallow one, never the next.
+REPEAT = 0.1
+
+
 @contextmanager
 def deadline(seconds: float | None) -> Iterator[None]:
-    """Raise :class:`ObjectTimeout` in this thread after ``seconds``.
+    """Raise :class:`ObjectTimeout` in this thread after ``seconds``, and again every
+    :data:`REPEAT` seconds until it leaves the block.
 
     The main thread (a process-pool worker) uses ``SIGALRM``; another thread
     (a Dask worker's) gets the exception raised in it asynchronously. Either
@@ -387,7 +394,7 @@ def deadline(seconds: float | None) -> Iterator[None]:
             raise ObjectTimeout
 
         previous = signal.signal(signal.SIGALRM, alarm)
-        outer, _ = signal.setitimer(signal.ITIMER_REAL, seconds)
+        outer, _ = signal.setitimer(signal.ITIMER_REAL, seconds, REPEAT)
         start = time.monotonic()
         try:
             yield
@@ -398,23 +405,25 @@ def deadline(seconds: float | None) -> Iterator[None]:
                 signal.setitimer(signal.ITIMER_REAL,
                                  max(outer - (time.monotonic() - start), 1e-3))
         return
-    ident, lock, armed = threading.get_ident(), threading.Lock(), [True]
+    ident, lock, done = threading.get_ident(), threading.Lock(), threading.Event()
 
     def fire() -> None:
-        with lock:
-            if armed[0]:
+        wait = seconds
+        while not done.wait(wait):
+            with lock:
+                if done.is_set():
+                    return
                 ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(ident),
                                                            ctypes.py_object(ObjectTimeout))
+            wait = REPEAT
 
-    timer = threading.Timer(seconds, fire)
-    timer.daemon = True
+    timer = threading.Thread(target=fire, daemon=True)
     timer.start()
     try:
         yield
     finally:
         with lock:
-            armed[0] = False
-        timer.cancel()
+            done.set()
         # an exception set but not yet raised must not escape the block
         ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(ident), None)
 
@@ -573,6 +582,10 @@ def process_object(path: str | Path, job: Job) -> dict[str, Any]:
     path = Path(path)
     record: dict[str, Any] = {"path": _key(path), "name": path.stem, "status": "done",
                               "error": None, "worker": f"{socket.gethostname()}:{os.getpid()}"}
+    if job.timeout is not None:
+        # trimesh's own import catches BaseException around its optional imports: a time
+        # limit firing there would be swallowed and leave trimesh broken in this process
+        import trimesh  # noqa: F401
     start = time.perf_counter()
     try:
         with deadline(job.timeout):
