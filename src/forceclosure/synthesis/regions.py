@@ -13,7 +13,7 @@ from numpy.typing import NDArray
 from ..errors import InputError
 from ..objects.polygon import Edge, Polygon
 
-__all__ = ["MARGIN", "Certificate", "RegionSet", "Regions", "check_edges", "check_margin",
+__all__ = ["MARGIN", "TRIMS", "Certificate", "RegionSet", "Regions", "check_edges", "check_margin",
            "exact_inward", "exact_point", "narrowed", "proved_once", "rounded", "tie_rounded"]
 
 _COUNT = {2: "two", 3: "three", 4: "four"}
@@ -21,6 +21,15 @@ _COUNT = {2: "two", 3: "three", 4: "four"}
 #: The default margin, in radians: every grasp in the regions stays force-closure when each
 #: contact normal turns by up to this angle (see :func:`check_margin`).
 MARGIN = 1e-3
+
+#: Fractions of a region's length cut from each of its ends, tried in turn until its proof
+#: holds: the optimum of a linear program lies on the boundary of what is force-closure, and
+#: rounding (the solver's tolerance, coordinates far from the origin) can put a corner just
+#: outside. One cut of 1e-9 is not enough where a region touches a friction cone's boundary
+#: with a tiny margin, or where the coordinates round by more than 1e-9 of an edge; the cuts
+#: grow by four up to about 0.4 %, the most a region is cut before its site is reported as
+#: undecided.
+TRIMS = (0.0, *(1e-9 * 4.0 ** k for k in range(12)))
 
 
 def check_margin(margin: float) -> float:

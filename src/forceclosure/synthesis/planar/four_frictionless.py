@@ -43,6 +43,7 @@ from ...objects.polygon import Polygon
 from ..construction import Construction, Hand, register
 from ..regions import (
     MARGIN,
+    TRIMS,
     Certificate,
     Regions,
     check_edges,
@@ -243,7 +244,7 @@ def maximal_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, i
     best = best * size
     z = float(best[4])
     lengths = [polygon.edges[e].length for e in edges]
-    for trim in (0.0, 1e-9):  # should rounding have cut a corner, trim and check again
+    for trim in TRIMS:  # should rounding have cut a corner, trim and check again
         segments = tuple((float(u) + trim * z + 0.0, min(float(u) + z, L) - trim * z)
                          for u, L in zip(best[:4], lengths, strict=True))
         regions = FrictionlessRegions(polygon, edges, segments, "maximal (linear program)",

@@ -70,6 +70,7 @@ from ...objects.polygon import Polygon
 from ..construction import Construction, Hand, register
 from ..regions import (
     MARGIN,
+    TRIMS,
     Certificate,
     Regions,
     check_edges,
@@ -284,7 +285,7 @@ def _centre(polygon: Polygon, edges: tuple[int, ...], mu: float, sectors, signs,
     X, Y, *u, z = (float(v) for v in res.x)
     kept = (tuple((tuple(map(float, lo)), tuple(map(float, hi))) for lo, hi in sectors)
             if keep else None)
-    for trim in (0.0, 1e-9):  # should rounding have cut a corner, trim and check again
+    for trim in TRIMS:  # should rounding have cut a corner, trim and check again
         segments = tuple((max(ui, 0.0) + trim * z + 0.0, min(ui + z, e.length) - trim * z)
                          for ui, e in zip(u, es, strict=True))
         regions = ThreeFingerRegions(polygon, edges, segments, construction,

@@ -39,7 +39,7 @@ from ...geometry.clip import clip
 from ...geometry.cones import counter_overlap
 from ...objects.polygon import Edge, Polygon
 from ..construction import Construction, Hand, register
-from ..regions import narrowed
+from ..regions import TRIMS, narrowed
 from .edge_pair import (
     ANGLE_MARGIN,
     IndependentRegions,
@@ -334,7 +334,7 @@ def _certified(polygon: Polygon, i: int, j: int, z: float, u1: float, u2: float,
     u1, u2 = max(float(u1), 0.0) + 0.0, max(float(u2), 0.0) + 0.0  # + 0.0: no -0.0
     segments = ((u1, min(u1 + z, e1.length)), (u2, min(u2 + z, e2.length)))
     mu = (float(mu[0]), float(mu[1]))
-    for trim in (0.0, 1e-9):  # should rounding have cut a corner, trim and check again
+    for trim in TRIMS:  # should rounding have cut a corner, trim and check again
         cut = tuple((u + trim * (v - u), v - trim * (v - u)) for u, v in segments)
         regions = IndependentRegions(polygon, (i, j), cut, "maximal (linear program)", mu,
                                      spreading=bool(spreading))
