@@ -23,10 +23,35 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
-from .construction import Construction, Hand
+from .construction import Construction, Hand, Undecided
 from .regions import RegionSet, tie_rounded
 
-__all__ = ["candidate_sites", "search"]
+__all__ = ["Found", "candidate_sites", "search"]
+
+
+class Found(list):
+    """What :func:`search` returns: the region sets, best first (a list), and the sites it
+    could not decide (:attr:`undecided`).
+
+    A site is undecided when its regions exist (by the construction's bound or linear
+    program) but none could be proved in the coordinates given, or when a region set built
+    on it failed its proof; such a site could have ranked among the best, so the search is
+    not complete.
+
+    Attributes
+    ----------
+    undecided_sites : tuple of (site, str)
+        Each undecided site and why.
+    """
+
+    def __init__(self, found=(), undecided_sites=()):
+        super().__init__(found)
+        self.undecided_sites = tuple(undecided_sites)
+
+    @property
+    def undecided(self) -> int:
+        """How many sites the search could not decide (0: every site it covered was)."""
+        return len(self.undecided_sites)
 
 
 def candidate_sites(construction: Construction, obj: Any, hand: Hand, prune: bool = True):
@@ -76,9 +101,10 @@ def search(construction: Construction, obj: Any, hand: Hand) -> list[RegionSet]:
 
     Returns
     -------
-    list of RegionSet
-        Best first; fewer than ``top`` when fewer exist (on the sites searched:
-        ``construction.searched``).
+    Found
+        A list of region sets, best first; fewer than ``top`` when fewer exist (on the
+        sites searched: ``construction.searched``), or when sites were undecided
+        (:attr:`Found.undecided`: then the answer is not complete).
     """
     top = hand.top
     if not isinstance(top, int | np.integer) or isinstance(top, bool) or top < 1:
@@ -89,6 +115,10 @@ def search(construction: Construction, obj: Any, hand: Hand) -> list[RegionSet]:
         bound = np.array([tie_rounded(b) for b in construction.bound(obj, sites, hand)])
     order = range(len(sites)) if bound is None else np.argsort(-bound, kind="stable")
     built: list[tuple[float, int, RegionSet]] = []  # in rank order; each keeps its proof
+    undecided: list[tuple[Any, str]] = []
+
+    def failed_proof(k: int) -> None:
+        undecided.append((sites[k], "a region set built on it failed its proof"))
 
     def beaten(rank: tuple[float, int]) -> bool:
         """Whether ``top`` proved region sets rank ahead of ``rank``: the best the sites left
@@ -99,6 +129,8 @@ def search(construction: Construction, obj: Any, hand: Hand) -> list[RegionSet]:
             failed = [b for b in built[:top] if not b[2].certify().holds]
             if not failed:
                 return True
+            for b in failed:
+                failed_proof(b[1])
             built[:] = [b for b in built if all(b is not f for f in failed)]
         return False
 
@@ -108,15 +140,22 @@ def search(construction: Construction, obj: Any, hand: Hand) -> list[RegionSet]:
         if construction.enough is not None and len(built) >= construction.enough * top:
             break
         regions = construction.build(obj, sites[k], hand)
-        if regions is None or (construction.enough is not None
-                               and not regions.certify().holds):
+        if isinstance(regions, Undecided):
+            undecided.append((sites[k], regions.reason))
+            continue
+        if regions is None:
+            continue
+        if construction.enough is not None and not regions.certify().holds:
+            failed_proof(int(k))
             continue
         bisect.insort(built, (-tie_rounded(regions.relative_min_size), int(k), regions),
                       key=lambda b: b[:2])
     proved = []
-    for *_, regions in built:
+    for _, k, regions in built:
         if len(proved) == top:
             break
         if regions.certify().holds:
             proved.append(regions)
-    return proved
+        else:
+            failed_proof(k)
+    return Found(proved, undecided)

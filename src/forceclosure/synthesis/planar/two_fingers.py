@@ -38,7 +38,7 @@ from ...errors import InputError
 from ...geometry.clip import clip
 from ...geometry.cones import counter_overlap
 from ...objects.polygon import Edge, Polygon
-from ..construction import Construction, Hand, register
+from ..construction import Construction, Hand, Undecided, register
 from ..regions import TRIMS, narrowed
 from .edge_pair import (
     ANGLE_MARGIN,
@@ -319,14 +319,17 @@ def maximal_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | N
                                      np.array([e2.length]))
         r = _certified(polygon, i, j, float(z[0]), float(u1[0]), float(u2[0]), (mu, mu_q),
                        way)
-        if r is not None:
+        if isinstance(r, IndependentRegions):
             found.append(r)
     return max(found, key=lambda r: r.min_length, default=None)
 
 
 def _certified(polygon: Polygon, i: int, j: int, z: float, u1: float, u2: float,
-               mu: tuple[float, float], spreading: bool = False) -> IndependentRegions | None:
-    """Segments of length ``z`` from ``u1``, ``u2``, returned only with a holding certificate."""
+               mu: tuple[float, float], spreading: bool = False,
+               ) -> IndependentRegions | Undecided | None:
+    """Segments of length ``z`` from ``u1``, ``u2``, returned only with a holding certificate;
+    :class:`~forceclosure.synthesis.construction.Undecided` when no cut of them
+    (:data:`~forceclosure.synthesis.regions.TRIMS`) can be proved."""
     e1, e2 = polygon.edges[i], polygon.edges[j]
     z = float(z)
     if not z > 1e-9 * max(e1.length, e2.length):
@@ -340,7 +343,9 @@ def _certified(polygon: Polygon, i: int, j: int, z: float, u1: float, u2: float,
                                      spreading=bool(spreading))
         if regions.certify().holds:
             return regions
-    return None
+    return Undecided(f"segments {z:.6g} long on edges {i} and {j} by the linear program, "
+                     "none of them proved force-closure in the coordinates given (even cut by "
+                     f"{TRIMS[-1]:.1%})")
 
 
 def edge_pair_sites(polygon: Polygon, hand: Hand):
@@ -417,7 +422,8 @@ def largest_segments_bound(polygon: Polygon, sites: NDArray, hand: Hand) -> NDAr
     return z / polygon.size
 
 
-def _build_maximal(polygon: Polygon, site: NDArray, hand: Hand) -> IndependentRegions | None:
+def _build_maximal(polygon: Polygon, site: NDArray, hand: Hand,
+                   ) -> IndependentRegions | Undecided | None:
     mu = narrowed(hand.mu, hand.margin)
     solved = _SOLVED.get(polygon)
     row = (np.flatnonzero((solved[1] == site).all(axis=1))
@@ -433,7 +439,7 @@ MAXIMAL = register(Construction(
     method="edges", sites=edge_pair_sites, prune=counter_overlap_prune,
     bound=largest_segments_bound, build=_build_maximal,
     searched="every pair of edges, the fingers squeezing or pushing apart (complete: "
-             "Lemma 1 gives every two-finger grasp)"))
+             "Lemma 1 gives every two-finger grasp)", complete=True))
 
 
 def _convex(polygon: Polygon) -> bool:
