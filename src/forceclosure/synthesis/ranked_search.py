@@ -23,7 +23,9 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
+from ..objects.polygon import Polygon
 from .construction import Construction, Hand, Undecided
+from .frame import Frame
 from .regions import RegionSet, tie_rounded
 
 __all__ = ["Found", "candidate_sites", "search"]
@@ -80,7 +82,7 @@ def candidate_sites(construction: Construction, obj: Any, hand: Hand, prune: boo
     return [s for block in kept for s in block]
 
 
-def search(construction: Construction, obj: Any, hand: Hand) -> list[RegionSet]:
+def search(construction: Construction, obj: Any, hand: Hand) -> Found:
     """The ``hand.top`` best certified region sets a construction builds on ``obj``.
 
     Runs the construction's steps: its sites, pruned by its necessary
@@ -90,7 +92,10 @@ def search(construction: Construction, obj: Any, hand: Hand) -> list[RegionSet]:
     when the bound falls to zero); each site built, and ranked by the one rule
     (the module's docstring). Region sets are proved in rank order, as they
     are needed (a proof can cost more than the construction), except with
-    ``enough``, which counts proved region sets as they are built.
+    ``enough``, which counts proved region sets as they are built. On a polygon
+    the steps run in object-centred, scaled coordinates
+    (:class:`~forceclosure.synthesis.frame.Frame`), and the region sets are mapped
+    back and proved on ``obj`` as given.
 
     Parameters
     ----------
@@ -109,10 +114,14 @@ def search(construction: Construction, obj: Any, hand: Hand) -> list[RegionSet]:
     top = hand.top
     if not isinstance(top, int | np.integer) or isinstance(top, bool) or top < 1:
         raise InputError(f"top must be a positive integer, got {top!r}")
-    sites = candidate_sites(construction, obj, hand)
+    # on a polygon, every step but the proofs runs in object-centred, scaled coordinates
+    # (frame.py); the regions are mapped back and proved on the polygon as given
+    frame = Frame.of(obj) if isinstance(obj, Polygon) else None
+    where = obj if frame is None else frame.local(obj)
+    sites = candidate_sites(construction, where, hand)
     bound = None
     if construction.bound is not None and len(sites):
-        bound = np.array([tie_rounded(b) for b in construction.bound(obj, sites, hand)])
+        bound = np.array([tie_rounded(b) for b in construction.bound(where, sites, hand)])
     order = range(len(sites)) if bound is None else np.argsort(-bound, kind="stable")
     built: list[tuple[float, int, RegionSet]] = []  # in rank order; each keeps its proof
     undecided: list[tuple[Any, str]] = []
@@ -139,7 +148,9 @@ def search(construction: Construction, obj: Any, hand: Hand) -> list[RegionSet]:
             break
         if construction.enough is not None and len(built) >= construction.enough * top:
             break
-        regions = construction.build(obj, sites[k], hand)
+        regions = construction.build(where, sites[k], hand)
+        if frame is not None:
+            regions = frame.to_user(regions, obj)
         if isinstance(regions, Undecided):
             undecided.append((sites[k], regions.reason))
             continue
