@@ -2,9 +2,9 @@
 
 Region sets are ranked by one rule: the larger smallest region relative to
 the object (:attr:`~forceclosure.synthesis.regions.RegionSet.relative_min_size`,
-a length on polygons, an area over size² on polyhedra) first, to eight
-significant digits (:func:`~forceclosure.synthesis.regions.tie_rounded`),
-ties by the order of the sites. Only certified region sets are returned.
+a length on polygons, an area over size² on polyhedra) first, sizes within
+:data:`TIE` of each other tied (:func:`ranked`), ties by the order of the sites.
+Only certified region sets are returned.
 
 Examples
 --------
@@ -17,7 +17,6 @@ Examples
 
 from __future__ import annotations
 
-import bisect
 from typing import Any
 
 import numpy as np
@@ -28,7 +27,34 @@ from .construction import Construction, Hand, Undecided
 from .frame import Frame
 from .regions import RegionSet, tie_rounded
 
-__all__ = ["Found", "candidate_sites", "search"]
+__all__ = ["TIE", "Found", "candidate_sites", "ranked", "search"]
+
+#: Relative sizes within this fraction of the largest of a run of them rank as ties, broken
+#: by the order of the sites (edge indices: the object's own order), so that the rounding of
+#: a moved or scaled copy (1e-8 of its size at 1e8, more where proofs cut regions at the
+#: floats of far-away coordinates) does not reorder equal regions.
+TIE = 1e-6
+
+
+def ranked(built: list[tuple[float, int, Any]]) -> list[tuple[float, int, Any]]:
+    """``(size, site, item)`` triples in rank order: by decreasing size, where every size
+    within :data:`TIE` (relative) of the largest of its run ties with it, and ties go by site.
+
+    Examples
+    --------
+    >>> [k for _, k, _ in ranked([(0.5, 3, None), (1.0, 2, None), (1.0 - 1e-9, 0, None)])]
+    [0, 2, 3]
+    """
+    rest = sorted(built, key=lambda b: (-b[0], b[1]))
+    out: list[tuple[float, int, Any]] = []
+    start = 0
+    while start < len(rest):
+        end = start + 1
+        while end < len(rest) and rest[end][0] >= rest[start][0] * (1 - TIE):
+            end += 1
+        out += sorted(rest[start:end], key=lambda b: b[1])
+        start = end
+    return out
 
 
 class Found(list):
@@ -123,28 +149,27 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
     if construction.bound is not None and len(sites):
         bound = np.array([tie_rounded(b) for b in construction.bound(where, sites, hand)])
     order = range(len(sites)) if bound is None else np.argsort(-bound, kind="stable")
-    built: list[tuple[float, int, RegionSet]] = []  # in rank order; each keeps its proof
+    built: list[tuple[float, int, RegionSet]] = []  # (size, site, regions): keeps its proof
     undecided: list[tuple[Any, str]] = []
 
     def failed_proof(k: int) -> None:
         undecided.append((sites[k], "a region set built on it failed its proof"))
 
-    def beaten(rank: tuple[float, int]) -> bool:
-        """Whether ``top`` proved region sets rank ahead of ``rank``: the best the sites left
-        can do (they come by decreasing bound, ties in order)."""
+    def beaten(size: float) -> bool:
+        """Whether ``top`` proved region sets rank ahead of any site whose regions are at
+        most ``size``: the best the sites left can do (they come by decreasing bound)."""
         while len(built) >= top:
-            if rank < built[top - 1][:2]:
-                return False
-            failed = [b for b in built[:top] if not b[2].certify().holds]
+            first = ranked(built)[:top]
+            failed = [b for b in first if not b[2].certify().holds]
             if not failed:
-                return True
+                return size < min(b[0] for b in first) * (1 - TIE)
             for b in failed:
                 failed_proof(b[1])
             built[:] = [b for b in built if all(b is not f for f in failed)]
         return False
 
     for k in order:
-        if bound is not None and (not bound[k] > 0 or beaten((-bound[k], int(k)))):
+        if bound is not None and (not bound[k] > 0 or beaten(bound[k])):
             break
         if construction.enough is not None and len(built) >= construction.enough * top:
             break
@@ -159,10 +184,9 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
         if construction.enough is not None and not regions.certify().holds:
             failed_proof(int(k))
             continue
-        bisect.insort(built, (-tie_rounded(regions.relative_min_size), int(k), regions),
-                      key=lambda b: b[:2])
+        built.append((float(regions.relative_min_size), int(k), regions))
     proved = []
-    for _, k, regions in built:
+    for _, k, regions in ranked(built):
         if len(proved) == top:
             break
         if regions.certify().holds:
