@@ -269,9 +269,38 @@ def max_min_segments(A: NDArray, b: NDArray, L1: NDArray, L2: NDArray,
     tol = 1e-9 * np.maximum(1.0, np.maximum(L1, L2))[:, None]
     feasible = ok & np.all(slack >= -tol[..., None], axis=2)
     z = np.where(feasible, x[..., 2], -np.inf)
-    best = np.argmax(z, axis=1)
-    rows = np.arange(P)
-    return z[rows, best], x[rows, best, 0], x[rows, best, 1]
+    return _face_centre(x, z, tol)
+
+
+def _face_centre(x: NDArray, z: NDArray, tol: NDArray) -> tuple[NDArray, NDArray, NDArray]:
+    """One optimum per pair that does not depend on rounding: the middle of the optimal face.
+
+    The segments of the largest length can often slide (the optimal face of the LP is an
+    edge or a polygon, not a vertex), and which of its vertices the feasibility test keeps
+    last is a matter of rounding, so a moved copy got them elsewhere. Of the vertices within
+    ``tol`` of the best ``z``, the face's extremes in ``u1`` (each the middle of its extent in
+    ``u2``) are averaged: a point of the (convex) face, its centre on an edge of it.
+    """
+    with np.errstate(invalid="ignore"):  # pairs with no optimum: inf - inf, set aside below
+        return _centre_of(x, z, tol)
+
+
+def _centre_of(x: NDArray, z: NDArray, tol: NDArray) -> tuple[NDArray, NDArray, NDArray]:
+    zmax = z.max(axis=1)
+    opt = np.isfinite(z) & (z >= zmax[:, None] - tol)
+    u1, u2 = x[..., 0], x[..., 1]
+    lo = np.where(opt, u1, np.inf).min(axis=1)
+    hi = np.where(opt, u1, -np.inf).max(axis=1)
+
+    def middle_u2(at):
+        return 0.5 * (np.where(at, u2, np.inf).min(axis=1) + np.where(at, u2, -np.inf).max(axis=1))
+
+    a2 = middle_u2(opt & (u1 <= lo[:, None] + tol))
+    b2 = middle_u2(opt & (u1 >= hi[:, None] - tol))
+    zc = np.where(opt, z, np.inf).min(axis=1)
+    found = np.isfinite(zmax)
+    return (np.where(found, zc, -np.inf), np.where(found, 0.5 * (lo + hi), 0.0),
+            np.where(found, 0.5 * (a2 + b2), 0.0))
 
 
 def maximal_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | None = None,
