@@ -77,6 +77,7 @@ from ..regions import (
     check_margin,
     exact_inward,
     exact_point,
+    face_middle,
     narrowed,
     proved_once,
     tie_rounded,
@@ -282,7 +283,8 @@ def _centre(polygon: Polygon, edges: tuple[int, ...], mu: float, sectors, signs,
                   bounds=bounds, method="highs")
     if res.status != 0 or not res.x[5] > 1e-9 * polygon.size:
         return None
-    X, Y, *u, z = (float(v) for v in res.x)
+    x = face_middle(np.array(rows), np.array(rhs), bounds, res.x, 5)
+    X, Y, *u, z = (float(v) for v in x)
     kept = (tuple((tuple(map(float, lo)), tuple(map(float, hi))) for lo, hi in sectors)
             if keep else None)
     for trim in TRIMS:  # should rounding have cut a corner, trim and check again
