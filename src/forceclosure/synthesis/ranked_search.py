@@ -36,9 +36,11 @@ __all__ = ["TIE", "Found", "candidate_sites", "ranked", "search"]
 TIE = 1e-6
 
 
-def ranked(built: list[tuple[float, int, Any]]) -> list[tuple[float, int, Any]]:
+def ranked(built: list[tuple[float, int, Any]], slack: float = 0.0,
+           ) -> list[tuple[float, int, Any]]:
     """``(size, site, item)`` triples in rank order: by decreasing size, where every size
-    within :data:`TIE` (relative) of the largest of its run ties with it, and ties go by site.
+    within :data:`TIE` (relative) plus ``slack`` of the largest of its run ties with it, and
+    ties go by site.
 
     Examples
     --------
@@ -50,7 +52,7 @@ def ranked(built: list[tuple[float, int, Any]]) -> list[tuple[float, int, Any]]:
     start = 0
     while start < len(rest):
         end = start + 1
-        while end < len(rest) and rest[end][0] >= rest[start][0] * (1 - TIE):
+        while end < len(rest) and rest[end][0] >= rest[start][0] * (1 - TIE) - slack:
             end += 1
         out += sorted(rest[start:end], key=lambda b: b[1])
         start = end
@@ -145,6 +147,10 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
     frame = Frame.of(obj) if isinstance(obj, Polygon) else None
     where = obj if frame is None else frame.local(obj)
     sites = candidate_sites(construction, where, hand)
+    # sizes closer than the object's coordinates resolve (relative to its size: 6e-8 at 1e8
+    # on an object 2 across) are ties too: a far-away copy is rounded by that much
+    slack = 8 * float(np.spacing(np.abs(obj.bounds).max())) / obj.size \
+        if hasattr(obj, "bounds") else 0.0
     bound = None
     if construction.bound is not None and len(sites):
         bound = np.array([tie_rounded(b) for b in construction.bound(where, sites, hand)])
@@ -159,10 +165,10 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
         """Whether ``top`` proved region sets rank ahead of any site whose regions are at
         most ``size``: the best the sites left can do (they come by decreasing bound)."""
         while len(built) >= top:
-            first = ranked(built)[:top]
+            first = ranked(built, slack)[:top]
             failed = [b for b in first if not b[2].certify().holds]
             if not failed:
-                return size < min(b[0] for b in first) * (1 - TIE)
+                return size < min(b[0] for b in first) * (1 - TIE) - slack
             for b in failed:
                 failed_proof(b[1])
             built[:] = [b for b in built if all(b is not f for f in failed)]
@@ -186,7 +192,7 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
             continue
         built.append((float(regions.relative_min_size), int(k), regions))
     proved = []
-    for _, k, regions in ranked(built):
+    for _, k, regions in ranked(built, slack):
         if len(proved) == top:
             break
         if regions.certify().holds:
