@@ -10,6 +10,7 @@ pruning never removes a site on which the construction builds certified
 regions. A new construction is tested by registering it.
 """
 
+import itertools
 import json
 import pickle
 
@@ -28,6 +29,8 @@ from forceclosure.synthesis import (
     sampling_check,
     search,
 )
+from forceclosure.synthesis.construction import Undecided
+from forceclosure.synthesis.ranked_search import TIE
 from forceclosure.synthesis.regions import tie_rounded
 
 SCHEMA = load_schema("regions")
@@ -115,8 +118,9 @@ def test_a_construction_returns_only_certified_regions_that_hold(construction, n
     obj, hand = bundled(name), _hand(construction)
     found = search(construction, obj, hand)
     assert len(found) <= hand.top
-    ranks = [tie_rounded(r.relative_min_size) for r in found]
-    assert ranks == sorted(ranks, reverse=True)  # the one ranking rule
+    ranks = [r.relative_min_size for r in found]
+    # the one ranking rule: larger first, sizes within TIE of each other tied
+    assert all(b <= a * (1 + TIE) for a, b in itertools.pairwise(ranks))
     rng = np.random.default_rng(7)
     for r in found:
         assert isinstance(r, RegionSet) and r.object is obj
@@ -172,12 +176,13 @@ def test_pruning_and_bounds_lose_no_regions(construction, name):
     picks = rng.permutation(len(removed))[:limit] if removed else []
     for k in picks:
         r = construction.build(obj, removed[k], hand)
-        assert r is None or not r.certify().holds, (name, removed[k])
+        assert r is None or isinstance(r, Undecided) or not r.certify().holds, (name,
+                                                                                  removed[k])
     if construction.bound is not None and len(kept):
         bound = construction.bound(obj, kept, hand)
         for k in rng.permutation(len(kept))[:limit]:
             r = construction.build(obj, kept[k], hand)
-            if r is not None:
+            if r is not None and not isinstance(r, Undecided):
                 assert tie_rounded(r.relative_min_size) <= tie_rounded(bound[k]), kept[k]
 
 

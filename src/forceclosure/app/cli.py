@@ -491,7 +491,8 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
                   "mu": mu, "size": obj.size, "method": method,
                   "construction": {"name": result.construction.name,
                                    "paper": result.construction.paper,
-                                   "searched": result.construction.searched},
+                                   "searched": result.searched},
+                  "complete": result.complete, "undecided": result.undecided,
                   "grasps": [r.to_dict() for r in found]}
         if args.vertices:
             record["vertex_grasps"] = [g.to_dict() for g in corners]
@@ -526,7 +527,9 @@ def _print_found(args: argparse.Namespace, obj, result) -> None:
     if not found:
         more = f" (of {args.samples:,} random grasps: try --samples)" if \
             result.method == "mesh" else ""
-        print(f"  no force-closure grasp found; searched {c.searched}{more}")
+        print(f"  no force-closure grasp found; searched {result.searched}{more}")
+    elif result.undecided:
+        print(f"  searched {result.searched}")
     for rank, r in enumerate(found, start=1):
         print(f"  {rank}. {'; '.join(r.describe())}")
         cert = r.certify()

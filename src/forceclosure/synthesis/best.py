@@ -13,6 +13,7 @@ first. A hand it cannot construct is refused with one line that says why.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from typing import Any
 
@@ -24,8 +25,8 @@ from .construction import Construction, Hand, construction_for, registered
 from .ranked_search import search
 from .regions import MARGIN, RegionSet, check_margin, narrowed
 
-__all__ = ["CONTACTS", "MAX_FINGERS", "SIZES", "Synthesis", "check_hand", "default_fingers",
-           "default_fingers_reason", "synthesize"]
+__all__ = ["CONTACTS", "MAX_FINGERS", "RESOLUTION", "SIZES", "Synthesis", "check_hand",
+           "check_resolution", "default_fingers", "default_fingers_reason", "synthesize"]
 
 CONTACTS = ("hard", "soft", "frictionless")
 
@@ -50,6 +51,9 @@ class Synthesis:
     construction : Construction
         The table's entry that built them (its ``paper`` section, and what was
         ``searched``).
+    undecided : int
+        Sites the search could not decide (regions there, none provable in the
+        coordinates given): grasps may be missing (:attr:`complete` is False).
     """
 
     found: list[RegionSet]
@@ -58,6 +62,24 @@ class Synthesis:
     contact: str
     mu: float
     construction: Construction
+    undecided: int = 0
+
+    @property
+    def complete(self) -> bool:
+        """Whether nothing the hand can do is missing: the construction is complete on the
+        sites it covers (``construction.complete``) and decided every one of them."""
+        return bool(self.construction.complete) and self.undecided == 0
+
+    @property
+    def searched(self) -> str:
+        """What was searched, in words; a completeness the search does not have (a site
+        undecided) is not claimed."""
+        if self.undecided == 0:
+            return self.construction.searched
+        text = re.sub(r" \(complete: [^)]*\)", "", self.construction.searched)
+        return (f"{text}; not complete: {self.undecided} site"
+                f"{'s' if self.undecided != 1 else ''} undecided (regions there could not be "
+                "proved in the coordinates given)")
 
 
 def default_fingers(dim: int, contact: str) -> int:
@@ -188,6 +210,37 @@ def _hands(hands: list[tuple[int, str]]) -> str:
 #: outside, absolute tolerances in the constructions lose grasps.
 SIZES = (1e-6, 1e6)
 
+#: The coarsest spacing of floating-point numbers at an object's coordinates, relative to its
+#: size, that synthesis accepts: farther from the origin, its corners and the regions' ends
+#: (which are proved as printed) cannot be placed finer than this (an object 4 across at
+#: 1e14 is resolved to 0.4 % of its size).
+RESOLUTION = 1e-4
+
+
+def check_resolution(obj: Polygon | Polyhedron) -> None:
+    """Refuse, in one line, an object so far from the origin for its size that doubles
+    cannot resolve it to :data:`RESOLUTION` of its size.
+
+    Examples
+    --------
+    >>> from forceclosure.objects import Polygon
+    >>> check_resolution(Polygon.from_points([[1e8, 0], [1e8 + 3, 0], [1e8, 3]]))
+    >>> check_resolution(Polygon.from_points([[1e14, 0], [1e14 + 3, 0], [1e14, 3]]))
+    Traceback (most recent call last):
+    ...
+    forceclosure.errors.InputError: polygon: coordinates up to 1e+14 on an object 4.24 \
+across: floating-point numbers there are 0.0156 apart, 0.37% of its size (more than 0.01%); \
+move it nearer the origin (its regions move with it)
+    """
+    far = float(np.abs(obj.bounds).max())
+    spacing = float(np.spacing(far))
+    if spacing > RESOLUTION * obj.size:
+        raise InputError(f"{obj.name}: coordinates up to {far:.3g} on an object "
+                         f"{obj.size:.3g} across: floating-point numbers there are "
+                         f"{spacing:.3g} apart, {spacing / obj.size:.2%} of its size (more "
+                         f"than {RESOLUTION:.2%}); move it nearer the origin (its regions "
+                         "move with it)")
+
 
 def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
                contact: str = "hard", mu: float = 0.3, *, top: int = 5, margin: float = MARGIN,
@@ -253,6 +306,7 @@ def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
         raise InputError(f"{obj.name}: the object is {obj.size:.3g} across; synthesis is made "
                          f"and tested for objects {low:g} to {high:g} across (some of its "
                          "tolerances are absolute): rescale it, and the regions with it")
+    check_resolution(obj)
     fingers = check_hand(obj.dim, fingers, contact, mu, top=top, construction=construction,
                          method=method)
     check_margin(margin)
@@ -272,4 +326,5 @@ def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
     curved = obj.dim == 3 and np.mean([len(f.triangles) == 1 for f in obj.faces]) > 0.5
     chosen = construction_for(obj.dim, fingers, contact, construction, method, curved)
     found = search(chosen, obj, Hand(fingers, contact, mu, margin, samples, seed, top))
-    return Synthesis(found, chosen.method, fingers, contact, mu, chosen)
+    return Synthesis(list(found), chosen.method, fingers, contact, mu, chosen,
+                     getattr(found, "undecided", 0))

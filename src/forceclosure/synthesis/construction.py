@@ -12,7 +12,9 @@ steps, which :func:`~forceclosure.synthesis.ranked_search.search` runs:
    force-direction closure of the normals), a boolean mask;
 3. ``bound(obj, sites, hand)``: optionally, an upper bound on each site's
    relative smallest region, for branch and bound;
-4. ``build(obj, site, hand)``: the regions on one site, or ``None``.
+4. ``build(obj, site, hand)``: the regions on one site, ``None`` (none there), or an
+   :class:`Undecided` (the site has regions by the bound, but none could be proved in the
+   coordinates given: the search then says it is not complete).
 
 :func:`construction_for` is the front door's table lookup.
 
@@ -39,7 +41,7 @@ from numpy.typing import NDArray
 from ..errors import InputError
 from .regions import MARGIN
 
-__all__ = ["Construction", "Hand", "construction_for", "register", "registered"]
+__all__ = ["Construction", "Hand", "Undecided", "construction_for", "register", "registered"]
 
 
 @dataclass(frozen=True)
@@ -73,6 +75,21 @@ Sites = Sequence[Any]
 
 
 @dataclass(frozen=True)
+class Undecided:
+    """What a construction's ``build`` returns for a site it could not decide: its regions
+    exist (by the bound, or a linear program) but no cut of them could be proved force-closure
+    in the coordinates given (numbers too coarse for the margin, far from the origin).
+
+    Attributes
+    ----------
+    reason : str
+        Why, in words.
+    """
+
+    reason: str
+
+
+@dataclass(frozen=True)
 class Construction:
     """One construction of independent regions, and the four steps of its search.
 
@@ -99,6 +116,9 @@ class Construction:
         ``enough * top`` certified region sets are built.
     searched : str
         What a search covers, in words: what "none found" means.
+    complete : bool
+        Whether the search finds every grasp of the hand on the sites it covers (the best
+        regions on each, exactly), so that a site it did not decide leaves it incomplete.
     """
 
     dim: int
@@ -113,6 +133,7 @@ class Construction:
     prune: Callable[[Any, Sites, Hand], NDArray[np.bool_]] | None = None
     bound: Callable[[Any, Sites, Hand], NDArray[np.float64]] | None = None
     enough: int | None = None
+    complete: bool = False
 
     @property
     def key(self) -> tuple[int, int | None, str, str]:

@@ -2,9 +2,9 @@
 
 Region sets are ranked by one rule: the larger smallest region relative to
 the object (:attr:`~forceclosure.synthesis.regions.RegionSet.relative_min_size`,
-a length on polygons, an area over size² on polyhedra) first, to eight
-significant digits (:func:`~forceclosure.synthesis.regions.tie_rounded`),
-ties by the order of the sites. Only certified region sets are returned.
+a length on polygons, an area over size² on polyhedra) first, sizes within
+:data:`TIE` of each other tied (:func:`ranked`), ties by the order of the sites.
+Only certified region sets are returned.
 
 Examples
 --------
@@ -17,16 +17,71 @@ Examples
 
 from __future__ import annotations
 
-import bisect
 from typing import Any
 
 import numpy as np
 
 from ..errors import InputError
-from .construction import Construction, Hand
+from ..objects.polygon import Polygon
+from .construction import Construction, Hand, Undecided
+from .frame import Frame
 from .regions import RegionSet, tie_rounded
 
-__all__ = ["candidate_sites", "search"]
+__all__ = ["TIE", "Found", "candidate_sites", "ranked", "search"]
+
+#: Relative sizes within this fraction of the largest of a run of them rank as ties, broken
+#: by the order of the sites (edge indices: the object's own order), so that the rounding of
+#: a moved or scaled copy (1e-8 of its size at 1e8, more where proofs cut regions at the
+#: floats of far-away coordinates) does not reorder equal regions.
+TIE = 1e-6
+
+
+def ranked(built: list[tuple[float, int, Any]], slack: float = 0.0,
+           ) -> list[tuple[float, int, Any]]:
+    """``(size, site, item)`` triples in rank order: by decreasing size, where every size
+    within :data:`TIE` (relative) plus ``slack`` of the largest of its run ties with it, and
+    ties go by site.
+
+    Examples
+    --------
+    >>> [k for _, k, _ in ranked([(0.5, 3, None), (1.0, 2, None), (1.0 - 1e-9, 0, None)])]
+    [0, 2, 3]
+    """
+    rest = sorted(built, key=lambda b: (-b[0], b[1]))
+    out: list[tuple[float, int, Any]] = []
+    start = 0
+    while start < len(rest):
+        end = start + 1
+        while end < len(rest) and rest[end][0] >= rest[start][0] * (1 - TIE) - slack:
+            end += 1
+        out += sorted(rest[start:end], key=lambda b: b[1])
+        start = end
+    return out
+
+
+class Found(list):
+    """What :func:`search` returns: the region sets, best first (a list), and the sites it
+    could not decide (:attr:`undecided`).
+
+    A site is undecided when its regions exist (by the construction's bound or linear
+    program) but none could be proved in the coordinates given, or when a region set built
+    on it failed its proof; such a site could have ranked among the best, so the search is
+    not complete.
+
+    Attributes
+    ----------
+    undecided_sites : tuple of (site, str)
+        Each undecided site and why.
+    """
+
+    def __init__(self, found=(), undecided_sites=()):
+        super().__init__(found)
+        self.undecided_sites = tuple(undecided_sites)
+
+    @property
+    def undecided(self) -> int:
+        """How many sites the search could not decide (0: every site it covered was)."""
+        return len(self.undecided_sites)
 
 
 def candidate_sites(construction: Construction, obj: Any, hand: Hand, prune: bool = True):
@@ -55,7 +110,7 @@ def candidate_sites(construction: Construction, obj: Any, hand: Hand, prune: boo
     return [s for block in kept for s in block]
 
 
-def search(construction: Construction, obj: Any, hand: Hand) -> list[RegionSet]:
+def search(construction: Construction, obj: Any, hand: Hand) -> Found:
     """The ``hand.top`` best certified region sets a construction builds on ``obj``.
 
     Runs the construction's steps: its sites, pruned by its necessary
@@ -65,7 +120,10 @@ def search(construction: Construction, obj: Any, hand: Hand) -> list[RegionSet]:
     when the bound falls to zero); each site built, and ranked by the one rule
     (the module's docstring). Region sets are proved in rank order, as they
     are needed (a proof can cost more than the construction), except with
-    ``enough``, which counts proved region sets as they are built.
+    ``enough``, which counts proved region sets as they are built. On a polygon
+    the steps run in object-centred, scaled coordinates
+    (:class:`~forceclosure.synthesis.frame.Frame`), and the region sets are mapped
+    back and proved on ``obj`` as given.
 
     Parameters
     ----------
@@ -76,47 +134,69 @@ def search(construction: Construction, obj: Any, hand: Hand) -> list[RegionSet]:
 
     Returns
     -------
-    list of RegionSet
-        Best first; fewer than ``top`` when fewer exist (on the sites searched:
-        ``construction.searched``).
+    Found
+        A list of region sets, best first; fewer than ``top`` when fewer exist (on the
+        sites searched: ``construction.searched``), or when sites were undecided
+        (:attr:`Found.undecided`: then the answer is not complete).
     """
     top = hand.top
     if not isinstance(top, int | np.integer) or isinstance(top, bool) or top < 1:
         raise InputError(f"top must be a positive integer, got {top!r}")
-    sites = candidate_sites(construction, obj, hand)
+    # on a polygon, every step but the proofs runs in object-centred, scaled coordinates
+    # (frame.py); the regions are mapped back and proved on the polygon as given
+    frame = Frame.of(obj) if isinstance(obj, Polygon) else None
+    where = obj if frame is None else frame.local(obj)
+    sites = candidate_sites(construction, where, hand)
+    # sizes closer than the object's coordinates resolve (relative to its size: 6e-8 at 1e8
+    # on an object 2 across) are ties too: a far-away copy is rounded by that much
+    slack = 8 * float(np.spacing(np.abs(obj.bounds).max())) / obj.size \
+        if hasattr(obj, "bounds") else 0.0
     bound = None
     if construction.bound is not None and len(sites):
-        bound = np.array([tie_rounded(b) for b in construction.bound(obj, sites, hand)])
+        bound = np.array([tie_rounded(b) for b in construction.bound(where, sites, hand)])
     order = range(len(sites)) if bound is None else np.argsort(-bound, kind="stable")
-    built: list[tuple[float, int, RegionSet]] = []  # in rank order; each keeps its proof
+    built: list[tuple[float, int, RegionSet]] = []  # (size, site, regions): keeps its proof
+    undecided: list[tuple[Any, str]] = []
 
-    def beaten(rank: tuple[float, int]) -> bool:
-        """Whether ``top`` proved region sets rank ahead of ``rank``: the best the sites left
-        can do (they come by decreasing bound, ties in order)."""
+    def failed_proof(k: int) -> None:
+        undecided.append((sites[k], "a region set built on it failed its proof"))
+
+    def beaten(size: float) -> bool:
+        """Whether ``top`` proved region sets rank ahead of any site whose regions are at
+        most ``size``: the best the sites left can do (they come by decreasing bound)."""
         while len(built) >= top:
-            if rank < built[top - 1][:2]:
-                return False
-            failed = [b for b in built[:top] if not b[2].certify().holds]
+            first = ranked(built, slack)[:top]
+            failed = [b for b in first if not b[2].certify().holds]
             if not failed:
-                return True
+                return size < min(b[0] for b in first) * (1 - TIE) - slack
+            for b in failed:
+                failed_proof(b[1])
             built[:] = [b for b in built if all(b is not f for f in failed)]
         return False
 
     for k in order:
-        if bound is not None and (not bound[k] > 0 or beaten((-bound[k], int(k)))):
+        if bound is not None and (not bound[k] > 0 or beaten(bound[k])):
             break
         if construction.enough is not None and len(built) >= construction.enough * top:
             break
-        regions = construction.build(obj, sites[k], hand)
-        if regions is None or (construction.enough is not None
-                               and not regions.certify().holds):
+        regions = construction.build(where, sites[k], hand)
+        if frame is not None:
+            regions = frame.to_user(regions, obj)
+        if isinstance(regions, Undecided):
+            undecided.append((sites[k], regions.reason))
             continue
-        bisect.insort(built, (-tie_rounded(regions.relative_min_size), int(k), regions),
-                      key=lambda b: b[:2])
+        if regions is None:
+            continue
+        if construction.enough is not None and not regions.certify().holds:
+            failed_proof(int(k))
+            continue
+        built.append((float(regions.relative_min_size), int(k), regions))
     proved = []
-    for *_, regions in built:
+    for _, k, regions in ranked(built, slack):
         if len(proved) == top:
             break
         if regions.certify().holds:
             proved.append(regions)
-    return proved
+        else:
+            failed_proof(k)
+    return Found(proved, undecided)

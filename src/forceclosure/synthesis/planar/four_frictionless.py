@@ -43,12 +43,14 @@ from ...objects.polygon import Polygon
 from ..construction import Construction, Hand, register
 from ..regions import (
     MARGIN,
+    TRIMS,
     Certificate,
     Regions,
     check_edges,
     check_margin,
     exact_inward,
     exact_point,
+    face_middle,
     proved_once,
 )
 from .edge_sites import edge_tuples, force_direction_prune
@@ -234,16 +236,17 @@ def maximal_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, i
         rows = np.hstack([-sA, -np.minimum(sA, 0).sum(axis=1, keepdims=True)])
         rhs = sb - delta
         box = np.hstack([np.eye(4), np.ones((4, 1))])  # u_j + z <= L_j
-        res = linprog(np.r_[np.zeros(4), -1.0], A_ub=np.vstack([rows, box]),
-                      b_ub=np.r_[rhs, lengths], bounds=[(0, None)] * 5, method="highs")
+        A_ub, b_ub = np.vstack([rows, box]), np.r_[rhs, lengths]
+        res = linprog(np.r_[np.zeros(4), -1.0], A_ub=A_ub, b_ub=b_ub,
+                      bounds=[(0, None)] * 5, method="highs")
         if res.status == 0 and res.x[4] > 1e-9 and (best is None or res.x[4] > best[4]):
-            best = res.x
+            best = face_middle(A_ub, b_ub, [(0, None)] * 5, res.x, 4)
     if best is None:
         return None
     best = best * size
     z = float(best[4])
     lengths = [polygon.edges[e].length for e in edges]
-    for trim in (0.0, 1e-9):  # should rounding have cut a corner, trim and check again
+    for trim in TRIMS:  # should rounding have cut a corner, trim and check again
         segments = tuple((float(u) + trim * z + 0.0, min(float(u) + z, L) - trim * z)
                          for u, L in zip(best[:4], lengths, strict=True))
         regions = FrictionlessRegions(polygon, edges, segments, "maximal (linear program)",
@@ -360,10 +363,12 @@ def nguyen_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, in
             row[2 + k], row[6] = 1.0, 1.0
             rows.append(row)
             rhs.append(e.length)
+        bounds = [(None, None)] * 2 + [(0, None)] * 5
         res = linprog(np.r_[np.zeros(6), -1.0], A_ub=np.array(rows), b_ub=np.array(rhs),
-                      bounds=[(None, None)] * 2 + [(0, None)] * 5, method="highs")
+                      bounds=bounds, method="highs")
         if res.status != 0 or not res.x[6] > 1e-9 * polygon.size:
             continue
+        res.x = face_middle(np.array(rows), np.array(rhs), bounds, res.x, 6)
         z = float(res.x[6])
         segments = dict(zip(order, ((float(u) + 0.0, min(float(u) + z, e.length))
                                     for u, e in zip(res.x[2:6], es, strict=True)),
@@ -371,7 +376,9 @@ def nguyen_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, in
         regions = FrictionlessRegions(polygon, edges, tuple(segments[k] for k in edges),
                                       "Nguyen's two-sided cone between parallelograms (§5.4)",
                                       margin)
-        if regions.certify().holds and (best is None or regions.min_length > best.min_length):
+        # a later pairing only when larger beyond rounding (1e-6): ties go by pairing order
+        if regions.certify().holds and (best is None or regions.min_length
+                                        > best.min_length * (1 + 1e-6)):
             best = regions
     return best
 

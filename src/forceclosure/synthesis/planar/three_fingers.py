@@ -70,12 +70,14 @@ from ...objects.polygon import Polygon
 from ..construction import Construction, Hand, register
 from ..regions import (
     MARGIN,
+    TRIMS,
     Certificate,
     Regions,
     check_edges,
     check_margin,
     exact_inward,
     exact_point,
+    face_middle,
     narrowed,
     proved_once,
     tie_rounded,
@@ -281,10 +283,11 @@ def _centre(polygon: Polygon, edges: tuple[int, ...], mu: float, sectors, signs,
                   bounds=bounds, method="highs")
     if res.status != 0 or not res.x[5] > 1e-9 * polygon.size:
         return None
-    X, Y, *u, z = (float(v) for v in res.x)
+    x = face_middle(np.array(rows), np.array(rhs), bounds, res.x, 5)
+    X, Y, *u, z = (float(v) for v in x)
     kept = (tuple((tuple(map(float, lo)), tuple(map(float, hi))) for lo, hi in sectors)
             if keep else None)
-    for trim in (0.0, 1e-9):  # should rounding have cut a corner, trim and check again
+    for trim in TRIMS:  # should rounding have cut a corner, trim and check again
         segments = tuple((max(ui, 0.0) + trim * z + 0.0, min(ui + z, e.length) - trim * z)
                          for ui, e in zip(u, es, strict=True))
         regions = ThreeFingerRegions(polygon, edges, segments, construction,

@@ -38,8 +38,8 @@ from ...errors import InputError
 from ...geometry.clip import clip
 from ...geometry.cones import counter_overlap
 from ...objects.polygon import Edge, Polygon
-from ..construction import Construction, Hand, register
-from ..regions import narrowed
+from ..construction import Construction, Hand, Undecided, register
+from ..regions import TRIMS, narrowed
 from .edge_pair import (
     ANGLE_MARGIN,
     IndependentRegions,
@@ -269,9 +269,38 @@ def max_min_segments(A: NDArray, b: NDArray, L1: NDArray, L2: NDArray,
     tol = 1e-9 * np.maximum(1.0, np.maximum(L1, L2))[:, None]
     feasible = ok & np.all(slack >= -tol[..., None], axis=2)
     z = np.where(feasible, x[..., 2], -np.inf)
-    best = np.argmax(z, axis=1)
-    rows = np.arange(P)
-    return z[rows, best], x[rows, best, 0], x[rows, best, 1]
+    return _face_centre(x, z, tol)
+
+
+def _face_centre(x: NDArray, z: NDArray, tol: NDArray) -> tuple[NDArray, NDArray, NDArray]:
+    """One optimum per pair that does not depend on rounding: the middle of the optimal face.
+
+    The segments of the largest length can often slide (the optimal face of the LP is an
+    edge or a polygon, not a vertex), and which of its vertices the feasibility test keeps
+    last is a matter of rounding, so a moved copy got them elsewhere. Of the vertices within
+    ``tol`` of the best ``z``, the face's extremes in ``u1`` (each the middle of its extent in
+    ``u2``) are averaged: a point of the (convex) face, its centre on an edge of it.
+    """
+    with np.errstate(invalid="ignore"):  # pairs with no optimum: inf - inf, set aside below
+        return _centre_of(x, z, tol)
+
+
+def _centre_of(x: NDArray, z: NDArray, tol: NDArray) -> tuple[NDArray, NDArray, NDArray]:
+    zmax = z.max(axis=1)
+    opt = np.isfinite(z) & (z >= zmax[:, None] - tol)
+    u1, u2 = x[..., 0], x[..., 1]
+    lo = np.where(opt, u1, np.inf).min(axis=1)
+    hi = np.where(opt, u1, -np.inf).max(axis=1)
+
+    def middle_u2(at):
+        return 0.5 * (np.where(at, u2, np.inf).min(axis=1) + np.where(at, u2, -np.inf).max(axis=1))
+
+    a2 = middle_u2(opt & (u1 <= lo[:, None] + tol))
+    b2 = middle_u2(opt & (u1 >= hi[:, None] - tol))
+    zc = np.where(opt, z, np.inf).min(axis=1)
+    found = np.isfinite(zmax)
+    return (np.where(found, zc, -np.inf), np.where(found, 0.5 * (lo + hi), 0.0),
+            np.where(found, 0.5 * (a2 + b2), 0.0))
 
 
 def maximal_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | None = None,
@@ -319,14 +348,17 @@ def maximal_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | N
                                      np.array([e2.length]))
         r = _certified(polygon, i, j, float(z[0]), float(u1[0]), float(u2[0]), (mu, mu_q),
                        way)
-        if r is not None:
+        if isinstance(r, IndependentRegions):
             found.append(r)
     return max(found, key=lambda r: r.min_length, default=None)
 
 
 def _certified(polygon: Polygon, i: int, j: int, z: float, u1: float, u2: float,
-               mu: tuple[float, float], spreading: bool = False) -> IndependentRegions | None:
-    """Segments of length ``z`` from ``u1``, ``u2``, returned only with a holding certificate."""
+               mu: tuple[float, float], spreading: bool = False,
+               ) -> IndependentRegions | Undecided | None:
+    """Segments of length ``z`` from ``u1``, ``u2``, returned only with a holding certificate;
+    :class:`~forceclosure.synthesis.construction.Undecided` when no cut of them
+    (:data:`~forceclosure.synthesis.regions.TRIMS`) can be proved."""
     e1, e2 = polygon.edges[i], polygon.edges[j]
     z = float(z)
     if not z > 1e-9 * max(e1.length, e2.length):
@@ -334,13 +366,15 @@ def _certified(polygon: Polygon, i: int, j: int, z: float, u1: float, u2: float,
     u1, u2 = max(float(u1), 0.0) + 0.0, max(float(u2), 0.0) + 0.0  # + 0.0: no -0.0
     segments = ((u1, min(u1 + z, e1.length)), (u2, min(u2 + z, e2.length)))
     mu = (float(mu[0]), float(mu[1]))
-    for trim in (0.0, 1e-9):  # should rounding have cut a corner, trim and check again
+    for trim in TRIMS:  # should rounding have cut a corner, trim and check again
         cut = tuple((u + trim * (v - u), v - trim * (v - u)) for u, v in segments)
         regions = IndependentRegions(polygon, (i, j), cut, "maximal (linear program)", mu,
                                      spreading=bool(spreading))
         if regions.certify().holds:
             return regions
-    return None
+    return Undecided(f"segments {z:.6g} long on edges {i} and {j} by the linear program, "
+                     "none of them proved force-closure in the coordinates given (even cut by "
+                     f"{TRIMS[-1]:.1%})")
 
 
 def edge_pair_sites(polygon: Polygon, hand: Hand):
@@ -417,7 +451,8 @@ def largest_segments_bound(polygon: Polygon, sites: NDArray, hand: Hand) -> NDAr
     return z / polygon.size
 
 
-def _build_maximal(polygon: Polygon, site: NDArray, hand: Hand) -> IndependentRegions | None:
+def _build_maximal(polygon: Polygon, site: NDArray, hand: Hand,
+                   ) -> IndependentRegions | Undecided | None:
     mu = narrowed(hand.mu, hand.margin)
     solved = _SOLVED.get(polygon)
     row = (np.flatnonzero((solved[1] == site).all(axis=1))
@@ -433,7 +468,7 @@ MAXIMAL = register(Construction(
     method="edges", sites=edge_pair_sites, prune=counter_overlap_prune,
     bound=largest_segments_bound, build=_build_maximal,
     searched="every pair of edges, the fingers squeezing or pushing apart (complete: "
-             "Lemma 1 gives every two-finger grasp)"))
+             "Lemma 1 gives every two-finger grasp)", complete=True))
 
 
 def _convex(polygon: Polygon) -> bool:

@@ -118,7 +118,16 @@ def _two_sided_cone(polygon: Polygon, i: int, j: int, e1: Edge, e2: Edge, sector
         if (a > 0) != (b > 0) and a != b:
             candidates.append(region[k] + (region[(k + 1) % len(region)] - region[k])
                               * (a / (a - b)))
-    best = max(candidates, key=lambda v: min(lengths(v)))
+    # the best apexes form a convex set (the shorter cut is concave in the apex): of those
+    # within rounding of the best, the middle of the extremes in x (each the middle of its
+    # extent in y), not whichever the clip listed first, so a moved copy gets the same cuts
+    value = np.array([min(lengths(v)) for v in candidates])
+    near = np.asarray(candidates)[value >= value.max() - 1e-9 * polygon.size]
+    ends_x = []
+    for at in (near[:, 0].min(), near[:, 0].max()):
+        column = near[np.abs(near[:, 0] - at) <= 1e-9 * polygon.size]
+        ends_x.append([at, 0.5 * (column[:, 1].min() + column[:, 1].max())])
+    best = 0.5 * (np.array(ends_x[0]) + np.array(ends_x[1]))
     if min(lengths(best)) <= 1e-9 * polygon.size:
         return None
     segments = []

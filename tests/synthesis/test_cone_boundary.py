@@ -1,0 +1,112 @@
+"""The two-finger search is complete on the boundary of the friction cones (issue 25).
+
+Polygons built so that the best pairs of segments end exactly on a cone's boundary (parallel
+edges as far apart as their overlap, mu = 1: the line between the segments' ends at 45
+degrees), at tiny margins. The reference is a linear program written here, independently of
+the library: for every pair of edges and both orientations, the largest ``z`` such that
+segments ``[u1, u1 + z]`` and ``[u2, u2 + z]`` have every corner pair strictly inside both
+narrowed cones (scipy's HiGHS). The search must return the reference's best pair first, and
+the full ranking must be the reference's.
+"""
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import linprog
+
+from forceclosure.objects import Polygon
+from forceclosure.synthesis import synthesize
+
+NOTCH = [[0, 0], [4, 0], [4, 1], [2.5, 1], [2.5, 1.0000015], [1.5, 1.5], [0, 1.5]]
+POLYGONS = {
+    "notch": NOTCH,
+    # bottom and top 1.5 apart and 1.5 long, overlapping exactly: at mu = 1 the diagonal
+    # between their far ends is the cone's boundary
+    "square-gap": [[0, 0], [1.5, 0], [1.5, 1.5], [0, 1.5]],
+    # the slanted sides are at 45 degrees: parallel to the cone's boundary
+    "parallelogram": [[0, 0], [2, 0], [3, 1], [1, 1]],
+    # a slot 1 wide and 1 deep: the fingers push its walls apart, on the boundary at mu = 1
+    "slot": [[0, 0], [3, 0], [3, 2], [2, 2], [2, 1], [1, 1], [1, 2], [0, 2]],
+}
+
+
+def _reference(points, mu, margin):
+    """``{(i, j, spreading): z}``: the largest equal segments on every pair (an LP per pair)."""
+    pts = np.asarray(points, float)
+    n = len(pts)
+    # counter-clockwise outline (the polygons above are), inward normal = left of the edge
+    starts, ends = pts, np.roll(pts, -1, axis=0)
+    dirs = ends - starts
+    lengths = np.hypot(dirs[:, 0], dirs[:, 1])
+    dirs = dirs / lengths[:, None]
+    inward = np.stack([-dirs[:, 1], dirs[:, 0]], axis=1)
+    k = math.tan(math.atan(mu) - margin)
+    out = {}
+    for i in range(n):
+        for j in range(i + 1, n):
+            for spreading in (False, True):
+                sign = -1.0 if spreading else 1.0
+                rows, rhs = [], []
+                # corner (a, b): p = s_i + (u1 + a z) d_i, q = s_j + (u2 + b z) d_j;
+                # w = sign (q - p) = w0 + W @ (u1, u2, z)
+                for a in (0, 1):
+                    for b in (0, 1):
+                        w0 = sign * (starts[j] - starts[i])
+                        W = sign * np.stack([-dirs[i], dirs[j], b * dirs[j] - a * dirs[i]],
+                                            axis=1)  # (2, 3)
+                        for m, s in ((inward[i], 1.0), (inward[j], -1.0)):
+                            # s w inside the cone about m: k (m . s w) -+ cross(m, s w) >= 0
+                            perp = np.array([-m[1], m[0]])  # cross(m, v) = perp . v
+                            for t in (1.0, -1.0):
+                                ell = s * (k * m - t * perp)
+                                rows.append(-(ell @ W))
+                                rhs.append(ell @ w0)
+                for col, L in ((0, lengths[i]), (1, lengths[j])):
+                    row = np.zeros(3)
+                    row[col], row[2] = 1.0, 1.0
+                    rows.append(row)
+                    rhs.append(L)
+                res = linprog([0, 0, -1], A_ub=np.array(rows), b_ub=np.array(rhs),
+                              bounds=[(0, None)] * 3, method="highs")
+                if res.status == 0:
+                    out[(i, j, spreading)] = float(res.x[2])
+    return out
+
+
+@pytest.mark.parametrize("margin", [1e-9, 1e-13, 1e-3])
+@pytest.mark.parametrize("name", list(POLYGONS))
+def test_top_and_ranking_match_a_reference_lp(name, margin):
+    points = POLYGONS[name]
+    polygon = Polygon.from_points(points, name=name)
+    assert len(polygon.edges) == len(points)
+    size = polygon.size
+    ref = _reference(points, 1.0, margin)
+    real = {key: z for key, z in ref.items() if z > 1e-6 * size}
+    found = synthesize(polygon, 2, "hard", 1.0, top=100, margin=margin).found
+    got = {(*r.edges, r.spreading): r.min_length for r in found}
+    assert all(r.certify().holds for r in found)
+    # every pair with regions is found, as large as the reference's (to the cuts that
+    # rounding needs) and never larger
+    assert set(real) <= set(got), set(real) - set(got)
+    for key, z in got.items():
+        assert key in ref
+        assert z <= ref[key] + 1e-9 * size
+        assert z >= ref[key] - 1e-7 * size, (key, z, ref[key])
+    # the best first, and the ranking the reference's (equal sizes in any order)
+    best = max(real.values())
+    assert found[0].min_length >= best - 1e-7 * size
+    assert (*found[0].edges, found[0].spreading) in {k for k, z in real.items()
+                                                     if z >= best - 1e-7 * size}
+    sizes = [r.min_length for r in found]
+    assert all(a >= b - 1e-7 * size for a, b in itertools.pairwise(sizes))
+
+
+def test_the_notch_gives_bottom_and_top_first_at_every_margin():
+    polygon = Polygon.from_points(NOTCH, name="notch")
+    for margin in (1e-13, 1e-9, 1e-6, 1e-3):
+        best = synthesize(polygon, 2, "hard", 1.0, top=1, margin=margin).found[0]
+        assert best.edges == (0, 5)
+        # the segments are x in [0, 1.5] on both edges, less what the margin takes
+        assert best.min_length == pytest.approx(1.5 * math.tan(math.pi / 4 - margin), abs=1e-7)
