@@ -82,3 +82,23 @@ def test_the_cli_serves_four_hard_fingers(capsys):
     assert "edges 0 + 2 and edges 1 + 3 each hold the object alone" in out
     assert main(["synthesize", "square", "--fingers", "5", "--contact", "hard"]) == 2
     assert "4 hard" in capsys.readouterr().err
+
+
+def test_three_fingers_say_whether_the_third_finger_is_idle():
+    """On the L a pair of opposite edges holds alone (the third finger idle: its segment is
+    its whole edge, and the pair alone passes Corollary 3 exactly); on the triangle no two
+    edges face each other closely enough at mu 0.5 (the cones are 26.6 degrees, the normals
+    120 apart), so all three bear load."""
+    for r in synthesize(bundled("l-shape"), 3, "hard", 0.5, top=3).found:
+        assert r.pair is not None
+        (a, b), free = r.pair, next(e for e in r.edges if e not in r.pair)
+        assert f"the finger on edge {free} is idle" in r.notes()[0]
+        assert r.segments[r.edges.index(free)] == (0.0, bundled("l-shape").edges[free].length)
+        obj = bundled("l-shape")
+        where = dict(zip(r.edges, r.segments, strict=True))
+        for ta in where[a]:
+            for tb in where[b]:
+                assert _pair_closure(obj.edges[a], obj.edges[a].point(ta), obj.edges[b],
+                                     obj.edges[b].point(tb), Fraction(1, 2), r.spreading)
+    [r] = synthesize(bundled("triangle"), 3, "hard", 0.5, top=1).found
+    assert r.pair is None and "all three fingers bear load" in r.notes()[0]
