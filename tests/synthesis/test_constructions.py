@@ -41,6 +41,7 @@ HANDS = {
     (2, 2, "hard"): Hand(2, "hard", 0.4, top=3),
     (2, 3, "hard"): Hand(3, "hard", 0.6, top=2),
     (2, 4, "frictionless"): Hand(4, "frictionless", 0.0, top=2),
+    (2, 4, "hard"): Hand(4, "hard", 0.4, top=2),
     (3, 2, "soft"): Hand(2, "soft", 0.5, top=2),
     (3, 3, "hard"): Hand(3, "hard", 0.5, top=1),
     (3, 7, "frictionless"): Hand(7, "frictionless", 0.0, samples=5000, top=1),

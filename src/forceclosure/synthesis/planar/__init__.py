@@ -5,6 +5,7 @@
 * :mod:`.two_sided_cone` — Nguyen's Algorithm 1, the two-sided cone;
 * :mod:`.three_fingers` — three hard fingers;
 * :mod:`.four_frictionless` — four frictionless fingers (§5.4);
+* :mod:`.two_pairs` — four hard fingers as two force-closure pairs;
 * :mod:`.vertex_grasps` — fingers on convex vertices;
 * :mod:`.edge_pair`, :mod:`.edge_sites` — the candidate edge tuples.
 

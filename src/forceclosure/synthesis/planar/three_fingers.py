@@ -234,6 +234,16 @@ class ThreeFingerRegions(Regions):
         """The friction coefficient at each finger."""
         return (self.mu,) * 3
 
+    def notes(self) -> list[str]:
+        """Which kind of grasp it is: a force-closure pair with an idle third finger (which
+        adds nothing the pair needs), or three lines of force through a common centre."""
+        if self.pair is not None:
+            (a, b), free = self.pair, next(e for e in self.edges if e not in self.pair)
+            return [f"edges {a} + {b} hold the object alone: the finger on edge {free} is "
+                    "idle (a two-finger grasp plus a finger anywhere)"]
+        return ["the three lines of force meet at a common centre (all three fingers bear "
+                "load)"]
+
     def to_dict(self) -> dict[str, object]:
         """The JSON record (see :meth:`Regions.to_dict`), with ``centre`` (null for a pair
         plus a free finger) and ``mu``; ``pair`` and ``spreading`` for a pair plus a free
