@@ -354,3 +354,96 @@ def test_dataset_on_damaged_objects(shape, flags, extra):
                 "--workers", "1", *flags, *extra], json_output="--json" in flags,
                problems=("forceclosure: error: ", "forceclosure: failed: ",
                          "forceclosure: timeout: "))
+
+
+# -- grasps and export: meshes, options good and bad, label files damaged ---------------------
+
+TETRA = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
+GRASPS_OPTIONS = {
+    "--count": st.sampled_from(["1", "3", "0", "-2", "1e12", "1e22", "x", ""]),
+    "--width": st.sampled_from(["3", "0.5", "0", "-1", "1e300", "1e-300", "nan", "inf"]),
+    "--mu": option_values, "--seed": option_values,
+    "--gripper": st.sampled_from(["panda", "graspnet", "parallel-jaw", "robotiq", "x.urdf", ""]),
+    "--pad-radius": st.sampled_from(["0", "0.01", "-1", "1e300", "nan"]),
+    "--approaches": st.sampled_from(["1", "4", "0", "1e8", "-1"]),
+    "--depths": st.sampled_from(["1", "2", "0", "1e9"]),
+    "--tilt": st.sampled_from(["0", "0.5", "1", "2", "-0.5", "nan"]),
+    "--clearance": st.sampled_from(["0", "0.001", "-1", "1e300"]),
+    "--robust-samples": st.sampled_from(["2", "1", "1e8", "x"]),
+    "--contact": st.sampled_from(["soft", "hard", "frictionless"]),
+    "--graspnet-score": st.sampled_from(["friction", "epsilon", "x"]),
+    "--task-mass": st.sampled_from(["1", "0", "-1", "1e100"]),
+}
+
+
+@st.composite
+def grasps_flags(draw):
+    chosen = draw(st.lists(st.sampled_from(sorted(GRASPS_OPTIONS)), max_size=5, unique=True))
+    flags = ["--count", "3", "--width", "3"]  # bounded work whatever else is drawn
+    for option in chosen:
+        flags += [option, draw(GRASPS_OPTIONS[option])]
+    return flags + draw(st.sampled_from(
+        [[], ["--json"], ["--robust", "--robust-samples", "4"], ["--no-collision"],
+         ["--support-plane"], ["--metrics"], ["--no-epsilon", "--no-least-friction"]]))
+
+
+@settings(SETTINGS, max_examples=60)
+@given(shape=st.sampled_from(["cube", "tetra", "damaged", "empty", "nothing", "square"]),
+       flags=grasps_flags(), out=st.sampled_from(["", "labels.npz", "labels.npz/", "-"]))
+def test_grasps_on_meshes_and_options(shape, flags, out):
+    """grasps on bundled and written meshes (one damaged, one empty) with options good and
+    bad: exit 0 or 2, one line per problem, never an internal error or a warning."""
+    with tempfile.TemporaryDirectory() as folder:
+        target = shape
+        if shape in ("tetra", "damaged", "empty"):
+            target = os.path.join(folder, f"{shape}.obj")
+            text = {"tetra": TETRA, "damaged": TETRA.replace("f 2 3 4", "f 2 3 9"),
+                    "empty": ""}[shape]
+            with open(target, "w", encoding="utf-8") as f:
+                f.write(text)
+        extra = ["--out", os.path.join(folder, out) if out not in ("", "-") else out] \
+            if out else []
+        _check(["grasps", target, *flags, *extra], json_output="--json" in flags)
+
+
+def _labels_file(folder: str) -> str:
+    path = os.path.join(folder, "labels.npz")
+    status, _, err, _ = _run(["grasps", "cube", "--width", "3", "--count", "4", "--out", path])
+    assert status == 0, err
+    return path
+
+
+@settings(SETTINGS, max_examples=40)
+@given(damage=st.sampled_from(["none", "none", "none", "cut", "drop", "meta", "junk"]),
+       output=st.sampled_from([["--graspnet", "g.npy"], ["--acronym", "a.h5"], []]),
+       flags=st.lists(st.sampled_from([
+           ["--graspnet", "g.npy"], ["--acronym", "a.h5"], ["--graspnet-score", "epsilon"],
+           ["--graspnet-score", "x"], ["--mesh-root", "nowhere"], ["--object", "cube"],
+           ["--object", "nothing.obj"], ["--json"], ["--graspnet", ""], ["--acronym", "-"]]),
+           max_size=2), cut=st.integers(0, 4000))
+def test_export_of_label_files(damage, output, flags, cut):
+    """export of a grasps --out file, whole or damaged (cut short, an array dropped, its
+    meta made junk, not an archive): exit 0 or 2, one line per problem."""
+    with tempfile.TemporaryDirectory() as folder:
+        path = _labels_file(folder)
+        if damage == "cut":
+            with open(path, "rb") as f:
+                data = f.read()
+            with open(path, "wb") as f:
+                f.write(data[:cut])
+        elif damage in ("drop", "meta"):
+            with np.load(path, allow_pickle=False) as z:
+                arrays = dict(z)
+            if damage == "drop":
+                arrays.pop(sorted(arrays)[cut % len(arrays)])
+            else:
+                arrays["meta"] = np.array("{not json")
+            np.savez(path, **arrays)
+        elif damage == "junk":
+            with open(path, "wb") as f:
+                f.write(os.urandom(cut))
+        argv = ["export", path]
+        for flag in [output, *flags] if output else flags:
+            argv += [flag[0]] + [os.path.join(folder, v) if v.endswith((".npy", ".h5")) else v
+                                 for v in flag[1:]]
+        _check(argv, json_output="--json" in argv)

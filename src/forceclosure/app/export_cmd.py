@@ -275,6 +275,6 @@ def _report(args: argparse.Namespace, entries: list[dict[str, Any]], failed: int
     for entry in entries:
         note = entry.get("acronym", {}).get("note")
         if note:
-            print(f"forceclosure: {printable(entry['acronym']['file'])}: {note}",
+            print(f"forceclosure: warning: {printable(entry['acronym']['file'])}: {note}",
                   file=sys.stderr)
     return 2 if failed else 0
