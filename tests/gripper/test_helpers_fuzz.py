@@ -11,6 +11,7 @@ lists. Where a call returns, its result is checked against the closed form writt
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 from hypothesis import HealthCheck, given, settings
@@ -21,7 +22,10 @@ from forceclosure.errors import InputError
 from forceclosure.gripper.grippers import make_gripper
 from forceclosure.gripper.jaw import JawPose, ParallelJaw, pose_from_contacts
 
-LIGHT = settings(max_examples=120, deadline=None, derandomize=True,
+#: 120 examples a test, the same every run; FORCECLOSURE_FUZZ_EXAMPLES for a longer, random
+#: search (as tests/test_fuzz_api.py).
+_EXAMPLES = os.environ.get("FORCECLOSURE_FUZZ_EXAMPLES")
+LIGHT = settings(max_examples=int(_EXAMPLES or 120), deadline=None, derandomize=not _EXAMPLES,
                  suppress_health_check=list(HealthCheck))
 
 NUMBER = st.one_of(
