@@ -229,13 +229,25 @@ def test_package_uris(tmp_path):
     big = TET_OBJ.replace("v 1 0 0\nv 0 1 0\nv 0 0 1", "v 2 0 0\nv 0 2 0\nv 0 0 2")
     assert big != TET_OBJ  # a decoy, volume 8/6, where the fallback looks
 
-    # 1. ws/src/my_pkg/urdf/r.urdf: the package is an ancestor named my_pkg with a
-    # package.xml; without one it is only a folder of that name (the fallback reads the decoy)
+    # 1. ws/src/my_pkg/urdf/r.urdf: the package is the folder my_pkg holding urdf/, with or
+    # without a package.xml (not the decoy the fallback would read)
     write(tmp_path, "ws/src/my_pkg/meshes/tet.obj", TET_OBJ)
     write(tmp_path, "ws/src/my_pkg/urdf/meshes/tet.obj", big)
     urdf = write(tmp_path, "ws/src/my_pkg/urdf/r.urdf", text)
-    assert load_object(urdf).volume == pytest.approx(8 / 6)
+    assert load_object(urdf).volume == pytest.approx(1 / 6)
     write(tmp_path, "ws/src/my_pkg/package.xml", "<package><name>other</name></package>")
+    assert load_object(urdf).volume == pytest.approx(1 / 6)
+    # ... but a farther ancestor merely named my_pkg is not the package
+    write(tmp_path, "my_pkg/robots/deep/meshes/tet.obj", big)
+    urdf = write(tmp_path, "my_pkg/robots/deep/r.urdf", text)
+    write(tmp_path, "my_pkg/meshes/tet.obj", TET_OBJ)
+    assert load_object(urdf).volume == pytest.approx(8 / 6)
+
+    # 1b. a sibling package of the URDF's own, in a workspace's src/ (no ROS_PACKAGE_PATH)
+    write(tmp_path, "ws1/src/robot/package.xml", "<package><name>robot</name></package>")
+    write(tmp_path, "ws1/src/parts/package.xml", "<package><name>my_pkg</name></package>")
+    write(tmp_path, "ws1/src/parts/meshes/tet.obj", TET_OBJ)
+    urdf = write(tmp_path, "ws1/src/robot/urdf/r.urdf", text)
     assert load_object(urdf).volume == pytest.approx(1 / 6)
 
     # 2. the folder has another name, its package.xml says my_pkg
@@ -311,6 +323,7 @@ def escapes(tmp_path: Path) -> list[str]:
             f"package://pkg/{secret}",  # package://pkg//abs/path
             "package://pkg/meshes/link.obj",  # a symbolic link out of the package
             "package://urdf/../../../secret/secret.obj",  # the URDF's subfolder, then up
+            f"package://root/{top}/{'/'.join(rest)}",  # a subfolder linked to /
             "../../../secret/secret.obj",
             "meshes/../../../secret/secret.obj",
             str(secret),
@@ -324,6 +337,7 @@ def test_every_package_escape_is_refused(tmp_path, monkeypatch):
     pkg = ros_layout(tmp_path)
     (pkg / "meshes" / "link.obj").symlink_to(tmp_path / "secret" / "secret.obj")
     write(tmp_path, "ws/pkg/urdf/urdf/keep.txt", "")  # a subfolder named like a package
+    (pkg / "urdf" / "root").symlink_to("/")  # and one that leads out of the URDF's folder
     for i, filename in enumerate(escapes(tmp_path)):
         urdf = mesh_urdf(pkg / "urdf", f"e{i}.urdf", filename)
         with pytest.raises(InputError) as e:

@@ -61,6 +61,7 @@ import math
 import os
 import re
 import xml.etree.ElementTree as ET
+from collections.abc import Iterator
 from dataclasses import dataclass, replace
 from functools import lru_cache
 from pathlib import Path
@@ -314,23 +315,40 @@ def _enclosing_package(folder: Path) -> Path | None:
     return None
 
 
-def _package_roots(package: str, folder: Path) -> list[Path]:
+def _package_roots(package: str, folder: Path) -> Iterator[Path]:
     """Folders that are package ``package`` as ROS finds it, nearest first.
 
-    Searching up from the URDF's ``folder``: a folder whose ``package.xml``
-    names the package, or a folder of the package's name with a
-    ``package.xml``; then the ``ROS_PACKAGE_PATH`` entries. Besides, a subfolder
-    ``package`` of the URDF's own folder (pybullet's ``xarm`` and
-    ``franka_panda`` lay their meshes so), which stays inside the URDF's
-    folder. An ancestor's other subfolders, and ancestors merely named like
-    the package, are not packages: ``/`` is everyone's ancestor.
+    Searching up from the URDF's ``folder`` (resolved): a folder whose
+    ``package.xml`` names the package, or a folder of the package's name with
+    a ``package.xml``; a package in the folder holding the URDF's own package
+    (a workspace's ``src/``, crawled as for ``ROS_PACKAGE_PATH``); the
+    ``ROS_PACKAGE_PATH`` entries.
+    Besides, without any ``package.xml``, the usual layouts: a subfolder
+    ``package`` of the URDF's folder (pybullet's ``xarm`` and ``franka_panda``
+    lay their meshes so) that does not lead out of that folder by a symbolic
+    link, and the URDF's folder or, for ``package/urdf/x.urdf``, its parent,
+    when named ``package``. Other ancestors merely named like the package are
+    not packages: ``/`` is everyone's ancestor.
     """
-    roots = []
-    if (folder / package).is_dir():
-        roots.append(folder / package)
-    roots.extend(a for a in [folder, *folder.parents] if _is_package(a, package))
-    roots.extend(_ros_package_path(package))
-    return list(dict.fromkeys(roots))
+    def candidates() -> Iterator[Path]:
+        inside = folder / package
+        if inside.is_dir() and inside.resolve().is_relative_to(folder):
+            yield inside
+        yield from (a for a in [folder, *folder.parents] if _is_package(a, package))
+        if folder.name == package:
+            yield folder
+        elif folder.name == "urdf" and folder.parent.name == package:
+            yield folder.parent
+        enclosing = _enclosing_package(folder)
+        if enclosing is not None and enclosing.parent != enclosing:  # its workspace
+            yield from _crawl(package, str(enclosing.parent))
+        yield from _ros_package_path(package)
+
+    seen: set[Path] = set()
+    for root in candidates():  # lazily: a workspace is crawled only when nearer ones fail
+        if root not in seen:
+            seen.add(root)
+            yield root
 
 
 def _resolve(filename: str, urdf: Path) -> tuple[Path, Path]:
