@@ -390,8 +390,11 @@ def deadline(seconds: float | None) -> Iterator[None]:
         yield
         return
     if threading.current_thread() is threading.main_thread():
+        armed = [True]
+
         def alarm(signum, frame):
-            raise ObjectTimeout
+            if armed[0]:  # a repeat landing while the block is left raises nothing
+                raise ObjectTimeout
 
         previous = signal.signal(signal.SIGALRM, alarm)
         outer, _ = signal.setitimer(signal.ITIMER_REAL, seconds, REPEAT)
@@ -399,6 +402,7 @@ def deadline(seconds: float | None) -> Iterator[None]:
         try:
             yield
         finally:
+            armed[0] = False
             signal.setitimer(signal.ITIMER_REAL, 0)
             signal.signal(signal.SIGALRM, previous)
             if outer > 0:  # an alarm set around ours (a test runner's time limit) goes on
