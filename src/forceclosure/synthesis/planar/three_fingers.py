@@ -482,8 +482,8 @@ def three_finger_regions(polygon: Polygon, edges: tuple[int, int, int], mu: floa
     pairs = {}
     for a, b in itertools.combinations(sorted(edges), 2):
         r = maximal_regions(polygon, a, b, mu, margin=margin)
-        if r is not None:
-            pairs[a, b] = r
+        if isinstance(r, IndependentRegions):  # an undecided pair: not searched with (this
+            pairs[a, b] = r                    # construction does not claim completeness)
     triple = np.array([edges])
     prototypes = (_prototypes(polygon, triple, shrunk).get(edges)
                   if force_direction_prune(polygon, triple, Hand(3, "hard", mu, margin))[0]

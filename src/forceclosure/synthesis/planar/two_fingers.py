@@ -305,7 +305,7 @@ def _centre_of(x: NDArray, z: NDArray, tol: NDArray) -> tuple[NDArray, NDArray, 
 
 def maximal_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | None = None,
                     margin: float = ANGLE_MARGIN, *, spreading: bool | None = None,
-                    ) -> IndependentRegions | None:
+                    ) -> IndependentRegions | Undecided | None:
     """The largest independent regions of contact on edges ``i`` and ``j`` (exact LP).
 
     Maximises the shorter segment's length, subject to every pair of points
@@ -316,7 +316,10 @@ def maximal_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | N
     apart from inside a slot or a hole (True), or whichever gives the larger
     regions (None; squeezing on a tie).
 
-    Returns None when the pair has no such regions.
+    Returns None when the pair has no such regions, and
+    :class:`~forceclosure.synthesis.construction.Undecided` when the LP found
+    some that no cut of them could prove (the object's numbers do not resolve
+    them).
 
     Examples
     --------
@@ -341,7 +344,7 @@ def maximal_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | N
     mu_q = mu if mu_q is None else mu_q
     A, b = _affine(e1, e2, *shrink)
     ways = (False, True) if spreading is None else (bool(spreading),)
-    found = []
+    found, undecided = [], None
     for way in ways:
         sign = -1.0 if way else 1.0
         z, u1, u2 = max_min_segments(sign * A[None], sign * b[None], np.array([e1.length]),
@@ -350,7 +353,9 @@ def maximal_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | N
                        way)
         if isinstance(r, IndependentRegions):
             found.append(r)
-    return max(found, key=lambda r: r.min_length, default=None)
+        elif r is not None:
+            undecided = r
+    return max(found, key=lambda r: r.min_length, default=undecided)
 
 
 def _certified(polygon: Polygon, i: int, j: int, z: float, u1: float, u2: float,

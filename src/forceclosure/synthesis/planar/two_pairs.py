@@ -106,8 +106,8 @@ def _build(polygon: Polygon, edges: tuple[int, ...], mu: float,
     for (p, q), (r, s) in PAIRINGS:
         first = maximal_regions(polygon, edges[p], edges[q], mu, margin=margin)
         second = maximal_regions(polygon, edges[r], edges[s], mu, margin=margin)
-        if first is None or second is None:
-            continue
+        if not (isinstance(first, IndependentRegions) and isinstance(second, IndependentRegions)):
+            continue  # an undecided pair is left out: this construction is not complete
         where = {}
         for pair in (first, second):
             where.update(zip(pair.edges, pair.segments, strict=True))
