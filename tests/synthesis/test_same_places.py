@@ -33,8 +33,8 @@ def _check(name, hand, offset, scale):
     got = synthesize(moved, fingers, contact, mu, top=5, construction=construction)
     assert want.complete == want.construction.complete and want.undecided == 0
     assert all(r.certify().holds for r in got.found)
-    if got.undecided:  # allowed, said so: then nothing is claimed complete
-        assert not got.complete
+    if got.undecided:  # allowed, said so, only where the copy's corners are rounded
+        assert not got.complete and offset >= 1e12, (name, hand, offset, scale)
         return
     assert [r.edges for r in got.found] == [r.edges for r in want.found], (name, hand)
     tol = 1e-6 * obj.size + 64 * np.spacing(offset + moved.size) / scale
