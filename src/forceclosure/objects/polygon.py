@@ -116,11 +116,6 @@ def _check_ring(ring: NDArray[np.float64], what: str, tol: float) -> None:
                          f"{ring[i].round(9).tolist()} (a zero-length edge)")
 
 
-#: the old private name, still imported by synthesis.spatial (patches, two_soft, zones): use
-#: :func:`forceclosure.geometry.signed_area`
-_signed_area = signed_area
-
-
 def _straight(ring: NDArray[np.float64]) -> NDArray[np.bool_]:
     """Which vertices lie exactly on the segment between their neighbours.
 

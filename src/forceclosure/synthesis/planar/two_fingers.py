@@ -37,6 +37,7 @@ from numpy.typing import NDArray
 from ...errors import InputError
 from ...geometry.clip import clip
 from ...geometry.cones import counter_overlap
+from ...geometry.rings import signed_area
 from ...objects.polygon import Edge, Polygon
 from ..construction import Construction, Hand, Undecided, register
 from ..regions import TRIMS, narrowed
@@ -198,20 +199,15 @@ def _piece(e1: Edge, e2: Edge, edges: tuple[int, int], sector: Sector, A: NDArra
     if spreading:
         sector = Sector(sector.low + math.pi, sector.high + math.pi)
     region = clip(box, sign * A, -sign * b)
-    if len(region) < 3 or _area(region) <= 1e-12 * e1.length * e2.length:
+    if len(region) < 3 or abs(signed_area(region)) <= 1e-12 * e1.length * e2.length:
         return PairGrasps(edges, sector, np.zeros((0, 2)), A, b,
                           "the edges are placed so that no segment between them lies in the "
                           "counter-overlapping sector", spreading)
-    share = _area(region) / (e1.length * e2.length)
+    share = abs(signed_area(region)) / (e1.length * e2.length)
     how = "the fingers pushing apart" if spreading else "the fingers squeezing"
     return PairGrasps(edges, sector, region, A, b,
                       f"{share:.1%} of the pairs of points on the two edges are force-closure, "
                       f"{how}", spreading)
-
-
-def _area(poly: NDArray[np.float64]) -> float:
-    x, y = poly[:, 0], poly[:, 1]
-    return 0.5 * abs(float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)))
 
 
 def _constraint_triples() -> NDArray[np.int64]:

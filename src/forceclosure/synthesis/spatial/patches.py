@@ -21,7 +21,7 @@ from numpy.typing import NDArray
 
 from ...errors import InputError
 from ...geometry.clip import clip
-from ...objects.polygon import _signed_area
+from ...geometry.rings import signed_area
 from ...objects.polyhedron import PlanarFace, Polyhedron
 from ...verdicts import VerdictCode
 from ..regions import Certificate, RegionSet
@@ -60,7 +60,7 @@ class FacePatch:
     @property
     def area(self) -> float:
         """Area of the patch."""
-        return abs(_signed_area(self.uv))
+        return abs(signed_area(self.uv))
 
     def sample(self, count: int, rng: np.random.Generator) -> NDArray[np.float64]:
         """``count`` points uniformly distributed over the patch, in object coordinates."""
@@ -161,7 +161,7 @@ def convex_pieces(face: PlanarFace) -> list[NDArray[np.float64]]:
 
 
 def _ccw(ring: NDArray) -> NDArray[np.float64]:
-    return np.ascontiguousarray(ring if _signed_area(ring) > 0 else ring[::-1], dtype=float)
+    return np.ascontiguousarray(ring if signed_area(ring) > 0 else ring[::-1], dtype=float)
 
 
 @dataclass(frozen=True, eq=False)

@@ -44,7 +44,7 @@ from scipy.optimize import linprog, minimize
 from ...errors import InputError
 from ...geometry.clip import clip
 from ...geometry.cones import counter_overlap, counter_overlap_angle, friction_forces
-from ...objects.polygon import _signed_area
+from ...geometry.rings import signed_area
 from ...objects.polyhedron import PlanarFace, Polyhedron
 from ..construction import Construction, Hand, register
 from ..regions import MARGIN, Certificate, narrowed, proved_once
@@ -257,10 +257,6 @@ def _cut(disk: NDArray, face: PlanarFace, facets: NDArray, apex: NDArray,
     return clip(disk, sign * facets @ face.axes.T, sign * facets @ (apex - face.origin))
 
 
-def _area(ring: NDArray) -> float:
-    return _signed_area(ring) if len(ring) >= 3 else 0.0
-
-
 def _nguyen(f1: PlanarFace, f2: PlanarFace, ring1: NDArray, ring2: NDArray,
             cone: CircularCone) -> tuple[float, NDArray, NDArray, NDArray] | None:
     """The paper's construction: disks bounding the pieces, the two-sided cone ``I ± K'``
@@ -278,8 +274,8 @@ def _nguyen(f1: PlanarFace, f2: PlanarFace, ring1: NDArray, ring2: NDArray,
     o1, o2 = f1.to_world(disks[0][0]), f2.to_world(disks[1][0])
 
     def worst(apex):
-        return -min(_area(_cut(polys[0], f1, facets, apex, -1.0)),
-                    _area(_cut(polys[1], f2, facets, apex, 1.0)))
+        return -min(signed_area(_cut(polys[0], f1, facets, apex, -1.0)),
+                    signed_area(_cut(polys[1], f2, facets, apex, 1.0)))
 
     scale = float(np.linalg.norm(o2 - o1))
     for s in (0.5, 0.25, 0.75):  # the middle first; the others only if it sees nothing

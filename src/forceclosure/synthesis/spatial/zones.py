@@ -40,7 +40,7 @@ from ...contacts import Cone, primitive_wrenches
 from ...errors import InputError
 from ...geometry.clip import clip
 from ...geometry.cones import pyramid_radius
-from ...objects.polygon import _signed_area
+from ...geometry.rings import signed_area
 from ...objects.polyhedron import PlanarFace, Polyhedron
 from ..regions import MARGIN, Certificate, check_margin, narrowed, proved_once
 from .patches import FacePatch, SpatialRegions, convex_pieces, uniform_in_triangles
@@ -446,7 +446,7 @@ def _kept(face: PlanarFace, piece: NDArray, rows: list, rhs: list, chosen: tuple
     """The piece cut by the half-planes ``rows . y >= rhs`` (lists of blocks), or nothing
     if too little is left."""
     ring = clip(piece, np.vstack(rows), np.concatenate(rhs)) if rows else piece
-    if len(ring) < 3 or _signed_area(ring) <= 1e-12 * face.plane_size ** 2:
+    if len(ring) < 3 or signed_area(ring) <= 1e-12 * face.plane_size ** 2:
         return None, ()
     return ring, tuple(chosen)
 
