@@ -106,8 +106,10 @@ MAX_CONTACTS = 1024
 #: quality (Ferrari-Canny epsilon, least friction) a grasp file's analysis computes: the
 #: hulls and bisections grow steeply (measured on a shared 2-core machine, hard fingers with
 #: exact cones: 10 contacts 4 s, 16 in 12 s, 20 in 24 s, 30 in 50 s; 300 did not finish).
-#: Above it the grasp is refused in one line; its verdict alone (``--no-quality``) is not
-#: limited by it. Planar grasps are not limited (1,000 hard contacts: 4 s).
+#: Above it a grasp file's record has the verdict and no quality (``null_reasons`` says
+#: why), and ``analyze --epsilon`` of an ``.npz`` file is refused before any work; the API's
+#: ``epsilon`` and ``least_friction`` are not limited. Planar grasps are not limited (1,000
+#: hard contacts: 4 s).
 MAX_QUALITY_CONTACTS = 12
 
 
