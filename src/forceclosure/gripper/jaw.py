@@ -88,6 +88,11 @@ _DERIVED = ("pad_length", "pad_height", "palm_width", "palm_height", "tip_offset
             "pad_compliance")
 
 
+def _digits(x: float) -> float:
+    """``x`` to 15 significant digits (0.002, not 0.0020000000000000005), at any size."""
+    return float(f"{x:.15g}")
+
+
 def rectangle_mean_radius(length: float, height: float) -> float:
     """The mean distance from the centre of a ``length`` × ``height`` rectangle to its
     points: the torsional friction of a uniformly pressed rectangular pad is ``μ`` times
@@ -106,9 +111,11 @@ def rectangle_mean_radius(length: float, height: float) -> float:
     p, q = 0.5 * float(length), 0.5 * float(height)
     if p <= 0 or q <= 0:
         return 0.5 * max(p, q)
-    d = np.hypot(p, q)
-    quarter = (2 * p * q * d + p**3 * np.log((q + d) / p) + q**3 * np.log((p + d) / q)) / 6
-    return float(quarter / (p * q))
+    unit = max(p, q)  # the radius scales with the sides: computed on sides at most 1
+    p, q = p / unit, q / unit
+    d = math.hypot(p, q)
+    quarter = (2 * p * q * d + p**3 * math.log((q + d) / p) + q**3 * math.log((p + d) / q)) / 6
+    return float(quarter / (p * q)) * unit
 
 
 @dataclass(frozen=True)
@@ -238,8 +245,8 @@ class ParallelJaw:
         whole rectangle (μ times :func:`rectangle_mean_radius`): an upper bound, never
         what a label relies on (labels take the pressed region's lever, from below)."""
         if self.pad_radius is None:
-            return round(mu * rectangle_mean_radius(self.pad_length, self.pad_height), 15)
-        return None if self.pad_radius == 0 else round(2.0 / 3.0 * mu * self.pad_radius, 15)
+            return _digits(mu * rectangle_mean_radius(self.pad_length, self.pad_height))
+        return None if self.pad_radius == 0 else _digits(2.0 / 3.0 * mu * self.pad_radius)
 
     def shape(self) -> dict[str, Any]:
         """Every size of the hand, by field name (what ``ParallelJaw(**shape)`` rebuilds)."""
