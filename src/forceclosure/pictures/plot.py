@@ -36,6 +36,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..objects import Polygon, Polyhedron
+from ..objects.polygon import axis_label
 
 __all__ = ["FORMATS", "UP_AXIS", "check_plot_path", "corner_cone", "on_vertex", "plot_found",
            "plot_object", "plot_regions", "plot_spatial_regions", "standing", "upright_axis"]
@@ -274,6 +275,9 @@ def _polygon_axes(ax: Any, polygon: Polygon, label_edges: bool = True) -> None:
     ax.set_xlim(lo[0] - pad, hi[0] + pad)
     ax.set_ylim(lo[1] - pad, hi[1] + pad)
     ax.set_aspect("equal")
+    if polygon.units:  # what the coordinates measure, when the file says (an SVG's mm)
+        ax.set_xlabel(axis_label("x", polygon.units), fontsize=8)
+        ax.set_ylabel(axis_label("y", polygon.units), fontsize=8)
 
 
 def _turn(v: NDArray, angle: float) -> NDArray:
