@@ -131,7 +131,13 @@ def test_units_on_the_pictures_axes():
     from forceclosure.synthesis.best import synthesize
 
     plate = polygon_from_svg(_svg('width="100mm" height="50mm" viewBox="0 0 100 50"'))
-    ax = plot_regions(synthesize(plate, 2, "hard", 0.3, top=2).found).axes[0]
+    found = synthesize(plate, 2, "hard", 0.3, top=2).found
+    ax = plot_regions(found).axes[0]
     assert (ax.get_xlabel(), ax.get_ylabel()) == ("x (mm)", "y (mm)")
+    pytest.importorskip("plotly")
+    from forceclosure.pictures.view import planar_figure
+
+    layout = planar_figure(found).layout
+    assert (layout.xaxis.title.text, layout.yaxis.title.text) == ("x (mm)", "y (mm)")
     bare = polygon_from_svg(_svg('viewBox="0 0 100 50"'))
     assert plot_object(bare).axes[0].get_xlabel() == ""
