@@ -410,12 +410,11 @@ def _cmd_inspect(args: argparse.Namespace) -> int:
     import numpy as np
 
     from ..objects.io import load_object
+    from ..objects.polygon import in_units
 
     _check_picture(args.plot, args.object)
     obj = load_object(args.object, allow_open=True, part=args.part,  # describe open meshes too
                       allow_outside_meshes=args.allow_outside_meshes)
-    from ..objects.polygon import in_units
-
     info = obj.summary()
     unit, square = in_units(info.get("units")), in_units(info.get("units"), 2)
     if args.json:
@@ -520,13 +519,13 @@ FINGERS_HELP = ("number of fingers (default: the fewest that can hold the object
 
 def _print_found(args: argparse.Namespace, obj, result) -> None:
     """The region sets found, best first, for people (``--json`` has every number)."""
+    from ..objects.polygon import in_units
+
     found, c = result.found, result.construction
     friction = ("frictionless" if args.contact == "frictionless"
                 else f"{args.contact} fingers, mu {result.mu:g}")
     how = {"edges": "", "faces": f", regions on faces ({c.paper})",
            "mesh": ", regions grown on the mesh around sampled prototypes"}[result.method]
-    from ..objects.polygon import in_units
-
     units = getattr(obj, "units", None)
     ranked = "the shortest independent segment" if obj.dim == 2 else "the smallest region"
     print(f"{obj.name}: {len(found)} best {args.fingers}-finger grasps ({friction}){how}, "
