@@ -390,7 +390,7 @@ def test_cli_part_and_warnings(tmp_path, capsys):
     path.write_text(SEVERAL)
     assert main(["inspect", str(path), "--part", "small"]) == 0
     captured = capsys.readouterr()
-    assert "area 1," in captured.out and "warning" not in captured.err
+    assert "area 1 px²," in captured.out and "warning" not in captured.err  # CSS px
     assert main(["inspect", str(path)]) == 0
     assert "warning: shape: 3 drawn shapes" in capsys.readouterr().err
     assert load_object(path, part="disk").area == pytest.approx(np.pi * 9, rel=1e-2)

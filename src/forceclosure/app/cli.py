@@ -410,11 +410,13 @@ def _cmd_inspect(args: argparse.Namespace) -> int:
     import numpy as np
 
     from ..objects.io import load_object
+    from ..objects.polygon import in_units
 
     _check_picture(args.plot, args.object)
     obj = load_object(args.object, allow_open=True, part=args.part,  # describe open meshes too
                       allow_outside_meshes=args.allow_outside_meshes)
     info = obj.summary()
+    unit, square = in_units(info.get("units")), in_units(info.get("units"), 2)
     if args.json:
         json.dump(info, sys.stdout, indent=2)
         sys.stdout.write("\n")
@@ -426,7 +428,7 @@ def _cmd_inspect(args: argparse.Namespace) -> int:
         if obj.dim == 2:
             print(f"  {info['vertices']} vertices, {info['edges']} edges, {info['holes']} holes;"
                   f" {'convex' if info['convex'] else 'non-convex'}")
-            print(f"  area {info['area']:.6g}, perimeter {info['perimeter']:.6g}")
+            print(f"  area {info['area']:.6g}{square}, perimeter {info['perimeter']:.6g}{unit}")
         else:
             print(f"  {info['vertices']} vertices, {info['triangles']} triangles -> "
                   f"{info['faces']} planar faces ({info['merged_faces']} merged from several "
@@ -444,7 +446,7 @@ def _cmd_inspect(args: argparse.Namespace) -> int:
             if info["defects"] and not args.allow_open:
                 print(f"  the file is {' and '.join(info['defects'])}: synthesize and dataset "
                       "need --allow-open for it")
-        print(f"  size {info['size']:.6g} (bounding-box diagonal), bounds "
+        print(f"  size {info['size']:.6g}{unit} (bounding-box diagonal), bounds "
               f"{_rounded(lo, obj.size)} to {_rounded(hi, obj.size)}")
     if args.plot:
         from ..pictures.plot import plot_object, upright_axis
@@ -488,7 +490,8 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
         corners = vertex_grasps(obj, mu, top=args.top, margin=args.margin)
     if args.json:
         record = {"object": obj.name, "fingers": args.fingers, "contact": args.contact,
-                  "mu": mu, "size": obj.size, "method": method,
+                  "mu": mu, "size": obj.size, "units": getattr(obj, "units", None),
+                  "method": method,
                   "construction": {"name": result.construction.name,
                                    "paper": result.construction.paper,
                                    "searched": result.searched},
@@ -516,14 +519,18 @@ FINGERS_HELP = ("number of fingers (default: the fewest that can hold the object
 
 def _print_found(args: argparse.Namespace, obj, result) -> None:
     """The region sets found, best first, for people (``--json`` has every number)."""
+    from ..objects.polygon import in_units
+
     found, c = result.found, result.construction
     friction = ("frictionless" if args.contact == "frictionless"
                 else f"{args.contact} fingers, mu {result.mu:g}")
     how = {"edges": "", "faces": f", regions on faces ({c.paper})",
            "mesh": ", regions grown on the mesh around sampled prototypes"}[result.method]
+    units = getattr(obj, "units", None)
     ranked = "the shortest independent segment" if obj.dim == 2 else "the smallest region"
     print(f"{obj.name}: {len(found)} best {args.fingers}-finger grasps ({friction}){how}, "
-          f"ranked by {ranked}")
+          f"ranked by {ranked}" + (f"; coordinates in {units}" if units and " " not in units
+                                   else f"; coordinates in units of {units}" if units else ""))
     if not found:
         more = f" (of {args.samples:,} random grasps: try --samples)" if \
             result.method == "mesh" else ""
@@ -534,8 +541,8 @@ def _print_found(args: argparse.Namespace, obj, result) -> None:
         print(f"  {rank}. {'; '.join(r.describe())}")
         cert = r.certify()
         if obj.dim == 2:
-            size = (f"shortest segment {r.min_size:.4g} ({r.relative_min_size:.1%} of the "
-                    "object's size)")
+            size = (f"shortest segment {r.min_size:.4g}{in_units(units)} "
+                    f"({r.relative_min_size:.1%} of the object's size)")
         else:
             size = (f"region areas {', '.join(f'{a:.4g}' for a in r.sizes)} (smallest "
                     f"{r.relative_min_size:.2%} of size^2)")

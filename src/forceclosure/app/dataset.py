@@ -240,6 +240,10 @@ class Summary:
         Wall time of this run.
     workers : int
     out : Path
+    interrupted : bool
+    incomplete : int
+        Synthesis: objects done whose search left sites undecided (``undecided`` above 0
+        in their records, ``complete`` false): grasps may be missing there.
     """
 
     objects: int
@@ -252,6 +256,7 @@ class Summary:
     workers: int
     out: Path
     interrupted: bool = False
+    incomplete: int = 0
 
     @property
     def throughput(self) -> float:
@@ -269,6 +274,10 @@ class Summary:
             lines.append(f"computed {self.computed} in {self.seconds:.1f} s "
                          f"({self.throughput:.3g} objects/s on {self.workers} "
                          f"worker{'s' if self.workers != 1 else ''})")
+        if self.incomplete:
+            lines.append(f"not complete: {self.incomplete} object"
+                         f"{'s' if self.incomplete != 1 else ''} with sites undecided (grasps "
+                         "may be missing there; the table's complete and undecided columns)")
         lines.append(f"results: {self.out / 'results.parquet'} (one row per object), "
                      f"{self.out / 'objects'} (full records)")
         if self.interrupted:
@@ -447,8 +456,11 @@ def _synthesize(obj, job: Job) -> dict[str, Any]:
                         construction=job.construction, method=job.method,
                         samples=job.samples, seed=job.seed)
     grasps = [r.to_dict() for r in result.found]
+    # complete: nothing the hand can do is missing; undecided: sites whose regions could
+    # not be proved (grasps may be missing there), as synthesize --json says
     return {"fingers": result.fingers, "contact": result.contact, "mu": result.mu,
-            "method": result.method, "grasps": grasps}
+            "method": result.method, "grasps": grasps, "complete": result.complete,
+            "undecided": result.undecided}
 
 
 def grasp_file_of(path: Path, pattern: str) -> Path:
@@ -694,7 +706,11 @@ COLUMNS = (("name", "string"), ("path", "string"), ("status", "string"), ("error
            ("width", "float64"), ("pad_radius", "float64"), ("seed", "int64"),
            ("least_friction_median", "float64"), ("collides", "int64"),
            ("closure_clear", "int64"), ("attempts", "int64"), ("rejected", "int64"),
-           ("labels_file", "string"))
+           ("labels_file", "string"),
+           # synthesis, added later (appended, so that every column keeps its place): whether
+           # the search is complete, and how many sites it left undecided (null in records
+           # written before)
+           ("complete", "bool"), ("undecided", "int64"))
 
 
 def row_of(record: dict[str, Any]) -> dict[str, Any]:
@@ -988,7 +1004,10 @@ def _run_locked(paths: list[Path], out: Path, job: Job, executor: Executor | Non
                    failed=statuses.count("failed"), timeout=statuses.count("timeout"),
                    computed=computed, skipped=skipped,
                    seconds=time.perf_counter() - start, workers=workers, out=out,
-                   interrupted=interrupted)
+                   interrupted=interrupted,
+                   incomplete=sum(r.get("status") == "done"
+                                  and isinstance(r.get("undecided"), int) and r["undecided"] > 0
+                                  for r in records.values()))
 
 
 def _failed(path: Path, error: str, status: str = "failed") -> dict[str, Any]:

@@ -27,7 +27,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..errors import InputError
 from ..geometry.rings import signed_area
 
-__all__ = ["RTOL", "Edge", "EdgeArrays", "Polygon"]
+__all__ = ["RTOL", "Edge", "EdgeArrays", "Polygon", "axis_label", "in_units"]
 
 #: Relative tolerance (of the polygon's size) for repeated vertices and zero area.
 RTOL = 1e-9
@@ -159,6 +159,37 @@ class EdgeArrays(NamedTuple):
     length: NDArray[np.float64]
 
 
+def in_units(units: str | None, power: int = 1) -> str:
+    """The words after a length (``power`` 1) or an area (2) in ``units`` (a
+    :attr:`Polygon.units`), for people; nothing when the file states no units.
+
+    Examples
+    --------
+    >>> f"size 12{in_units('mm')}", f"size 12{in_units('0.5 mm')}", f"size 12{in_units(None)}"
+    ('size 12 mm', 'size 12 (units of 0.5 mm)', 'size 12')
+    >>> f"area 3{in_units('mm', 2)}", f"area 3{in_units('0.5 mm', 2)}"
+    ('area 3 mm²', 'area 3 (squares of 0.5 mm)')
+    """
+    if not units:
+        return ""
+    if " " in units:
+        return f" ({'units' if power == 1 else 'squares'} of {units})"
+    return f" {units}" + ("²" if power == 2 else "")
+
+
+def axis_label(axis: str, units: str | None) -> str:
+    """A picture's axis title: ``"x (mm)"``, ``"x (units of 0.5 mm)"``, or ``"x"``.
+
+    Examples
+    --------
+    >>> axis_label("x", "mm"), axis_label("y", "0.5 mm"), axis_label("x", None)
+    ('x (mm)', 'y (units of 0.5 mm)', 'x')
+    """
+    if not units:
+        return axis
+    return f"{axis} ({units})" if " " not in units else f"{axis} (units of {units})"
+
+
 @dataclass(frozen=True, eq=False)
 class Polygon:
     """A simple polygon, possibly with holes, ready for grasping.
@@ -184,6 +215,10 @@ class Polygon:
         into chords. Certificates narrow every friction cone by it (and
         frictionless fingers hold for every normal within it), so nothing is
         proved on a normal the real outline does not have.
+    units : str or None
+        What one coordinate measures, when the file says (an SVG's ``"mm"``, or
+        ``"0.5 mm"`` for half a millimetre a unit); ``None`` for files that do not
+        (GeoJSON, CSV, JSON): the file's own units.
     """
 
     outer: NDArray[np.float64]
@@ -192,6 +227,7 @@ class Polygon:
     name: str = "polygon"
     warnings: tuple[str, ...] = ()
     spread: float = 0.0
+    units: str | None = None
 
     @classmethod
     def from_points(cls, outer: ArrayLike, holes: Sequence[ArrayLike] = (),
@@ -392,4 +428,4 @@ class Polygon:
                 "edges": len(self.edges), "holes": len(self.holes), "convex": self.convex,
                 "area": self.area, "perimeter": self.perimeter, "size": self.size,
                 "bounds": self.bounds.tolist(), "spread": self.spread,
-                "warnings": list(self.warnings)}
+                "warnings": list(self.warnings), "units": self.units}

@@ -486,7 +486,8 @@ class Polyhedron:
                 "size": self.size, "bounds": self.bounds.tolist(), "warnings": notes,
                 "boundary_edges": self.boundary_edges, "holes": self.holes,
                 "non_manifold_edges": self.non_manifold_edges,
-                "defects": list(self.defects)}
+                "defects": list(self.defects),
+                "units": None}  # mesh files are read without units: the file's own
 
 
 def _signed_volume(V: NDArray, T: NDArray) -> float:

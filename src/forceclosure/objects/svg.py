@@ -14,6 +14,12 @@ Geometry:
 * **coordinates** are the root ``<svg>``'s user units: its viewBox units
   when it has one (a file with ``width="100mm" viewBox="0 0 100 50"`` is
   read in millimetres), else CSS px;
+* **units**: the polygon's ``units`` says what one of its coordinates measures, from the
+  root's ``width``/``height`` over its viewBox (:func:`svg_units`): ``"mm"`` for a
+  drawing at one millimetre per user unit (as Inkscape writes), ``"0.5 mm"`` when one
+  unit is half a millimetre, ``"px"`` (CSS px, 1/96 in) without a viewBox, and ``None``
+  when the file does not say (a viewBox without ``width``/``height``, or sizes in ``%``
+  or ``em``);
 * **y is up**: the drawing is read as seen, in a right-handed frame. With a
   root viewBox ``(x0, y0, w, h)``, a point drawn at ``(x, y)`` is read as
   ``(x - x0, y0 + h - y)``: the origin is the bottom-left corner of the
@@ -61,7 +67,7 @@ from ..errors import InputError, first_line
 from ..geometry.rings import signed_area
 from .polygon import RTOL, Polygon
 
-__all__ = ["MAX_DEPTH", "SVG_TOLERANCE", "polygon_from_svg"]
+__all__ = ["MAX_DEPTH", "SVG_TOLERANCE", "polygon_from_svg", "svg_units"]
 
 #: Largest distance between a curve and the chords that replace it, relative to the
 #: shape's size (the diagonal of its bounding box).
@@ -84,6 +90,72 @@ _PATH_COMMANDS = "MmZzLlHhVvCcSsQqTtAa"
 _METRIC = {"mm": 96 / 25.4, "cm": 96 / 2.54}
 _LENGTH_ATTRIBUTES = ("x", "y", "width", "height", "rx", "ry", "cx", "cy", "r", "x1", "y1",
                       "x2", "y2")
+
+
+#: CSS absolute lengths in px (96 px per inch).
+_CSS_UNITS = {"px": 1.0, "in": 96.0, "cm": 96 / 2.54, "mm": 96 / 25.4, "pt": 96 / 72,
+              "pc": 16.0, "Q": 96 / 101.6}
+
+
+def _length(value: str | None) -> tuple[float, str] | None:
+    """``width="100mm"`` as ``(100.0, "mm")``; a bare number is px; ``None`` for a missing,
+    relative (``%``, ``em``, ``ex``...) or non-positive length."""
+    if value is None:
+        return None
+    match = re.fullmatch(rf"\s*({_NUMBER})\s*([A-Za-z%]*)\s*", value)
+    if not match:
+        return None
+    number, unit = float(match[1]), match[2] or "px"
+    if unit not in _CSS_UNITS or not (math.isfinite(number) and number > 0):
+        return None
+    return number, unit
+
+
+def svg_units(root: ET.Element) -> str | None:
+    """What one user unit of the root ``<svg>`` measures, as the file states it.
+
+    Parameters
+    ----------
+    root : xml.etree.ElementTree.Element
+        The root ``<svg>`` element, as written (before any lengths are converted).
+
+    Returns
+    -------
+    str or None
+        ``"mm"`` (or ``"pt"``, ``"in"``, ``"px"``...) when one user unit is one of that
+        unit, ``"0.5 mm"`` when it is a multiple of it (the unit of ``width``, else of
+        ``height``), ``"px"`` (CSS px, 1/96 in) without a viewBox, and ``None`` when the
+        file does not say: a viewBox with neither ``width`` nor ``height`` in absolute
+        units, or with ``preserveAspectRatio="none"`` stretching x and y differently.
+
+    Examples
+    --------
+    >>> svg_units(ET.fromstring('<svg width="210mm" height="297mm" viewBox="0 0 210 297"/>'))
+    'mm'
+    >>> svg_units(ET.fromstring('<svg width="100mm" viewBox="0 0 200 50"/>'))
+    '0.5 mm'
+    >>> svg_units(ET.fromstring('<svg viewBox="0 0 4 4"/>')) is None
+    True
+    >>> svg_units(ET.fromstring('<svg width="3in"/>'))
+    'px'
+    """
+    values = re.findall(_NUMBER, root.get("viewBox", ""))
+    if not (len(values) == 4 and float(values[2]) > 0 and float(values[3]) > 0):
+        return "px"  # user units are CSS px (lengths in mm are converted to them)
+    box = (float(values[2]), float(values[3]))
+    sizes = [_length(root.get(k)) for k in ("width", "height")]
+    scales = [s[0] * _CSS_UNITS[s[1]] / b for s, b in zip(sizes, box, strict=True) if s]
+    if not scales:
+        return None
+    if (len(scales) == 2 and not math.isclose(scales[0], scales[1], rel_tol=1e-9)
+            and root.get("preserveAspectRatio", "").strip().startswith("none")):
+        return None  # x and y stretched differently: no one unit
+    scale = min(scales)  # the default "meet": the smaller scale fits both
+    unit = next(s[1] for s in sizes if s)
+    factor = scale / _CSS_UNITS[unit]
+    if math.isclose(factor, 1.0, rel_tol=1e-9):
+        return unit
+    return f"{factor:.6g} {unit}"
 
 
 def _depth(root: ET.Element) -> int:
@@ -623,7 +695,8 @@ def polygon_from_svg(text: str, name: str = "polygon", part: str | None = None,
     -------
     Polygon
         In the root's user units, y up (see the module's description), with
-        ``warnings`` saying what was approximated or left out.
+        ``warnings`` saying what was approximated or left out and ``units`` what one
+        user unit measures (:func:`svg_units`), when the file says.
 
     Examples
     --------
@@ -649,6 +722,7 @@ def polygon_from_svg(text: str, name: str = "polygon", part: str | None = None,
     if depth > MAX_DEPTH:
         raise InputError(f"{name}: elements nested {depth:,} deep; at most {MAX_DEPTH} levels "
                          "are read")
+    units = svg_units(root) if _local(root.tag) == "svg" else None
     flip = _prepare(root, name)
     try:
         svg = se.SVG.parse(io.StringIO(ET.tostring(root, encoding="unicode")), reify=True,
@@ -698,6 +772,4 @@ def polygon_from_svg(text: str, name: str = "polygon", part: str | None = None,
             f"{shape.label} ({why})" for shape, why in refused[:5]))
     if not_read and part is None:
         notes.append(f"not read: {not_read}")
-    if notes:
-        polygon = replace(polygon, warnings=(*polygon.warnings, *notes))
-    return polygon
+    return replace(polygon, warnings=(*polygon.warnings, *notes), units=units)

@@ -36,6 +36,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..objects import Polygon, Polyhedron
+from ..objects.polygon import axis_label
 
 __all__ = ["FORMATS", "UP_AXIS", "check_plot_path", "corner_cone", "on_vertex", "plot_found",
            "plot_object", "plot_regions", "plot_spatial_regions", "standing", "upright_axis"]
@@ -274,6 +275,9 @@ def _polygon_axes(ax: Any, polygon: Polygon, label_edges: bool = True) -> None:
     ax.set_xlim(lo[0] - pad, hi[0] + pad)
     ax.set_ylim(lo[1] - pad, hi[1] + pad)
     ax.set_aspect("equal")
+    if polygon.units:  # what the coordinates measure, when the file says (an SVG's mm)
+        ax.set_xlabel(axis_label("x", polygon.units), fontsize=8)
+        ax.set_ylabel(axis_label("y", polygon.units), fontsize=8)
 
 
 def _turn(v: NDArray, angle: float) -> NDArray:
@@ -337,19 +341,77 @@ def _vertex_grasp(ax: Any, g: Any, colour: Any, label: str, reach: float,
                         zorder=2)
         n = labels_at[("edge", k)] = labels_at.get(("edge", k), 0) + 1  # after the sets'
         other = (a + b) / 2 + e.normal * polygon.size * 0.05 * (n + 1)
+        other_normal = e.normal
     else:
         corner(*g.corners[1])
         other = None
     for a, b in g.corners if other is None else g.corners[:1]:
         k = labels_at[a] = labels_at.get(a, 0) + 1
         where = edges[a].end + polygon.size * (0.01 + 0.06 * k) * _outward(edges, a, b)
-        ax.text(*where, label, color=colour, fontsize=10, fontweight="bold", ha="center",
-                va="center", zorder=5)
+        text = ax.text(*where, label, color=colour, fontsize=LABEL_SIZE, fontweight="bold",
+                       ha="center", va="center", zorder=5)
         labels_at.setdefault("places", []).append(where)
+        labels_at.setdefault("texts", []).append((text, _outward(edges, a, b)))
     if other is not None:
-        ax.text(*other, label, color=colour, fontsize=10, fontweight="bold", ha="center",
-                va="center", zorder=5)
+        text = ax.text(*other, label, color=colour, fontsize=LABEL_SIZE, fontweight="bold",
+                       ha="center", va="center", zorder=5)
         labels_at.setdefault("places", []).append(other)
+        labels_at.setdefault("texts", []).append((text, other_normal))
+
+
+#: The grasps' labels' font size (points).
+LABEL_SIZE = 10.0
+
+
+def place_labels(ax: Any, labels: Sequence[tuple[Any, NDArray]], gap: float = 1.0) -> None:
+    """Move labels so that no two overprint: each from where it was written, outward along
+    its direction in steps of half its font size, at each step also tried sideways (one
+    and two font sizes either way), until its box clears every label placed before it.
+
+    The offsets are in points from each label's anchor (``offset_copy`` of the data
+    transform), so they hold when the picture is saved at another size; place the labels
+    after the axes' limits are final (the anchors' places on the screen depend on them).
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+        2-D axes with the labels in data coordinates.
+    labels : sequence of (Text, (2,) array)
+        The labels, first placed first (keep the best grasp's nearest its region), each
+        with the direction it may move in (the outward normal of its edge or vertex).
+    gap : float
+        Least room between two labels' boxes, in pixels.
+    """
+    from matplotlib.transforms import offset_copy
+
+    if not labels:
+        return
+    fig = ax.get_figure(root=True) if hasattr(ax, "get_figure") else ax.figure
+    fig.draw_without_rendering()  # the aspect applied: the anchors where they will be drawn
+    placed: list[Any] = []
+
+    def clear(box) -> bool:
+        return all(box.x1 + gap <= b.x0 or b.x1 + gap <= box.x0 or box.y1 + gap <= b.y0
+                   or b.y1 + gap <= box.y0 for b in placed)
+
+    for text, direction in labels:
+        n = np.asarray(direction, dtype=float)
+        n = n / (np.linalg.norm(n) or 1.0)
+        t = np.array([-n[1], n[0]])
+        size = float(text.get_fontsize())
+        base = text.get_transform()
+        box = text.get_window_extent()
+        for k in range(400):  # far enough out, every box clears the finitely many placed
+            for j in (0, 1, -1, 2, -2):
+                dx, dy = 0.5 * size * k * n + size * j * t
+                text.set_transform(offset_copy(base, fig=fig, x=dx, y=dy, units="points"))
+                box = text.get_window_extent()
+                if clear(box):
+                    break
+            else:
+                continue
+            break
+        placed.append(box)
 
 
 def _outward(edges: Any, a: int, b: int) -> NDArray:
@@ -453,6 +515,7 @@ def plot_regions(regions: Sequence[Any], path: str | Path | None = None,
     colours = {id(r): palette[place % 10] for place, r in enumerate(regions)}
     sets = [r for r in regions if not on_vertex(r)]
     corners = [r for r in regions if on_vertex(r)]
+    labels: list[tuple[Any, NDArray]] = []  # each grasp's numbers, and where they may move
     for rank, r in enumerate(sets):
         colour = colours[id(r)]
         mus = r.friction()
@@ -460,8 +523,8 @@ def plot_regions(regions: Sequence[Any], path: str | Path | None = None,
             ax.plot(*np.array([a, b]).T, color=colour, linewidth=4.5, solid_capstyle="butt",
                     zorder=3)
             mid = (a + b) / 2 + e.normal * polygon.size * 0.05
-            ax.text(*mid, str(rank + 1), color=colour, fontsize=10, fontweight="bold",
-                    ha="center", va="center")
+            labels.append((ax.text(*mid, str(rank + 1), color=colour, fontsize=LABEL_SIZE,
+                                   fontweight="bold", ha="center", va="center"), e.normal))
         for ray in r.cone_rays(reach):  # the cones of forces the fingers can push with
             ax.plot(*ray.T, color=colour, linewidth=0.8, alpha=0.7, zorder=2)
         apex = getattr(r, "apex", None)  # Nguyen's two-sided cone (Fig. 7)
@@ -489,6 +552,7 @@ def plot_regions(regions: Sequence[Any], path: str | Path | None = None,
         (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
         ax.set_xlim(min(x0, places[:, 0].min() - pad), max(x1, places[:, 0].max() + pad))
         ax.set_ylim(min(y0, places[:, 1].min() - pad), max(y1, places[:, 1].max() + pad))
+    place_labels(ax, [*labels, *labels_at.get("texts", [])])  # none overprints another
     words = []
     if sets:
         mu = sets[0].friction()[0]

@@ -28,6 +28,7 @@ from ..contacts import tangent_basis
 from ..errors import InputError
 from ..extras import require
 from ..objects import Polyhedron
+from ..objects.polygon import axis_label
 from ..synthesis.regions import RegionSet
 from ..synthesis.spatial.patches import SpatialRegions
 from .plot import _one_object, corner_cone, on_vertex
@@ -319,7 +320,9 @@ def planar_figure(found: Sequence[RegionSet], title: str | None = None) -> go.Fi
                      f"mu {corners[0].mu:g}")
     fig.update_layout(
         title={"text": title or f"{polygon.name}: " + ";<br>".join(words), "x": 0.02},
-        xaxis={"scaleanchor": "y", "scaleratio": 1, "title": "x"}, yaxis={"title": "y"},
+        xaxis={"scaleanchor": "y", "scaleratio": 1,
+               "title": axis_label("x", polygon.units)},
+        yaxis={"title": axis_label("y", polygon.units)},
         plot_bgcolor="white", paper_bgcolor="white", margin={"l": 40, "r": 20, "t": 80,
                                                              "b": 40})
     return fig
