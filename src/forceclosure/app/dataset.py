@@ -645,6 +645,36 @@ def _repaired_job(out: Path, path: Path, wanted: dict[str, Any],
     return held
 
 
+def _with_defaults(stored: dict[str, Any], job: Any) -> dict[str, Any]:
+    """A job as ``job.json`` or a record's ``"job"`` holds it, with the options added since it
+    was written filled in with what their absence means (their defaults then, and now).
+
+    Parameters
+    ----------
+    stored : dict
+        The job read from ``job.json`` or from a record's ``"job"``.
+    job : Job or forceclosure.app.dataset_gripper.GripperJob
+        This run's job: its class's ``IDENTITY_DEFAULTS`` (if any) say which options were
+        added, and their defaults.
+
+    Returns
+    -------
+    dict
+        A new dict, ready to compare with ``job.identity()``.
+
+    Examples
+    --------
+    >>> _with_defaults({"mode": "analyze", "grasps": None}, Job(mode="analyze"))
+    {'mode': 'analyze', 'grasps': None, 'allow_open': False, 'allow_outside_meshes': False}
+    """
+    filled = dict(stored)
+    filled.setdefault("allow_open", False)  # written before the option existed
+    filled.setdefault("allow_outside_meshes", False)
+    for key, value in getattr(job, "IDENTITY_DEFAULTS", {}).items():
+        filled.setdefault(key, value)  # options added since the file was written
+    return filled
+
+
 def _check_job(out: Path, job: Job, warn: Callable[[str], object] | None = None) -> None:
     path = out / "job.json"
     wanted = job.identity()
@@ -657,10 +687,7 @@ def _check_job(out: Path, job: Job, warn: Callable[[str], object] | None = None)
         if not isinstance(held, dict):
             held = _repaired_job(out, path, wanted, warn)
         if isinstance(held, dict):
-            held.setdefault("allow_open", False)  # written before the option existed
-            held.setdefault("allow_outside_meshes", False)
-            for key, value in getattr(job, "IDENTITY_DEFAULTS", {}).items():
-                held.setdefault(key, value)  # options added since the file was written
+            held = _with_defaults(held, job)
         if held != wanted:
             diff = ([k for k in sorted(set(held) | set(wanted)) if held.get(k) != wanted.get(k)]
                     if isinstance(held, dict) else ["the whole file"])
@@ -734,9 +761,11 @@ def write_table(out: Path, records: Iterable[dict[str, Any]]) -> Path:
     return path
 
 
-def _damage(record: Any, path: Path, identity: dict[str, Any], stamp: str) -> str | None:
+def _damage(record: Any, path: Path, identity: dict[str, Any], stamp: str,
+            job: Any = None) -> str | None:
     """Why a record held in ``DIR`` cannot stand for the object at ``path`` in this job, or
-    None when it can."""
+    None when it can (its job's options added since are filled in, as for ``job.json``:
+    :func:`_with_defaults`)."""
     if not isinstance(record, dict):
         return f"not a record (a JSON {type(record).__name__})"
     missing = [k for k in ("path", "name", "status", "error", "job", "input")
@@ -749,7 +778,8 @@ def _damage(record: Any, path: Path, identity: dict[str, Any], stamp: str) -> st
         return f"the record of another object ({str(record['path'])[:200]!r})"
     if record["status"] not in STATUSES:
         return f"unknown status {str(record['status'])[:40]!r}"
-    if record["job"] != identity:
+    stored = record["job"]
+    if (_with_defaults(stored, job) if isinstance(stored, dict) else stored) != identity:
         return "made by another job (other options)"
     if record["input"] != stamp:
         return "its input changed since (object, meshes or grasp file)"
@@ -762,8 +792,8 @@ def _damage(record: Any, path: Path, identity: dict[str, Any], stamp: str) -> st
 
 def _held(folder: Path, names: dict[str, Path], identity: dict[str, Any],
           stamps: dict[str, str], say: Callable[[str], object],
-          check: Callable[[Path, dict[str, Any]], str | None] | None = None
-          ) -> dict[str, dict[str, Any]]:
+          check: Callable[[Path, dict[str, Any]], str | None] | None = None,
+          job: Any = None) -> dict[str, dict[str, Any]]:
     """The records in ``folder`` that stand for their objects; the others are warned about
     (the first :data:`_WARNED` one by one, then counted) and will be computed again."""
     held, bad = {}, 0
@@ -773,7 +803,7 @@ def _held(folder: Path, names: dict[str, Path], identity: dict[str, Any],
             continue
         try:
             record = json.loads(file.read_text(encoding="utf-8"))
-            why = _damage(record, path, identity, stamps[name])
+            why = _damage(record, path, identity, stamps[name], job)
             if why is None and check is not None:  # the job's own files (gripper: labels)
                 why = check(folder, record)
         except (OSError, ValueError, UnicodeDecodeError, RecursionError) as e:
@@ -915,7 +945,7 @@ def _run_locked(paths: list[Path], out: Path, job: Job, executor: Executor | Non
         write(printable(line))
     identity = job.identity()
     stamps = {n: fingerprint(p, job) for n, p in names.items()}
-    held = _held(folder, names, identity, stamps, say, getattr(job, "check", None))
+    held = _held(folder, names, identity, stamps, say, getattr(job, "check", None), job)
     keep = {"done"} if retry_failed else set(STATUSES)
     run = _Run({n: p for n, p in names.items()
                 if n not in held or held[n].get("status") not in keep})
