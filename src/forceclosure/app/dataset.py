@@ -278,15 +278,18 @@ class Summary:
 
 # -- the input set --------------------------------------------------------------------------
 
-def expand_inputs(inputs: Iterable[str | Path], exclude: str | Path | None = None
-                  ) -> list[Path]:
+def expand_inputs(inputs: Iterable[str | Path], exclude: str | Path | None = None,
+                  folders: Iterable[str | Path] = ()) -> list[Path]:
     """Object files from files, folders (searched recursively) and glob patterns.
 
     A folder contributes its polygon, mesh and URDF files, but not the mesh
     files its URDFs name (the URDF stands for them, with its scale) nor
     grasp files (``*.grasps.json``). A file named directly is always taken.
-    Files inside ``exclude`` (a results folder: its ``job.json`` and records
-    are JSON too) are left out of folders and glob patterns.
+    The own files of the dataset whose results folder is ``exclude`` (its
+    ``job.json``, ``exports.json``, ``*.parquet`` and the records folder
+    ``objects/``: JSON too) and files inside ``folders`` (the job's pictures
+    and exports) are left out of folders and glob patterns; the rest of
+    ``exclude`` (an input folder inside it, say) is searched as any folder.
 
     Examples
     --------
@@ -300,7 +303,7 @@ def expand_inputs(inputs: Iterable[str | Path], exclude: str | Path | None = Non
 
     named: list[Path] = []
     walked: list[Path] = []
-    skip = _inside(exclude)
+    skip = _own_output(exclude, folders)
     for item in inputs:
         path = Path(item)
         if path.is_file() or (not path.exists() and str(item) in {*POLYGONS, *POLYHEDRA}):
@@ -331,21 +334,33 @@ def expand_inputs(inputs: Iterable[str | Path], exclude: str | Path | None = Non
     return sorted(unique.values(), key=lambda p: str(p))
 
 
-def _inside(folder: str | Path | None) -> Callable[[Path], bool]:
-    """Whether a path lies inside ``folder`` (symbolic links followed); never, for None."""
-    if folder is None:
-        return lambda path: False
-    try:
-        top = Path(folder).resolve()
-    except (OSError, RuntimeError):
-        return lambda path: False
+def _own_output(out: str | Path | None, folders: Iterable[str | Path] = ()
+                ) -> Callable[[Path], bool]:
+    """Whether a path is one of the files a dataset writes (symbolic links followed): in its
+    results folder ``out`` (None: none), ``job.json``, ``exports.json``, ``*.parquet`` and
+    the records folder ``objects/``; anything inside ``folders``."""
+    from .dataset_gripper import EXPORTS_FILE
 
-    def inside(path: Path) -> bool:
+    tops: list[Path] = []
+    files: set[Path] = set()
+    top: Path | None = None
+    try:
+        if out is not None:
+            top = Path(out).resolve()
+            files = {top / "job.json", top / EXPORTS_FILE}
+            tops.append(top / "objects")
+        tops += [Path(f).resolve() for f in folders]
+    except (OSError, RuntimeError):
+        pass
+
+    def own(path: Path) -> bool:
         try:
-            return path.resolve().is_relative_to(top)
+            where = path.resolve()
         except (OSError, RuntimeError):
             return False
-    return inside
+        return (where in files or (where.parent == top and where.suffix.lower() == ".parquet")
+                or any(where.is_relative_to(t) for t in tops))
+    return own
 
 
 def _key(path: Path) -> str:
@@ -892,7 +907,8 @@ def run_dataset(inputs: Sequence[str | Path], out: str | Path, job: Job = Job(),
     2
     """
     require("pyarrow.parquet", "the dataset's table", "table")  # refused before any work
-    paths = expand_inputs(inputs, exclude=out)  # never its own job.json and records
+    # never its own job.json, records, tables, pictures and exports
+    paths = expand_inputs(inputs, exclude=out, folders=getattr(job, "output_folders", list)())
     if job.mode == "synthesize":  # a hand no object can serve: refuse before any work
         from ..synthesis.best import check_hand
 

@@ -304,6 +304,11 @@ class GripperJob:
 
                 require_h5py()
 
+    def output_folders(self) -> list[str]:
+        """The folders this job writes besides the dataset's own: its exports and pictures
+        (never read as objects: :func:`forceclosure.app.dataset.expand_inputs`)."""
+        return [f for _, f in self.exports] + [f for f in (self.plot, self.html) if f]
+
     def _search(self) -> tuple[int | None, int | None]:
         """The approaches and depths searched (None without the collision check)."""
         from ..gripper.hand_poses import APPROACHES, DEPTHS
