@@ -130,3 +130,26 @@ def test_exports_stay_out_of_the_dataset_folder(tmp_path, capsys):
         assert main(["dataset", "cube", "--out", str(out), *BASE, *flags]) == 2
         assert "the dataset's own folder" in capsys.readouterr().err
     assert not out.exists()
+
+
+def test_output_options_are_not_another_job(tmp_path, capsys):
+    """Pictures and exports are redrawn each run: adding --plot, or changing the GraspNet
+    score, resumes the finished dataset (nothing labelled again), and the files written
+    follow the new options (not kept from the run before: a fresh dataset's are equal)."""
+    out, gn, pictures = tmp_path / "out", tmp_path / "gn", tmp_path / "pictures"
+    argv = ["dataset", "cube", "--out", str(out), *BASE, "--export", "graspnet", str(gn)]
+    assert main(argv) == 0
+    first = np.load(next(gn.glob("*.npy")))
+    capsys.readouterr()
+    assert main([*argv, "--plot", str(pictures), "--graspnet-score", "epsilon"]) == 0
+    captured = capsys.readouterr()
+    assert "1 skipped" in captured.out and "another job" not in captured.err, captured.err
+    assert len(list(pictures.glob("*.png"))) == 1
+    job = json.loads((out / "job.json").read_text())  # this run's outputs are recorded
+    assert (job["plot"], job["graspnet_score"]) == (str(pictures), "epsilon")
+    again = np.load(next(gn.glob("*.npy")))
+    fresh_gn = tmp_path / "fresh-gn"
+    assert main(["dataset", "cube", "--out", str(tmp_path / "fresh"), *BASE, "--export",
+                 "graspnet", str(fresh_gn), "--graspnet-score", "epsilon"]) == 0
+    fresh = np.load(next(fresh_gn.glob("*.npy")))
+    assert np.array_equal(again, fresh) and not np.array_equal(again, first)

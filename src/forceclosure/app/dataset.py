@@ -630,8 +630,9 @@ def process_object(path: str | Path, job: Job) -> dict[str, Any]:
 
 # -- the results folder ------------------------------------------------------------------
 
-def _jobs_of_records(folder: Path) -> list[dict[str, Any]]:
-    """The distinct jobs the readable records in ``folder`` say they belong to."""
+def _jobs_of_records(folder: Path, job: Any = None) -> list[dict[str, Any]]:
+    """The distinct jobs (as :func:`_comparable` to ``job``) the readable records in
+    ``folder`` say they belong to."""
     jobs: dict[str, dict[str, Any]] = {}
     for file in sorted(folder.glob("*.json")) if folder.is_dir() else []:
         try:
@@ -639,15 +640,16 @@ def _jobs_of_records(folder: Path) -> list[dict[str, Any]]:
         except (OSError, ValueError, UnicodeDecodeError, RecursionError):
             continue
         if isinstance(record, dict) and isinstance(record.get("job"), dict):
-            jobs.setdefault(json.dumps(record["job"], sort_keys=True), record["job"])
+            jobs.setdefault(json.dumps(_comparable(record["job"], job), sort_keys=True),
+                            record["job"])
     return list(jobs.values())
 
 
 def _repaired_job(out: Path, path: Path, wanted: dict[str, Any],
-                  warn: Callable[[str], object]) -> dict[str, Any]:
+                  warn: Callable[[str], object], job: Any = None) -> dict[str, Any]:
     """A damaged ``job.json`` (truncated, not JSON, not an object) rebuilt from the records'
     own copies of their job, or refused in one line saying the way out."""
-    jobs = _jobs_of_records(out / "objects")
+    jobs = _jobs_of_records(out / "objects", job)
     if len(jobs) > 1:
         raise InputError(f"{path}: damaged, and the records in {out / 'objects'} belong to "
                          f"{len(jobs)} jobs; remove {path.name} to keep those of this job (the "
@@ -690,6 +692,18 @@ def _with_defaults(stored: dict[str, Any], job: Any) -> dict[str, Any]:
     return filled
 
 
+def _comparable(stored: dict[str, Any], job: Any) -> dict[str, Any]:
+    """A stored job as compared with this run's: :func:`_with_defaults`, without the options
+    that only choose the outputs redrawn each run (the job class's ``OUTPUT_OPTIONS``:
+    pictures, exports)."""
+    if not isinstance(stored, dict):
+        return stored
+    filled = _with_defaults(stored, job)
+    for key in getattr(job, "OUTPUT_OPTIONS", ()):
+        filled.pop(key, None)
+    return filled
+
+
 def _check_job(out: Path, job: Job, warn: Callable[[str], object] | None = None) -> None:
     path = out / "job.json"
     wanted = job.identity()
@@ -700,16 +714,19 @@ def _check_job(out: Path, job: Job, warn: Callable[[str], object] | None = None)
         except (ValueError, UnicodeDecodeError, RecursionError):
             held = None
         if not isinstance(held, dict):
-            held = _repaired_job(out, path, wanted, warn)
+            held = _repaired_job(out, path, wanted, warn, job)
+        same = _comparable(wanted, job)
         if isinstance(held, dict):
-            held = _with_defaults(held, job)
-        if held != wanted:
-            diff = ([k for k in sorted(set(held) | set(wanted)) if held.get(k) != wanted.get(k)]
+            held = _comparable(held, job)
+        if held != same:
+            diff = ([k for k in sorted(set(held) | set(same)) if held.get(k) != same.get(k)]
                     if isinstance(held, dict) else ["the whole file"])
-            what = ", ".join(f"{k} {held.get(k)!r} there, {wanted.get(k)!r} here"
+            what = ", ".join(f"{k} {held.get(k)!r} there, {same.get(k)!r} here"
                              if isinstance(held, dict) else k for k in diff[:3])
             raise InputError(f"{out} holds results of another job ({what}); use another "
                              "--out, or the same options to resume")
+        if json.loads(path.read_text(encoding="utf-8")) != wanted:  # this run's outputs
+            write_atomically(path, json.dumps(wanted, indent=2) + "\n")
     else:
         write_atomically(path, json.dumps(wanted, indent=2) + "\n")
 
@@ -779,8 +796,7 @@ def write_table(out: Path, records: Iterable[dict[str, Any]]) -> Path:
 def _damage(record: Any, path: Path, identity: dict[str, Any], stamp: str,
             job: Any = None) -> str | None:
     """Why a record held in ``DIR`` cannot stand for the object at ``path`` in this job, or
-    None when it can (its job's options added since are filled in, as for ``job.json``:
-    :func:`_with_defaults`)."""
+    None when it can (its job compared as ``job.json``'s: :func:`_comparable`)."""
     if not isinstance(record, dict):
         return f"not a record (a JSON {type(record).__name__})"
     missing = [k for k in ("path", "name", "status", "error", "job", "input")
@@ -793,8 +809,7 @@ def _damage(record: Any, path: Path, identity: dict[str, Any], stamp: str,
         return f"the record of another object ({str(record['path'])[:200]!r})"
     if record["status"] not in STATUSES:
         return f"unknown status {str(record['status'])[:40]!r}"
-    stored = record["job"]
-    if (_with_defaults(stored, job) if isinstance(stored, dict) else stored) != identity:
+    if _comparable(record["job"], job) != _comparable(identity, job):
         return "made by another job (other options)"
     if record["input"] != stamp:
         return "its input changed since (object, meshes or grasp file)"

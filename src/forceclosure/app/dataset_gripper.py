@@ -203,6 +203,12 @@ class GripperJob:
         "graspnet_score": "friction", "plot": None, "html": None, "plot_top": 10,
         "support_plane": False, "hand_links": None}
 
+    #: The options that only choose the outputs redrawn at the end of every run (pictures,
+    #: exports): recorded in job.json, but a resumed run may change them
+    #: (:func:`forceclosure.app.dataset._comparable`).
+    OUTPUT_OPTIONS: ClassVar[tuple[str, ...]] = ("exports", "graspnet_score", "plot", "html",
+                                                 "plot_top")
+
     #: The dataset's dispatch key (:func:`forceclosure.app.dataset.process_object`).
     mode = "gripper"
 
@@ -477,12 +483,27 @@ class GripperJob:
     def write_tables(self, out: Path, records: Iterable[dict[str, Any]]) -> Path:
         """Write ``out/grasps.parquet`` from the done records' labels files, then the
         exports (:func:`write_exports`)."""
+        import json
+
+        from ..io.outdir import write_atomically
+
         records = list(records)
         table = write_grasp_table(out, records)
+        # files kept from the run before only if drawn with the same options
+        options = {"graspnet_score": self.graspnet_score, "plot_top": int(self.plot_top)}
+        file = Path(out) / EXPORTS_FILE
+        try:
+            held = json.loads(file.read_text(encoding="utf-8")) if file.is_file() else {}
+        except (OSError, ValueError, UnicodeDecodeError, RecursionError):
+            held = {}
+        keep = isinstance(held, dict) and held.get("options") == options
         if self.exports:
-            write_exports(out, records, self.exports, self.graspnet_score)
+            write_exports(out, records, self.exports, self.graspnet_score, keep=keep)
         if self.plot or self.html:
-            write_pictures(out, records, self)
+            write_pictures(out, records, self, keep=keep)
+        if self.exports or self.plot or self.html:
+            report = json.loads(file.read_text(encoding="utf-8"))
+            write_atomically(file, json.dumps({**report, "options": options}, indent=2) + "\n")
         return table
 
 
@@ -541,13 +562,14 @@ def write_grasp_table(out: str | Path, records: Iterable[dict[str, Any]]) -> Pat
 
 
 def write_exports(out: str | Path, records: Iterable[dict[str, Any]],
-                  exports: Iterable[tuple[str, str]], score: str = "friction"
-                  ) -> dict[str, Any]:
+                  exports: Iterable[tuple[str, str]], score: str = "friction",
+                  keep: bool = True) -> dict[str, Any]:
     """Each done record's labels as the files of ``exports`` (``(kind, folder)``:
     ``graspnet`` ``folder/<stem>.npy``, ``acronym`` ``folder/<stem>.h5``, ``<stem>`` the
     labels file's), as ``forceclosure export`` writes them; a file at least as new as its
-    labels file is kept. Returns, and writes to ``out/exports.json``, the files written or
-    kept per kind and the objects that could not be exported (one line each)."""
+    labels file is kept (unless ``keep`` is False). Returns, and writes to
+    ``out/exports.json``, the files written or kept per kind and the objects that could not
+    be exported (one line each)."""
     import argparse
     import json
 
@@ -570,7 +592,7 @@ def write_exports(out: str | Path, records: Iterable[dict[str, Any]],
         for kind, folder in exports:
             target = Path(folder) / (stem + (".npy" if kind == "graspnet" else ".h5"))
             try:
-                if (target.is_file() and labels_file.is_file()
+                if (keep and target.is_file() and labels_file.is_file()
                         and target.stat().st_mtime_ns >= labels_file.stat().st_mtime_ns):
                     report["files"][kind] += 1
                     continue
@@ -591,12 +613,12 @@ def _stale(target: Path, source: Path) -> bool:
                 and target.stat().st_mtime_ns >= source.stat().st_mtime_ns)
 
 
-def write_pictures(out: str | Path, records: Iterable[dict[str, Any]], job: GripperJob
-                   ) -> dict[str, Any]:
+def write_pictures(out: str | Path, records: Iterable[dict[str, Any]], job: GripperJob,
+                   keep: bool = True) -> dict[str, Any]:
     """Each done record's ``job.plot_top`` best poses as ``job.plot/<stem>.png`` and
     ``job.html/<stem>.html`` (those ``grasps --plot`` and ``--html`` draw; a file at least as
-    new as its labels file is kept). Returns the files per kind and the objects that could
-    not be drawn, also added to ``out/exports.json``."""
+    new as its labels file is kept, unless ``keep`` is False). Returns the files per kind and
+    the objects that could not be drawn, also added to ``out/exports.json``."""
     import json
 
     from ..gripper.labels import GraspLabels
@@ -616,7 +638,7 @@ def write_pictures(out: str | Path, records: Iterable[dict[str, Any]], job: Grip
         labels_file = out / "objects" / Path(record["labels_file"]).name
         targets = [(k, folder / (labels_file.stem + (".png" if k == "plot" else ".html")))
                    for k, folder in kinds]
-        todo = [(k, t) for k, t in targets if _stale(t, labels_file)]
+        todo = [(k, t) for k, t in targets if not keep or _stale(t, labels_file)]
         report_done = [k for k, t in targets if (k, t) not in todo]
         for k in report_done:
             report["files"][k] += 1
