@@ -153,3 +153,29 @@ def test_output_options_are_not_another_job(tmp_path, capsys):
                  "graspnet", str(fresh_gn), "--graspnet-score", "epsilon"]) == 0
     fresh = np.load(next(fresh_gn.glob("*.npy")))
     assert np.array_equal(again, fresh) and not np.array_equal(again, first)
+
+
+def test_the_hands_sizes_are_part_of_the_job(tmp_path, monkeypatch):
+    """A dataset labelled with the panda's former sizes (palm 0.2044 wide, before 0.208) is
+    another job for today's panda: refused as such, and its records (job.json removed) are
+    computed again, so no dataset mixes the labels of two hand geometries."""
+    import os
+    from dataclasses import replace
+
+    import pybullet_data
+
+    from forceclosure.gripper.grippers import GRIPPERS
+
+    cube = os.path.join(pybullet_data.getDataPath(), "cube_small.urdf")  # 5 cm
+    out = tmp_path / "out"
+    job = GripperJob(width=None, hand="panda", mu=0.5, count=3)
+    assert GRIPPERS["panda"].palm_width == 0.208
+    monkeypatch.setitem(GRIPPERS, "panda", replace(GRIPPERS["panda"], palm_width=0.2044))
+    assert run_dataset([cube], out, job, workers=1, progress=False).computed == 1
+    monkeypatch.undo()
+    with pytest.raises(InputError, match=r"hand palm_width 0\.2044 there, 0\.208 here"):
+        run_dataset([cube], out, job, workers=1, progress=False)
+    (out / "job.json").unlink()
+    again = run_dataset([cube], out, job, workers=1, progress=False)
+    assert (again.computed, again.skipped) == (1, 0)
+    assert json.loads((out / "job.json").read_text())["hand"]["palm_width"] == 0.208

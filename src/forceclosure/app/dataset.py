@@ -704,6 +704,25 @@ def _comparable(stored: dict[str, Any], job: Any) -> dict[str, Any]:
     return filled
 
 
+def _differences(held: dict[str, Any], wanted: dict[str, Any], within: str = "") -> list[str]:
+    """Where two jobs differ, one phrase a key (``"mu 0.5 there, 0.7 here"``; in a dict
+    both hold, such as the hand's sizes, a phrase per differing size: only when no other key
+    differs, since those sizes may follow from the others, as the generic hand's width)."""
+    phrases, nested = [], []
+    for key in sorted(set(held) | set(wanted)):
+        there, here = held.get(key), wanted.get(key)
+        if there == here:
+            continue
+        if isinstance(there, dict) and isinstance(here, dict):
+            nested += _differences(there, here, f"{within}{key} ")
+        elif key not in held and isinstance(here, dict):  # a job file older than the key
+            phrases.append(f"{within}{key} not recorded there (an older forceclosure), "
+                           "recorded here")
+        else:
+            phrases.append(f"{within}{key} {there!r} there, {here!r} here")
+    return phrases or nested
+
+
 def _check_job(out: Path, job: Job, warn: Callable[[str], object] | None = None) -> None:
     path = out / "job.json"
     wanted = job.identity()
@@ -719,10 +738,8 @@ def _check_job(out: Path, job: Job, warn: Callable[[str], object] | None = None)
         if isinstance(held, dict):
             held = _comparable(held, job)
         if held != same:
-            diff = ([k for k in sorted(set(held) | set(same)) if held.get(k) != same.get(k)]
-                    if isinstance(held, dict) else ["the whole file"])
-            what = ", ".join(f"{k} {held.get(k)!r} there, {same.get(k)!r} here"
-                             if isinstance(held, dict) else k for k in diff[:3])
+            what = (", ".join(_differences(held, same)[:3]) if isinstance(held, dict)
+                    else "the whole file")
             raise InputError(f"{out} holds results of another job ({what}); use another "
                              "--out, or the same options to resume")
         if json.loads(path.read_text(encoding="utf-8")) != wanted:  # this run's outputs

@@ -109,8 +109,8 @@ class GripperJob:
         ((2/3) μ a), 0 the paper's soft finger (unlimited).
     hand : str
         The gripper: ``"parallel-jaw"`` (the generic one of ``width``), a built-in
-        (:mod:`forceclosure.gripper.grippers`) or a hand's ``.urdf`` file (its sizes are
-        part of the job's identity).
+        (:mod:`forceclosure.gripper.grippers`) or a hand's ``.urdf`` file (the hand's sizes
+        are part of the job's identity, whatever the hand).
     seed : int
         The job's seed; each object's is :func:`object_seed` of it.
     least_friction : bool
@@ -346,11 +346,9 @@ class GripperJob:
                 **self._hand_identity()}
 
     def _hand_identity(self) -> dict[str, Any]:
-        """A URDF hand's sizes (so that a changed file is another job); nothing for a
-        built-in or the generic hand."""
-        from ..gripper.urdf_hand import is_urdf_name
-
-        return {"hand": self.gripper().shape()} if is_urdf_name(self.hand) else {}
+        """The hand's sizes, whatever the hand (a URDF file, a built-in, the generic one): a
+        changed file, or a built-in whose sizes changed since, is another job."""
+        return {"hand": self.gripper().shape()}
 
     def gripper(self):
         """The hand (:func:`forceclosure.gripper.grippers.make_gripper`)."""
