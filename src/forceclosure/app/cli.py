@@ -871,7 +871,8 @@ def _gripper_of(args: argparse.Namespace):
     if name != GENERIC and args.width is not None:
         raise InputError(f"--width: --gripper {name} has its own opening; drop --width")
     try:
-        return make_gripper(name, args.width, args.pad_radius, args.gripper_links)
+        return make_gripper(name, args.width, args.pad_radius, args.gripper_links,
+                            allow_outside_meshes=getattr(args, "allow_outside_meshes", False))
     except InputError as e:
         raise InputError(f"--gripper {name}: {str(e).replace('links', '--gripper-links', 1)}"
                          if str(e).startswith("links") else f"--gripper {name}: {e}") from None

@@ -213,8 +213,6 @@ class GripperJob:
     mode = "gripper"
 
     def __post_init__(self) -> None:
-        from ..gripper.grippers import make_gripper
-
         if self.width is not None and not (math.isfinite(self.width) and self.width > 0):
             raise InputError(f"--width must be a finite positive opening, got {self.width}")
         if not (math.isfinite(self.mu) and self.mu > 0):
@@ -228,7 +226,7 @@ class GripperJob:
                                                 and 0 <= self.pad_radius <= 1e150):
             raise InputError(f"--pad-radius must be finite and >= 0, got {self.pad_radius}")
         try:
-            make_gripper(self.hand, self.width, self.pad_radius, self.hand_links)
+            self.gripper()
         except InputError as e:
             text = str(e).replace("width:", "--width:")
             if text.startswith("links"):
@@ -354,7 +352,8 @@ class GripperJob:
         """The hand (:func:`forceclosure.gripper.grippers.make_gripper`)."""
         from ..gripper.grippers import make_gripper
 
-        return make_gripper(self.hand, self.width, self.pad_radius, self.hand_links)
+        return make_gripper(self.hand, self.width, self.pad_radius, self.hand_links,
+                            allow_outside_meshes=self.allow_outside_meshes)
 
     # -- on a worker ----------------------------------------------------------------------
 

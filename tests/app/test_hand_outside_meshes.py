@@ -1,0 +1,65 @@
+"""A hand's URDF whose meshes lie outside its folder: refused by default, read with
+``--allow-outside-meshes`` (the flag its refusal names), in ``grasps`` and ``dataset``.
+
+The hand is pybullet_data's panda.urdf, unchanged but for its mesh paths: copied into
+``hand/urdf/`` naming ``../meshes/...``, its collision meshes copied to ``hand/meshes/``.
+Read that way it must be the very hand of the file where pybullet_data ships it.
+"""
+
+import shutil
+from pathlib import Path
+
+import pybullet_data
+import pytest
+
+from forceclosure.app.cli import main
+from forceclosure.app.dataset import run_dataset
+from forceclosure.app.dataset_gripper import GripperJob
+from forceclosure.errors import InputError
+from forceclosure.gripper.grippers import make_gripper
+
+DATA = Path(pybullet_data.getDataPath())
+PANDA = DATA / "franka_panda" / "panda.urdf"
+CUBE = DATA / "cube_small.urdf"  # 5 cm: within the panda's 8 cm
+
+
+@pytest.fixture
+def urdf(tmp_path):
+    shutil.copytree(DATA / "franka_panda" / "meshes" / "collision",
+                    tmp_path / "hand" / "meshes" / "collision")
+    (tmp_path / "hand" / "urdf").mkdir()
+    text = PANDA.read_text().replace("package://meshes/", "../meshes/")
+    assert "../meshes/collision/hand.obj" in text
+    path = tmp_path / "hand" / "urdf" / "panda.urdf"
+    path.write_text(text)
+    return path
+
+
+def test_make_gripper(urdf):
+    with pytest.raises(InputError, match="outside") as refusal:
+        make_gripper(str(urdf))
+    assert "--allow-outside-meshes" in str(refusal.value)
+    hand = make_gripper(str(urdf), allow_outside_meshes=True)
+    assert hand.shape() == make_gripper(str(PANDA)).shape()
+
+
+def test_dataset_job(urdf, tmp_path):
+    with pytest.raises(InputError, match="outside"):
+        GripperJob(width=None, mu=0.5, count=2, hand=str(urdf))
+    job = GripperJob(width=None, mu=0.5, count=2, hand=str(urdf), allow_outside_meshes=True)
+    assert job.identity()["hand"] == make_gripper(str(PANDA)).shape()
+    summary = run_dataset([str(CUBE)], tmp_path / "out", job, workers=1, progress=False)
+    assert (summary.done, summary.failed) == (1, 0)
+
+
+def test_cli(urdf, tmp_path, capsys):
+    argv = ["grasps", str(CUBE), "--gripper", str(urdf), "--mu", "0.5", "--count", "2",
+            "--out", str(tmp_path / "labels.npz")]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "outside" in err and "--allow-outside-meshes" in err and err.count("\n") == 1
+    assert main([*argv, "--allow-outside-meshes"]) == 0, capsys.readouterr().err
+    out = tmp_path / "out"
+    argv = ["dataset", str(CUBE), "--out", str(out), "--gripper", str(urdf), "--mu", "0.5",
+            "--count", "2", "--workers", "1", "--allow-outside-meshes"]
+    assert main(argv) == 0, capsys.readouterr().err
