@@ -6,6 +6,7 @@ The hand is pybullet_data's panda.urdf, unchanged but for its mesh paths: copied
 Read that way it must be the very hand of the file where pybullet_data ships it.
 """
 
+import json
 import shutil
 from pathlib import Path
 
@@ -63,3 +64,20 @@ def test_cli(urdf, tmp_path, capsys):
     argv = ["dataset", str(CUBE), "--out", str(out), "--gripper", str(urdf), "--mu", "0.5",
             "--count", "2", "--workers", "1", "--allow-outside-meshes"]
     assert main(argv) == 0, capsys.readouterr().err
+
+
+def test_a_relative_hand_file_is_stored_absolute(urdf, tmp_path, monkeypatch, capsys):
+    """``--gripper panda.urdf`` typed in the hand's folder: job.json names the file by its
+    absolute path (workers elsewhere find it), so the same hand spelt absolute resumes."""
+    out = tmp_path / "out"
+    common = ["--out", str(out), "--mu", "0.5", "--count", "2", "--workers", "1",
+              "--allow-outside-meshes"]
+    monkeypatch.chdir(urdf.parent)
+    assert main(["dataset", str(CUBE), "--gripper", urdf.name, *common]) == 0
+    capsys.readouterr()
+    job = GripperJob(width=None, mu=0.5, count=2, hand=urdf.name, allow_outside_meshes=True)
+    assert job.hand == str(urdf)
+    monkeypatch.chdir(tmp_path)
+    assert json.loads((out / "job.json").read_text())["gripper"] == str(urdf)
+    assert main(["dataset", str(CUBE), "--gripper", str(urdf), *common]) == 0
+    assert "1 skipped" in capsys.readouterr().out

@@ -109,8 +109,8 @@ class GripperJob:
         ((2/3) μ a), 0 the paper's soft finger (unlimited).
     hand : str
         The gripper: ``"parallel-jaw"`` (the generic one of ``width``), a built-in
-        (:mod:`forceclosure.gripper.grippers`) or a hand's ``.urdf`` file (the hand's sizes
-        are part of the job's identity, whatever the hand).
+        (:mod:`forceclosure.gripper.grippers`) or a hand's ``.urdf`` file (kept as its
+        absolute path; the hand's sizes are part of the job's identity, whatever the hand).
     seed : int
         The job's seed; each object's is :func:`object_seed` of it.
     least_friction : bool
@@ -213,6 +213,12 @@ class GripperJob:
     mode = "gripper"
 
     def __post_init__(self) -> None:
+        import os
+
+        from ..gripper.urdf_hand import is_urdf_name
+
+        if isinstance(self.hand, str) and is_urdf_name(self.hand):  # as workers elsewhere
+            object.__setattr__(self, "hand", os.path.abspath(self.hand))  # find it, one spelling
         if self.width is not None and not (math.isfinite(self.width) and self.width > 0):
             raise InputError(f"--width must be a finite positive opening, got {self.width}")
         if not (math.isfinite(self.mu) and self.mu > 0):
