@@ -929,6 +929,8 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
         robust["pose_sigma"] = 0.01 * gripper.width_max
     if args.html:
         from ..io.atomic import check_output
+
+        require("plotly", "the interactive HTML view", "view")  # before any work
         from ..pictures.view import check_html_path
 
         check_html_path(args.html)

@@ -296,6 +296,8 @@ class GripperJob:
         if isinstance(self.plot_top, bool) or not isinstance(self.plot_top, int) or (
                 self.plot_top < 0):
             raise InputError(f"--plot-top must be a whole number >= 0, got {self.plot_top}")
+        if self.html:  # before any work, as synthesize --html
+            require("plotly", "the interactive HTML view", "view")
         folders = [f for _, f in self.exports] + [f for f in (self.plot, self.html) if f]
         if len(set(folders)) < len(folders):
             raise InputError("--export, --plot and --html: each needs its own folder")
