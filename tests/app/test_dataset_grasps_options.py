@@ -115,13 +115,18 @@ def test_a_job_file_from_before_the_options_still_resumes(tmp_path):
     ([*BASE, "--robust-samples", "5"], "--robust-samples needs --robust"),
     ([*BASE, "--no-epsilon", "--graspnet-score", "epsilon"], "needs the epsilon"),
     ([*BASE, "--export", "stl", "x"], "--export: unknown kind 'stl'"),
+    ([*BASE, "--plot", ""], "--plot is empty: give a folder name"),
+    ([*BASE, "--html", " "], "--html is empty: give a folder name"),
+    ([*BASE, "--export", "graspnet", ""], "--export graspnet is empty: give a folder name"),
+    ([*BASE, "--plot", "-"], "--plot -: results are not written to standard output"),
 ])
-def test_refusals(tmp_path, capsys, argv, message):
+def test_refusals(tmp_path, monkeypatch, capsys, argv, message):
+    monkeypatch.chdir(tmp_path)  # a relative folder accepted by mistake lands here
     out = tmp_path / "out"
     assert main(["dataset", "cube", "--out", str(out), *argv]) == 2
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1, err
-    assert not out.exists()
+    assert not out.exists() and list(tmp_path.iterdir()) == []
 
 
 def test_exports_stay_out_of_the_dataset_folder(tmp_path, capsys):
@@ -179,3 +184,11 @@ def test_the_hands_sizes_are_part_of_the_job(tmp_path, monkeypatch):
     again = run_dataset([cube], out, job, workers=1, progress=False)
     assert (again.computed, again.skipped) == (1, 0)
     assert json.loads((out / "job.json").read_text())["hand"]["palm_width"] == 0.208
+
+
+@pytest.mark.parametrize("options, flag", [({"plot": ""}, "--plot"), ({"html": " "}, "--html"),
+                                           ({"exports": [("graspnet", "")]},
+                                            "--export graspnet")])
+def test_the_library_refuses_an_empty_folder_too(options, flag):
+    with pytest.raises(InputError, match=f"^{flag} is empty: give a folder name$"):
+        GripperJob(width=3.0, mu=0.5, **options)

@@ -296,6 +296,10 @@ class GripperJob:
         if isinstance(self.plot_top, bool) or not isinstance(self.plot_top, int) or (
                 self.plot_top < 0):
             raise InputError(f"--plot-top must be a whole number >= 0, got {self.plot_top}")
+        for flag, folder in [("--plot", self.plot), ("--html", self.html),
+                             *((f"--export {k}", f) for k, f in self.exports)]:
+            if folder is not None and not str(folder).strip():
+                raise InputError(f"{flag} is empty: give a folder name")
         if self.html:  # before any work, as synthesize --html
             require("plotly", "the interactive HTML view", "view")
         folders = [f for _, f in self.exports] + [f for f in (self.plot, self.html) if f]
