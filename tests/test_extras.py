@@ -70,6 +70,28 @@ def test_the_html_view_without_plotly_names_the_view_extra(tmp_path, monkeypatch
         import forceclosure.pictures.view  # noqa: F401
 
 
+def test_grasps_and_gripper_datasets_check_plotly_before_any_work(tmp_path, monkeypatch,
+                                                                   capsys):
+    """``grasps --html`` and ``dataset --gripper --html`` refuse up front, as synthesize: no
+    grasp is labelled, no file or folder written."""
+    import forceclosure.gripper.labels as labels
+
+    calls = []
+    real = labels.grasp_labels
+    monkeypatch.setattr(labels, "grasp_labels", lambda *a, **k: calls.append(1) or real(*a, **k))
+    _missing(monkeypatch, "plotly", "plotly.graph_objects")
+    page = tmp_path / "v.html"
+    assert main(["grasps", "cube", "--width", "3", "--mu", "0.5", "--count", "2",
+                 "--html", str(page)]) == 2
+    assert "the interactive HTML view needs plotly" in _one_line(capsys, "view")
+    out, pages = tmp_path / "out", tmp_path / "pages"
+    assert main(["dataset", "cube", "--out", str(out), "--gripper", "parallel-jaw", "--width",
+                 "3", "--mu", "0.5", "--count", "2", "--workers", "1", "--html",
+                 str(pages)]) == 2
+    assert "the interactive HTML view needs plotly" in _one_line(capsys, "view")
+    assert calls == [] and not page.exists() and not out.exists() and not pages.exists()
+
+
 def test_a_dask_cluster_without_distributed_names_the_dask_extra(tmp_path, monkeypatch, capsys):
     _missing(monkeypatch, "distributed")
     assert main(["dataset", "square", "--out", str(tmp_path / "out"),

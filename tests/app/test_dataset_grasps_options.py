@@ -87,7 +87,15 @@ def test_a_job_file_from_before_the_options_still_resumes(tmp_path):
     for key in GripperJob.IDENTITY_DEFAULTS:
         del held[key]
     (out / "job.json").write_text(json.dumps(held))
-    assert run_dataset(["cube"], out, job, workers=1, progress=False).skipped == 1
+    records = list((out / "objects").glob("*.json"))  # an old folder's records lack them too
+    assert len(records) == 1
+    for file in records:
+        record = json.loads(file.read_text())
+        for key in GripperJob.IDENTITY_DEFAULTS:
+            del record["job"][key]
+        file.write_text(json.dumps(record))
+    again = run_dataset(["cube"], out, job, workers=1, progress=False)
+    assert (again.skipped, again.computed) == (1, 0)
     with pytest.raises(InputError, match=r"tilt 0\.0 there, 0\.5 here"):
         run_dataset(["cube"], out, GripperJob(width=3.0, mu=0.5, count=4, tilt=0.5),
                     workers=1, progress=False)
@@ -107,13 +115,18 @@ def test_a_job_file_from_before_the_options_still_resumes(tmp_path):
     ([*BASE, "--robust-samples", "5"], "--robust-samples needs --robust"),
     ([*BASE, "--no-epsilon", "--graspnet-score", "epsilon"], "needs the epsilon"),
     ([*BASE, "--export", "stl", "x"], "--export: unknown kind 'stl'"),
+    ([*BASE, "--plot", ""], "--plot is empty: give a folder name"),
+    ([*BASE, "--html", " "], "--html is empty: give a folder name"),
+    ([*BASE, "--export", "graspnet", ""], "--export graspnet is empty: give a folder name"),
+    ([*BASE, "--plot", "-"], "--plot -: results are not written to standard output"),
 ])
-def test_refusals(tmp_path, capsys, argv, message):
+def test_refusals(tmp_path, monkeypatch, capsys, argv, message):
+    monkeypatch.chdir(tmp_path)  # a relative folder accepted by mistake lands here
     out = tmp_path / "out"
     assert main(["dataset", "cube", "--out", str(out), *argv]) == 2
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1, err
-    assert not out.exists()
+    assert not out.exists() and list(tmp_path.iterdir()) == []
 
 
 def test_exports_stay_out_of_the_dataset_folder(tmp_path, capsys):
@@ -122,3 +135,60 @@ def test_exports_stay_out_of_the_dataset_folder(tmp_path, capsys):
         assert main(["dataset", "cube", "--out", str(out), *BASE, *flags]) == 2
         assert "the dataset's own folder" in capsys.readouterr().err
     assert not out.exists()
+
+
+def test_output_options_are_not_another_job(tmp_path, capsys):
+    """Pictures and exports are redrawn each run: adding --plot, or changing the GraspNet
+    score, resumes the finished dataset (nothing labelled again), and the files written
+    follow the new options (not kept from the run before: a fresh dataset's are equal)."""
+    out, gn, pictures = tmp_path / "out", tmp_path / "gn", tmp_path / "pictures"
+    argv = ["dataset", "cube", "--out", str(out), *BASE, "--export", "graspnet", str(gn)]
+    assert main(argv) == 0
+    first = np.load(next(gn.glob("*.npy")))
+    capsys.readouterr()
+    assert main([*argv, "--plot", str(pictures), "--graspnet-score", "epsilon"]) == 0
+    captured = capsys.readouterr()
+    assert "1 skipped" in captured.out and "another job" not in captured.err, captured.err
+    assert len(list(pictures.glob("*.png"))) == 1
+    job = json.loads((out / "job.json").read_text())  # this run's outputs are recorded
+    assert (job["plot"], job["graspnet_score"]) == (str(pictures), "epsilon")
+    again = np.load(next(gn.glob("*.npy")))
+    fresh_gn = tmp_path / "fresh-gn"
+    assert main(["dataset", "cube", "--out", str(tmp_path / "fresh"), *BASE, "--export",
+                 "graspnet", str(fresh_gn), "--graspnet-score", "epsilon"]) == 0
+    fresh = np.load(next(fresh_gn.glob("*.npy")))
+    assert np.array_equal(again, fresh) and not np.array_equal(again, first)
+
+
+def test_the_hands_sizes_are_part_of_the_job(tmp_path, monkeypatch):
+    """A dataset labelled with the panda's former sizes (palm 0.2044 wide, before 0.208) is
+    another job for today's panda: refused as such, and its records (job.json removed) are
+    computed again, so no dataset mixes the labels of two hand geometries."""
+    import os
+    from dataclasses import replace
+
+    import pybullet_data
+
+    from forceclosure.gripper.grippers import GRIPPERS
+
+    cube = os.path.join(pybullet_data.getDataPath(), "cube_small.urdf")  # 5 cm
+    out = tmp_path / "out"
+    job = GripperJob(width=None, hand="panda", mu=0.5, count=3)
+    assert GRIPPERS["panda"].palm_width == 0.208
+    monkeypatch.setitem(GRIPPERS, "panda", replace(GRIPPERS["panda"], palm_width=0.2044))
+    assert run_dataset([cube], out, job, workers=1, progress=False).computed == 1
+    monkeypatch.undo()
+    with pytest.raises(InputError, match=r"hand palm_width 0\.2044 there, 0\.208 here"):
+        run_dataset([cube], out, job, workers=1, progress=False)
+    (out / "job.json").unlink()
+    again = run_dataset([cube], out, job, workers=1, progress=False)
+    assert (again.computed, again.skipped) == (1, 0)
+    assert json.loads((out / "job.json").read_text())["hand"]["palm_width"] == 0.208
+
+
+@pytest.mark.parametrize("options, flag", [({"plot": ""}, "--plot"), ({"html": " "}, "--html"),
+                                           ({"exports": [("graspnet", "")]},
+                                            "--export graspnet")])
+def test_the_library_refuses_an_empty_folder_too(options, flag):
+    with pytest.raises(InputError, match=f"^{flag} is empty: give a folder name$"):
+        GripperJob(width=3.0, mu=0.5, **options)

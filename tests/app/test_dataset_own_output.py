@@ -82,3 +82,35 @@ def test_damaged_job_file_with_records_of_two_jobs_is_refused(inputs, tmp_path, 
     (out / "job.json").unlink()  # the way out it names: this job's records are kept
     status, summary, _ = run(argv, capsys)
     assert status == 0 and (summary["skipped"], summary["computed"]) == (1, 1)
+
+
+def test_out_as_a_parent_of_the_inputs(inputs, tmp_path, capsys):
+    """``--out`` a folder holding the inputs: only the dataset's own files are left out, so
+    both polygons are found, computed, then skipped on the second run."""
+    out = tmp_path / "x"
+    out.mkdir()
+    inputs = inputs.rename(out / "meshes")
+    argv = ["dataset", str(inputs), "--out", str(out), *ARGS]
+    status, first, err = run(argv, capsys)
+    assert status == 0, err
+    assert (first["objects"], first["done"], first["computed"]) == (2, 2, 2)
+    status, second, err = run(argv, capsys)
+    assert status == 0 and (second["objects"], second["skipped"], second["computed"]) == (
+        2, 2, 0), err
+    table = pd.read_parquet(out / "results.parquet")
+    assert sorted(table["name"]) == ["square", "triangle"]
+    # the whole parent, walked: its own job.json and records are still left out
+    assert [p.name for p in expand_inputs([str(out)], exclude=out)] == [
+        "square.csv", "triangle.csv"]
+
+
+def test_the_jobs_output_folders_are_left_out(inputs, tmp_path):
+    """The folders the job writes (pictures, exports) are not read as objects either."""
+    pictures = inputs / "pictures"
+    pictures.mkdir()
+    (pictures / "stray.csv").write_text("x,y\n0,0\n1,0\n0,1\n")
+    names = sorted(p.name for p in expand_inputs([str(inputs)], exclude=tmp_path / "out"))
+    assert names == ["square.csv", "stray.csv", "triangle.csv"]
+    names = [p.name for p in expand_inputs([str(inputs)], exclude=tmp_path / "out",
+                                            folders=[pictures])]
+    assert names == ["square.csv", "triangle.csv"]

@@ -878,7 +878,8 @@ def _gripper_of(args: argparse.Namespace):
     if name != GENERIC and args.width is not None:
         raise InputError(f"--width: --gripper {name} has its own opening; drop --width")
     try:
-        return make_gripper(name, args.width, args.pad_radius, args.gripper_links)
+        return make_gripper(name, args.width, args.pad_radius, args.gripper_links,
+                            allow_outside_meshes=getattr(args, "allow_outside_meshes", False))
     except InputError as e:
         raise InputError(f"--gripper {name}: {str(e).replace('links', '--gripper-links', 1)}"
                          if str(e).startswith("links") else f"--gripper {name}: {e}") from None
@@ -935,6 +936,8 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
         robust["pose_sigma"] = 0.01 * gripper.width_max
     if args.html:
         from ..io.atomic import check_output
+
+        require("plotly", "the interactive HTML view", "view")  # before any work
         from ..pictures.view import check_html_path
 
         check_html_path(args.html)

@@ -287,15 +287,18 @@ class Summary:
 
 # -- the input set --------------------------------------------------------------------------
 
-def expand_inputs(inputs: Iterable[str | Path], exclude: str | Path | None = None
-                  ) -> list[Path]:
+def expand_inputs(inputs: Iterable[str | Path], exclude: str | Path | None = None,
+                  folders: Iterable[str | Path] = ()) -> list[Path]:
     """Object files from files, folders (searched recursively) and glob patterns.
 
     A folder contributes its polygon, mesh and URDF files, but not the mesh
     files its URDFs name (the URDF stands for them, with its scale) nor
     grasp files (``*.grasps.json``). A file named directly is always taken.
-    Files inside ``exclude`` (a results folder: its ``job.json`` and records
-    are JSON too) are left out of folders and glob patterns.
+    The own files of the dataset whose results folder is ``exclude`` (its
+    ``job.json``, ``exports.json``, ``*.parquet`` and the records folder
+    ``objects/``: JSON too) and files inside ``folders`` (the job's pictures
+    and exports) are left out of folders and glob patterns; the rest of
+    ``exclude`` (an input folder inside it, say) is searched as any folder.
 
     Examples
     --------
@@ -309,7 +312,7 @@ def expand_inputs(inputs: Iterable[str | Path], exclude: str | Path | None = Non
 
     named: list[Path] = []
     walked: list[Path] = []
-    skip = _inside(exclude)
+    skip = _own_output(exclude, folders)
     for item in inputs:
         path = Path(item)
         if path.is_file() or (not path.exists() and str(item) in {*POLYGONS, *POLYHEDRA}):
@@ -340,21 +343,33 @@ def expand_inputs(inputs: Iterable[str | Path], exclude: str | Path | None = Non
     return sorted(unique.values(), key=lambda p: str(p))
 
 
-def _inside(folder: str | Path | None) -> Callable[[Path], bool]:
-    """Whether a path lies inside ``folder`` (symbolic links followed); never, for None."""
-    if folder is None:
-        return lambda path: False
-    try:
-        top = Path(folder).resolve()
-    except (OSError, RuntimeError):
-        return lambda path: False
+def _own_output(out: str | Path | None, folders: Iterable[str | Path] = ()
+                ) -> Callable[[Path], bool]:
+    """Whether a path is one of the files a dataset writes (symbolic links followed): in its
+    results folder ``out`` (None: none), ``job.json``, ``exports.json``, ``*.parquet`` and
+    the records folder ``objects/``; anything inside ``folders``."""
+    from .dataset_gripper import EXPORTS_FILE
 
-    def inside(path: Path) -> bool:
+    tops: list[Path] = []
+    files: set[Path] = set()
+    top: Path | None = None
+    try:
+        if out is not None:
+            top = Path(out).resolve()
+            files = {top / "job.json", top / EXPORTS_FILE}
+            tops.append(top / "objects")
+        tops += [Path(f).resolve() for f in folders]
+    except (OSError, RuntimeError):
+        pass
+
+    def own(path: Path) -> bool:
         try:
-            return path.resolve().is_relative_to(top)
+            where = path.resolve()
         except (OSError, RuntimeError):
             return False
-    return inside
+        return (where in files or (where.parent == top and where.suffix.lower() == ".parquet")
+                or any(where.is_relative_to(t) for t in tops))
+    return own
 
 
 def _key(path: Path) -> str:
@@ -631,8 +646,9 @@ def process_object(path: str | Path, job: Job) -> dict[str, Any]:
 
 # -- the results folder ------------------------------------------------------------------
 
-def _jobs_of_records(folder: Path) -> list[dict[str, Any]]:
-    """The distinct jobs the readable records in ``folder`` say they belong to."""
+def _jobs_of_records(folder: Path, job: Any = None) -> list[dict[str, Any]]:
+    """The distinct jobs (as :func:`_comparable` to ``job``) the readable records in
+    ``folder`` say they belong to."""
     jobs: dict[str, dict[str, Any]] = {}
     for file in sorted(folder.glob("*.json")) if folder.is_dir() else []:
         try:
@@ -640,15 +656,16 @@ def _jobs_of_records(folder: Path) -> list[dict[str, Any]]:
         except (OSError, ValueError, UnicodeDecodeError, RecursionError):
             continue
         if isinstance(record, dict) and isinstance(record.get("job"), dict):
-            jobs.setdefault(json.dumps(record["job"], sort_keys=True), record["job"])
+            jobs.setdefault(json.dumps(_comparable(record["job"], job), sort_keys=True),
+                            record["job"])
     return list(jobs.values())
 
 
 def _repaired_job(out: Path, path: Path, wanted: dict[str, Any],
-                  warn: Callable[[str], object]) -> dict[str, Any]:
+                  warn: Callable[[str], object], job: Any = None) -> dict[str, Any]:
     """A damaged ``job.json`` (truncated, not JSON, not an object) rebuilt from the records'
     own copies of their job, or refused in one line saying the way out."""
-    jobs = _jobs_of_records(out / "objects")
+    jobs = _jobs_of_records(out / "objects", job)
     if len(jobs) > 1:
         raise InputError(f"{path}: damaged, and the records in {out / 'objects'} belong to "
                          f"{len(jobs)} jobs; remove {path.name} to keep those of this job (the "
@@ -661,6 +678,67 @@ def _repaired_job(out: Path, path: Path, wanted: dict[str, Any],
     return held
 
 
+def _with_defaults(stored: dict[str, Any], job: Any) -> dict[str, Any]:
+    """A job as ``job.json`` or a record's ``"job"`` holds it, with the options added since it
+    was written filled in with what their absence means (their defaults then, and now).
+
+    Parameters
+    ----------
+    stored : dict
+        The job read from ``job.json`` or from a record's ``"job"``.
+    job : Job or forceclosure.app.dataset_gripper.GripperJob
+        This run's job: its class's ``IDENTITY_DEFAULTS`` (if any) say which options were
+        added, and their defaults.
+
+    Returns
+    -------
+    dict
+        A new dict, ready to compare with ``job.identity()``.
+
+    Examples
+    --------
+    >>> _with_defaults({"mode": "analyze", "grasps": None}, Job(mode="analyze"))
+    {'mode': 'analyze', 'grasps': None, 'allow_open': False, 'allow_outside_meshes': False}
+    """
+    filled = dict(stored)
+    filled.setdefault("allow_open", False)  # written before the option existed
+    filled.setdefault("allow_outside_meshes", False)
+    for key, value in getattr(job, "IDENTITY_DEFAULTS", {}).items():
+        filled.setdefault(key, value)  # options added since the file was written
+    return filled
+
+
+def _comparable(stored: dict[str, Any], job: Any) -> dict[str, Any]:
+    """A stored job as compared with this run's: :func:`_with_defaults`, without the options
+    that only choose the outputs redrawn each run (the job class's ``OUTPUT_OPTIONS``:
+    pictures, exports)."""
+    if not isinstance(stored, dict):
+        return stored
+    filled = _with_defaults(stored, job)
+    for key in getattr(job, "OUTPUT_OPTIONS", ()):
+        filled.pop(key, None)
+    return filled
+
+
+def _differences(held: dict[str, Any], wanted: dict[str, Any], within: str = "") -> list[str]:
+    """Where two jobs differ, one phrase a key (``"mu 0.5 there, 0.7 here"``; in a dict
+    both hold, such as the hand's sizes, a phrase per differing size: only when no other key
+    differs, since those sizes may follow from the others, as the generic hand's width)."""
+    phrases, nested = [], []
+    for key in sorted(set(held) | set(wanted)):
+        there, here = held.get(key), wanted.get(key)
+        if there == here:
+            continue
+        if isinstance(there, dict) and isinstance(here, dict):
+            nested += _differences(there, here, f"{within}{key} ")
+        elif key not in held and isinstance(here, dict):  # a job file older than the key
+            phrases.append(f"{within}{key} not recorded there (an older forceclosure), "
+                           "recorded here")
+        else:
+            phrases.append(f"{within}{key} {there!r} there, {here!r} here")
+    return phrases or nested
+
+
 def _check_job(out: Path, job: Job, warn: Callable[[str], object] | None = None) -> None:
     path = out / "job.json"
     wanted = job.identity()
@@ -671,19 +749,17 @@ def _check_job(out: Path, job: Job, warn: Callable[[str], object] | None = None)
         except (ValueError, UnicodeDecodeError, RecursionError):
             held = None
         if not isinstance(held, dict):
-            held = _repaired_job(out, path, wanted, warn)
+            held = _repaired_job(out, path, wanted, warn, job)
+        same = _comparable(wanted, job)
         if isinstance(held, dict):
-            held.setdefault("allow_open", False)  # written before the option existed
-            held.setdefault("allow_outside_meshes", False)
-            for key, value in getattr(job, "IDENTITY_DEFAULTS", {}).items():
-                held.setdefault(key, value)  # options added since the file was written
-        if held != wanted:
-            diff = ([k for k in sorted(set(held) | set(wanted)) if held.get(k) != wanted.get(k)]
-                    if isinstance(held, dict) else ["the whole file"])
-            what = ", ".join(f"{k} {held.get(k)!r} there, {wanted.get(k)!r} here"
-                             if isinstance(held, dict) else k for k in diff[:3])
+            held = _comparable(held, job)
+        if held != same:
+            what = (", ".join(_differences(held, same)[:3]) if isinstance(held, dict)
+                    else "the whole file")
             raise InputError(f"{out} holds results of another job ({what}); use another "
                              "--out, or the same options to resume")
+        if json.loads(path.read_text(encoding="utf-8")) != wanted:  # this run's outputs
+            write_atomically(path, json.dumps(wanted, indent=2) + "\n")
     else:
         write_atomically(path, json.dumps(wanted, indent=2) + "\n")
 
@@ -754,9 +830,10 @@ def write_table(out: Path, records: Iterable[dict[str, Any]]) -> Path:
     return path
 
 
-def _damage(record: Any, path: Path, identity: dict[str, Any], stamp: str) -> str | None:
+def _damage(record: Any, path: Path, identity: dict[str, Any], stamp: str,
+            job: Any = None) -> str | None:
     """Why a record held in ``DIR`` cannot stand for the object at ``path`` in this job, or
-    None when it can."""
+    None when it can (its job compared as ``job.json``'s: :func:`_comparable`)."""
     if not isinstance(record, dict):
         return f"not a record (a JSON {type(record).__name__})"
     missing = [k for k in ("path", "name", "status", "error", "job", "input")
@@ -769,7 +846,7 @@ def _damage(record: Any, path: Path, identity: dict[str, Any], stamp: str) -> st
         return f"the record of another object ({str(record['path'])[:200]!r})"
     if record["status"] not in STATUSES:
         return f"unknown status {str(record['status'])[:40]!r}"
-    if record["job"] != identity:
+    if _comparable(record["job"], job) != _comparable(identity, job):
         return "made by another job (other options)"
     if record["input"] != stamp:
         return "its input changed since (object, meshes or grasp file)"
@@ -782,8 +859,8 @@ def _damage(record: Any, path: Path, identity: dict[str, Any], stamp: str) -> st
 
 def _held(folder: Path, names: dict[str, Path], identity: dict[str, Any],
           stamps: dict[str, str], say: Callable[[str], object],
-          check: Callable[[Path, dict[str, Any]], str | None] | None = None
-          ) -> dict[str, dict[str, Any]]:
+          check: Callable[[Path, dict[str, Any]], str | None] | None = None,
+          job: Any = None) -> dict[str, dict[str, Any]]:
     """The records in ``folder`` that stand for their objects; the others are warned about
     (the first :data:`_WARNED` one by one, then counted) and will be computed again."""
     held, bad = {}, 0
@@ -793,7 +870,7 @@ def _held(folder: Path, names: dict[str, Path], identity: dict[str, Any],
             continue
         try:
             record = json.loads(file.read_text(encoding="utf-8"))
-            why = _damage(record, path, identity, stamps[name])
+            why = _damage(record, path, identity, stamps[name], job)
             if why is None and check is not None:  # the job's own files (gripper: labels)
                 why = check(folder, record)
         except (OSError, ValueError, UnicodeDecodeError, RecursionError) as e:
@@ -882,7 +959,8 @@ def run_dataset(inputs: Sequence[str | Path], out: str | Path, job: Job = Job(),
     2
     """
     require("pyarrow.parquet", "the dataset's table", "table")  # refused before any work
-    paths = expand_inputs(inputs, exclude=out)  # never its own job.json and records
+    # never its own job.json, records, tables, pictures and exports
+    paths = expand_inputs(inputs, exclude=out, folders=getattr(job, "output_folders", list)())
     if job.mode == "synthesize":  # a hand no object can serve: refuse before any work
         from ..synthesis.best import check_hand
 
@@ -935,7 +1013,7 @@ def _run_locked(paths: list[Path], out: Path, job: Job, executor: Executor | Non
         write(printable(line))
     identity = job.identity()
     stamps = {n: fingerprint(p, job) for n, p in names.items()}
-    held = _held(folder, names, identity, stamps, say, getattr(job, "check", None))
+    held = _held(folder, names, identity, stamps, say, getattr(job, "check", None), job)
     keep = {"done"} if retry_failed else set(STATUSES)
     run = _Run({n: p for n, p in names.items()
                 if n not in held or held[n].get("status") not in keep})

@@ -109,8 +109,8 @@ class GripperJob:
         ((2/3) μ a), 0 the paper's soft finger (unlimited).
     hand : str
         The gripper: ``"parallel-jaw"`` (the generic one of ``width``), a built-in
-        (:mod:`forceclosure.gripper.grippers`) or a hand's ``.urdf`` file (its sizes are
-        part of the job's identity).
+        (:mod:`forceclosure.gripper.grippers`) or a hand's ``.urdf`` file (kept as its
+        absolute path; the hand's sizes are part of the job's identity, whatever the hand).
     seed : int
         The job's seed; each object's is :func:`object_seed` of it.
     least_friction : bool
@@ -203,12 +203,22 @@ class GripperJob:
         "graspnet_score": "friction", "plot": None, "html": None, "plot_top": 10,
         "support_plane": False, "hand_links": None}
 
+    #: The options that only choose the outputs redrawn at the end of every run (pictures,
+    #: exports): recorded in job.json, but a resumed run may change them
+    #: (:func:`forceclosure.app.dataset._comparable`).
+    OUTPUT_OPTIONS: ClassVar[tuple[str, ...]] = ("exports", "graspnet_score", "plot", "html",
+                                                 "plot_top")
+
     #: The dataset's dispatch key (:func:`forceclosure.app.dataset.process_object`).
     mode = "gripper"
 
     def __post_init__(self) -> None:
-        from ..gripper.grippers import make_gripper
+        import os
 
+        from ..gripper.urdf_hand import is_urdf_name
+
+        if isinstance(self.hand, str) and is_urdf_name(self.hand):  # as workers elsewhere
+            object.__setattr__(self, "hand", os.path.abspath(self.hand))  # find it, one spelling
         if self.width is not None and not (math.isfinite(self.width) and self.width > 0):
             raise InputError(f"--width must be a finite positive opening, got {self.width}")
         if not (math.isfinite(self.mu) and self.mu > 0):
@@ -222,7 +232,7 @@ class GripperJob:
                                                 and 0 <= self.pad_radius <= 1e150):
             raise InputError(f"--pad-radius must be finite and >= 0, got {self.pad_radius}")
         try:
-            make_gripper(self.hand, self.width, self.pad_radius, self.hand_links)
+            self.gripper()
         except InputError as e:
             text = str(e).replace("width:", "--width:")
             if text.startswith("links"):
@@ -286,6 +296,12 @@ class GripperJob:
         if isinstance(self.plot_top, bool) or not isinstance(self.plot_top, int) or (
                 self.plot_top < 0):
             raise InputError(f"--plot-top must be a whole number >= 0, got {self.plot_top}")
+        for flag, folder in [("--plot", self.plot), ("--html", self.html),
+                             *((f"--export {k}", f) for k, f in self.exports)]:
+            if folder is not None and not str(folder).strip():
+                raise InputError(f"{flag} is empty: give a folder name")
+        if self.html:  # before any work, as synthesize --html
+            require("plotly", "the interactive HTML view", "view")
         folders = [f for _, f in self.exports] + [f for f in (self.plot, self.html) if f]
         if len(set(folders)) < len(folders):
             raise InputError("--export, --plot and --html: each needs its own folder")
@@ -303,6 +319,11 @@ class GripperJob:
                 from ..io.export import require_h5py
 
                 require_h5py()
+
+    def output_folders(self) -> list[str]:
+        """The folders this job writes besides the dataset's own: its exports and pictures
+        (never read as objects: :func:`forceclosure.app.dataset.expand_inputs`)."""
+        return [f for _, f in self.exports] + [f for f in (self.plot, self.html) if f]
 
     def _search(self) -> tuple[int | None, int | None]:
         """The approaches and depths searched (None without the collision check)."""
@@ -335,17 +356,16 @@ class GripperJob:
                 **self._hand_identity()}
 
     def _hand_identity(self) -> dict[str, Any]:
-        """A URDF hand's sizes (so that a changed file is another job); nothing for a
-        built-in or the generic hand."""
-        from ..gripper.urdf_hand import is_urdf_name
-
-        return {"hand": self.gripper().shape()} if is_urdf_name(self.hand) else {}
+        """The hand's sizes, whatever the hand (a URDF file, a built-in, the generic one): a
+        changed file, or a built-in whose sizes changed since, is another job."""
+        return {"hand": self.gripper().shape()}
 
     def gripper(self):
         """The hand (:func:`forceclosure.gripper.grippers.make_gripper`)."""
         from ..gripper.grippers import make_gripper
 
-        return make_gripper(self.hand, self.width, self.pad_radius, self.hand_links)
+        return make_gripper(self.hand, self.width, self.pad_radius, self.hand_links,
+                            allow_outside_meshes=self.allow_outside_meshes)
 
     # -- on a worker ----------------------------------------------------------------------
 
@@ -472,12 +492,27 @@ class GripperJob:
     def write_tables(self, out: Path, records: Iterable[dict[str, Any]]) -> Path:
         """Write ``out/grasps.parquet`` from the done records' labels files, then the
         exports (:func:`write_exports`)."""
+        import json
+
+        from ..io.outdir import write_atomically
+
         records = list(records)
         table = write_grasp_table(out, records)
+        # files kept from the run before only if drawn with the same options
+        options = {"graspnet_score": self.graspnet_score, "plot_top": int(self.plot_top)}
+        file = Path(out) / EXPORTS_FILE
+        try:
+            held = json.loads(file.read_text(encoding="utf-8")) if file.is_file() else {}
+        except (OSError, ValueError, UnicodeDecodeError, RecursionError):
+            held = {}
+        keep = isinstance(held, dict) and held.get("options") == options
         if self.exports:
-            write_exports(out, records, self.exports, self.graspnet_score)
+            write_exports(out, records, self.exports, self.graspnet_score, keep=keep)
         if self.plot or self.html:
-            write_pictures(out, records, self)
+            write_pictures(out, records, self, keep=keep)
+        if self.exports or self.plot or self.html:
+            report = json.loads(file.read_text(encoding="utf-8"))
+            write_atomically(file, json.dumps({**report, "options": options}, indent=2) + "\n")
         return table
 
 
@@ -536,13 +571,14 @@ def write_grasp_table(out: str | Path, records: Iterable[dict[str, Any]]) -> Pat
 
 
 def write_exports(out: str | Path, records: Iterable[dict[str, Any]],
-                  exports: Iterable[tuple[str, str]], score: str = "friction"
-                  ) -> dict[str, Any]:
+                  exports: Iterable[tuple[str, str]], score: str = "friction",
+                  keep: bool = True) -> dict[str, Any]:
     """Each done record's labels as the files of ``exports`` (``(kind, folder)``:
     ``graspnet`` ``folder/<stem>.npy``, ``acronym`` ``folder/<stem>.h5``, ``<stem>`` the
     labels file's), as ``forceclosure export`` writes them; a file at least as new as its
-    labels file is kept. Returns, and writes to ``out/exports.json``, the files written or
-    kept per kind and the objects that could not be exported (one line each)."""
+    labels file is kept (unless ``keep`` is False). Returns, and writes to
+    ``out/exports.json``, the files written or kept per kind and the objects that could not
+    be exported (one line each)."""
     import argparse
     import json
 
@@ -565,7 +601,7 @@ def write_exports(out: str | Path, records: Iterable[dict[str, Any]],
         for kind, folder in exports:
             target = Path(folder) / (stem + (".npy" if kind == "graspnet" else ".h5"))
             try:
-                if (target.is_file() and labels_file.is_file()
+                if (keep and target.is_file() and labels_file.is_file()
                         and target.stat().st_mtime_ns >= labels_file.stat().st_mtime_ns):
                     report["files"][kind] += 1
                     continue
@@ -586,12 +622,12 @@ def _stale(target: Path, source: Path) -> bool:
                 and target.stat().st_mtime_ns >= source.stat().st_mtime_ns)
 
 
-def write_pictures(out: str | Path, records: Iterable[dict[str, Any]], job: GripperJob
-                   ) -> dict[str, Any]:
+def write_pictures(out: str | Path, records: Iterable[dict[str, Any]], job: GripperJob,
+                   keep: bool = True) -> dict[str, Any]:
     """Each done record's ``job.plot_top`` best poses as ``job.plot/<stem>.png`` and
     ``job.html/<stem>.html`` (those ``grasps --plot`` and ``--html`` draw; a file at least as
-    new as its labels file is kept). Returns the files per kind and the objects that could
-    not be drawn, also added to ``out/exports.json``."""
+    new as its labels file is kept, unless ``keep`` is False). Returns the files per kind and
+    the objects that could not be drawn, also added to ``out/exports.json``."""
     import json
 
     from ..gripper.labels import GraspLabels
@@ -611,7 +647,7 @@ def write_pictures(out: str | Path, records: Iterable[dict[str, Any]], job: Grip
         labels_file = out / "objects" / Path(record["labels_file"]).name
         targets = [(k, folder / (labels_file.stem + (".png" if k == "plot" else ".html")))
                    for k, folder in kinds]
-        todo = [(k, t) for k, t in targets if _stale(t, labels_file)]
+        todo = [(k, t) for k, t in targets if not keep or _stale(t, labels_file)]
         report_done = [k for k, t in targets if (k, t) not in todo]
         for k in report_done:
             report["files"][k] += 1

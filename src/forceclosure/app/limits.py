@@ -221,7 +221,10 @@ def check_options(args: argparse.Namespace) -> None:
     _at_most("--plot-top", get("plot_top"), MAX_TOP)
     _at_most("--workers", get("workers"), 4096)
     if command == "dataset":
-        check_path_spelling("--out", get("out"), folder=True)
+        for flag in ("out", "plot", "html"):  # folders: its results, pictures and pages
+            check_path_spelling(f"--{flag}", get(flag), folder=True)
+        for kind, path in get("export") or []:
+            check_path_spelling(f"--export {printable(kind, 40)}", path, folder=True)
         check_scheduler(get("scheduler"))
     else:
         for flag in ("out", "plot", "html"):

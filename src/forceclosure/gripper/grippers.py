@@ -87,7 +87,8 @@ def gripper_named(name: str) -> ParallelJaw:
 
 
 def make_gripper(name: str | None = None, width: float | None = None,
-                 pad_radius: float | None = None, links: str | None = None) -> ParallelJaw:
+                 pad_radius: float | None = None, links: str | None = None, *,
+                 allow_outside_meshes: bool = False) -> ParallelJaw:
     """A hand from what a user names: a built-in by ``name`` (its opening is its own:
     ``width`` refused), a hand's URDF file (``name`` ending in ``.urdf``, read by
     :func:`~forceclosure.gripper.urdf_hand.gripper_from_urdf`; its opening is its own),
@@ -95,7 +96,8 @@ def make_gripper(name: str | None = None, width: float | None = None,
     ``width``; ``pad_radius`` replaces the pads' torsion model (0: the paper's
     unlimited torque; see :class:`~forceclosure.gripper.jaw.ParallelJaw`). ``links``
     names a URDF hand's links (:func:`parse_links`): ``"PALM"``, ``"PALM,FINGER1,FINGER2"``
-    or ``",FINGER1,FINGER2"`` (the palm found).
+    or ``",FINGER1,FINGER2"`` (the palm found). ``allow_outside_meshes`` lets a URDF hand
+    name meshes outside its folder (or its package's); refused by default.
 
     Examples
     --------
@@ -120,7 +122,8 @@ def make_gripper(name: str | None = None, width: float | None = None,
             raise InputError(f"width: the {GENERIC} gripper needs its opening (or name a "
                              f"built-in gripper: {', '.join(sorted(GRIPPERS))})")
         return ParallelJaw(width, pad_radius)
-    hand = _urdf_hand(name, *parse_links(links)) if is_urdf_name(name) else gripper_named(name)
+    hand = (_urdf_hand(name, *parse_links(links), allow_outside_meshes=allow_outside_meshes)
+            if is_urdf_name(name) else gripper_named(name))
     if width is not None:
         raise InputError(f"width: the {hand.name} gripper opens {hand.width_max:g} (its own); give "
                          "one or the other")
@@ -147,7 +150,8 @@ def parse_links(links: str | None) -> tuple[str | None, tuple[str, str] | None]:
 
 
 def _urdf_hand(path: str, palm: str | None = None,
-               fingers: tuple[str, str] | None = None) -> ParallelJaw:
+               fingers: tuple[str, str] | None = None, *,
+               allow_outside_meshes: bool = False) -> ParallelJaw:
     """The hand of a URDF file, read once per version of the file (its path, size and time)."""
     import os
 
@@ -156,12 +160,14 @@ def _urdf_hand(path: str, palm: str | None = None,
     except OSError:
         raise InputError(f"{path}: no such URDF file") from None
     return _read_urdf_hand(os.path.abspath(path), stat.st_size, stat.st_mtime_ns, palm,
-                           fingers)
+                           fingers, bool(allow_outside_meshes))
 
 
 @lru_cache(maxsize=8)
 def _read_urdf_hand(path: str, size: int, mtime: int, palm: str | None,
-                    fingers: tuple[str, str] | None) -> ParallelJaw:
+                    fingers: tuple[str, str] | None, allow_outside_meshes: bool = False
+                    ) -> ParallelJaw:
     from .urdf_hand import gripper_from_urdf
 
-    return gripper_from_urdf(path, palm_link=palm, finger_links=fingers)
+    return gripper_from_urdf(path, palm_link=palm, finger_links=fingers,
+                             allow_outside_meshes=allow_outside_meshes)
