@@ -689,7 +689,7 @@ def _dataset_exports(out: str, job: Any) -> dict[str, Any] | None:
              *((k, getattr(job, k, None)) for k in ("plot", "html") if getattr(job, k, None))]
     if not kinds:
         return None
-    from .dataset_gripper import EXPORTS_FILE
+    from .dataset_options import EXPORTS_FILE
 
     try:
         with open(os.path.join(out, EXPORTS_FILE), encoding="utf-8") as f:

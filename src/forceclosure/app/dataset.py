@@ -348,7 +348,7 @@ def _own_output(out: str | Path | None, folders: Iterable[str | Path] = ()
     """Whether a path is one of the files a dataset writes (symbolic links followed): in its
     results folder ``out`` (None: none), ``job.json``, ``exports.json``, ``*.parquet`` and
     the records folder ``objects/``; anything inside ``folders``."""
-    from .dataset_gripper import EXPORTS_FILE
+    from .dataset_options import EXPORTS_FILE
 
     tops: list[Path] = []
     files: set[Path] = set()

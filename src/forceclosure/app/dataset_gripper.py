@@ -40,12 +40,11 @@ import numpy as np
 from ..errors import InputError, OutputError
 from ..extras import require
 from ..verdicts import VERDICT_WORDS, VerdictCode
+from .dataset_options import EXPORTS_FILE
 
 __all__ = ["EXPORTS_FILE", "GRASP_COLUMNS", "GripperJob", "object_seed", "read_labels",
            "sha256_of", "write_exports", "write_grasp_table", "write_pictures"]
 
-#: The report of a dataset's exports (``--export``), in its folder.
-EXPORTS_FILE = "exports.json"
 
 
 def sha256_of(file: Path) -> str:

@@ -9,8 +9,11 @@ from __future__ import annotations
 
 from typing import Any
 
-__all__ = ["GRASPS_OPTIONS", "add_grasps_options", "given_grasps_options",
+__all__ = ["EXPORTS_FILE", "GRASPS_OPTIONS", "add_grasps_options", "given_grasps_options",
            "grasps_job_options"]
+
+#: The report of a gripper dataset's exports (``--export``), in its folder.
+EXPORTS_FILE = "exports.json"
 
 
 #: ``dataset`` options that are ``grasps``'s, with the same names, meanings and defaults
