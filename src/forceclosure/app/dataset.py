@@ -1057,6 +1057,7 @@ def _worker_init(job: Job, dims: tuple[int, ...] = (2, 3), notices: Any = None,
     import numba
 
     die_with_run()
+    _process_local_numba_lock()
     numba.set_num_threads(1)
     if notices is not None:
         notices.cancel_join_thread()  # a line not yet sent never holds up the worker's end
@@ -1064,6 +1065,26 @@ def _worker_init(job: Job, dims: tuple[int, ...] = (2, 3), notices: Any = None,
             f"worker {os.getpid()}")
         tell_compiling(notices.put, who)
     _warm_up(job, dims)
+
+
+def _process_local_numba_lock() -> None:
+    """In a pool worker, before numba starts its threads: give numba's threading-layer
+    start-up a lock of this process only.
+
+    Numba takes a multiprocessing ``RLock`` for that start-up when the start
+    method's name contains "fork" -- "forkserver" does -- a named semaphore
+    registered with the run's ``resource_tracker`` and unregistered only by
+    the worker's exit handlers. A worker the pool ends (a time limit, or its
+    ``stop`` at the end of the run) runs none, and the tracker then printed
+    "There appear to be 1 leaked semaphore objects to clean up at shutdown"
+    on the run's standard error. The lock only guards a start-up inside this
+    process (a worker starts no processes), so a thread lock does its work.
+    """
+    with suppress(Exception):  # numba's private module state; without it, the old way
+        from numba.np.ufunc import parallel
+
+        if getattr(parallel, "_backend_init_process_lock", False) is None:
+            parallel._backend_init_process_lock = threading.RLock()
 
 
 def _warm_up(job: Job, dims: tuple[int, ...]) -> None:
