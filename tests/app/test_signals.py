@@ -4,8 +4,87 @@ output is, and a pool worker ended without its exit handlers leaks no semaphore.
 
 from __future__ import annotations
 
+import os
+import signal
 import subprocess
 import sys
+
+import psutil
+import pytest
+
+#: A command whose work is one call of a compiled kernel, a minute long here (seconds on a
+#: fast machine: far more than the time Ctrl-C takes): "started" before; the kernel itself
+#: writes 1 in the file argv[1] (mapped in memory) as it returns.
+BUSY = """
+import math, sys
+import numba
+import numpy as np
+from forceclosure.app import cli
+
+@numba.njit(nogil=True, cache=False)
+def spin(n, returned):
+    s = 0.0
+    for i in range(n):
+        s += math.sin(i * 1e-3)
+    returned[0] = 1
+    return s
+
+def busy(args):
+    returned = np.asarray(np.memmap(sys.argv[1], dtype=np.int64, mode="r+", shape=(1,)))
+    spin(10, np.zeros(1, np.int64))  # compiled before it says it started
+    print("started", flush=True)
+    spin(3 * 10**9, returned)
+    return 0
+
+cli._cmd_demo = busy
+sys.exit(cli.main(["demo"]))
+"""
+
+
+def _started(proc: subprocess.Popen) -> None:
+    """Read the command's standard output until it says it started."""
+    line = proc.stdout.readline()
+    assert line == "started\n", (line, proc.stderr.read() if line == "" else "")
+
+
+def test_ctrl_c_stops_a_command_inside_a_compiled_call(tmp_path):
+    """A real SIGINT while the command is inside one long nogil numba call: the process
+    ends with status 130 and one line before the call returns (the kernel's own mark of
+    its return is not in the file; Python alone saw the signal only after it)."""
+    returned = tmp_path / "returned"
+    returned.write_bytes(bytes(8))
+    proc = subprocess.Popen([sys.executable, "-c", BUSY, str(returned)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        _started(proc)
+        os.kill(proc.pid, signal.SIGINT)
+        out, err = proc.communicate()
+    finally:
+        proc.kill()
+    assert proc.returncode == 130
+    assert out == "" and err.splitlines() == ["forceclosure: interrupted"], (out, err)
+    assert returned.read_bytes() == bytes(8)  # the call had not returned
+
+
+@pytest.mark.long
+def test_ctrl_c_stops_synthesize_within_seconds():
+    """The real command: six soft fingers on the cube, about two minutes in its kernels;
+    SIGINT once it has spent two seconds of processor time ends it within 30 s (it took
+    100 s when only the kernel's return let Python see the signal)."""
+    proc = subprocess.Popen([sys.executable, "-m", "forceclosure", "synthesize", "cube",
+                             "--contact", "soft", "--fingers", "6"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        busy = psutil.Process(proc.pid)
+        while sum(busy.cpu_times()[:2]) < 2.0:  # the event: deep in the work
+            assert proc.poll() is None, proc.stderr.read()
+            psutil.wait_procs([busy], timeout=0.1)
+        os.kill(proc.pid, signal.SIGINT)
+        out, err = proc.communicate(timeout=30)
+    finally:
+        proc.kill()
+    assert proc.returncode == 130, err
+    assert err.splitlines() == ["forceclosure: interrupted"] and out == "", (out, err)
 
 WORKER_KILLED = """
 import os, signal, sys

@@ -262,12 +262,15 @@ def _partial_results(out: str, source: str, epsilon: bool):
 
 def _save(results, out: str) -> None:
     """Save with Ctrl-C held off: a second Ctrl-C must not lose what the first one saves."""
+    from .interrupt import holding
+
     try:
         previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
     except ValueError:  # not the main thread: signals are not ours to handle
         previous = None
     try:
-        results.save(out)
+        with holding():  # the process waits for the save before it exits on Ctrl-C
+            results.save(out)
     finally:
         if previous is not None:
             signal.signal(signal.SIGINT, previous)
@@ -1475,7 +1478,10 @@ def main(argv: list[str] | None = None) -> int:
         from .limits import check_options
 
         check_options(args)  # every option's range, before any work (app/limits.py)
-        return args.run(args)
+        from .interrupt import run_interruptible
+
+        # the command in a thread: Ctrl-C ends it within seconds, even in compiled code
+        return run_interruptible(lambda: args.run(args))
     except InputError as e:
         _error(as_flags(str(e)))
         return 2

@@ -85,6 +85,7 @@ from ..io.outdir import atomic_file, locked, remove_temporaries, write_atomicall
 from ..objects.io import MESH_SUFFIXES, POLYGON_SUFFIXES, ROBOT_SUFFIXES
 from ..objects.urdf import mesh_files
 from ..verdicts import Verdict, VerdictCode
+from .interrupt import holding
 from .progress import ProgressLines, every_from_environment
 from .workers import Relay, Watchdog, die_with_run, number_worker, tell_compiling, tell_dask_run
 
@@ -968,9 +969,10 @@ def _run_locked(paths: list[Path], out: Path, job: Job, executor: Executor | Non
     finally:
         bar.close()
         try:
-            write_table(out, records.values())
-            if hasattr(job, "write_tables"):  # tables of its own (gripper: grasps.parquet)
-                job.write_tables(out, records.values())
+            with holding():  # Ctrl-C on the command line waits for the tables (app/interrupt)
+                write_table(out, records.values())
+                if hasattr(job, "write_tables"):  # tables of its own (gripper: grasps.parquet)
+                    job.write_tables(out, records.values())
         except OSError as e:
             table = e
     if failure is not None or table is not None:
@@ -1163,7 +1165,10 @@ def _local_pool(workers: int, run: _Run, job: Job,
         for name in list(run.todo):
             submit(name)
         while pending:
-            name, future = arrived.get()
+            try:  # in slices: Ctrl-C, raised in this thread (app/interrupt), lands at once
+                name, future = arrived.get(timeout=0.2)
+            except queue.Empty:
+                continue
             pending -= 1
             path = run.todo[name]
             try:
