@@ -5,6 +5,7 @@ output is, and a pool worker ended without its exit handlers leaks no semaphore.
 from __future__ import annotations
 
 import os
+import pty
 import signal
 import subprocess
 import sys
@@ -112,3 +113,38 @@ def test_a_killed_pool_worker_leaks_no_semaphore(tmp_path):
                           cwd=tmp_path)
     assert done.returncode == 0, done.stderr
     assert done.stderr.splitlines() == ["worker exit -9"], done.stderr
+
+
+def _terminal_text(fd: int) -> str:
+    """All a pseudo-terminal's reader gets until the writer closes it."""
+    text = b""
+    while True:
+        try:
+            chunk = os.read(fd, 4096)
+        except OSError:  # the process closed the terminal
+            chunk = b""
+        if not chunk:
+            return text.decode("utf-8", "replace")
+        text += chunk
+
+
+def test_progress_bar_on_a_terminal_stderr_when_stdout_is_a_pipe():
+    """stdout a pipe, stderr a terminal nobody gave a size (0 columns, as a bare pty says):
+    the bar is drawn on stderr, 80 wide, and stdout has the summary alone."""
+    env = {k: v for k, v in os.environ.items() if k not in ("COLUMNS", "LINES")}
+    master, slave = pty.openpty()
+    proc = subprocess.Popen([sys.executable, "-m", "forceclosure", "grasps", "cube",
+                             "--count", "200", "--width", "3"], stdout=subprocess.PIPE,
+                            stderr=slave, env=env)
+    os.close(slave)
+    try:
+        err = _terminal_text(master)
+        out = proc.stdout.read().decode()
+        assert proc.wait() == 0, err
+    finally:
+        proc.kill()
+        os.close(master)
+    bars = [line for line in err.replace("\r\n", "\r").split("\r") if "labelling" in line]
+    assert bars and bars[-1].startswith("labelling: 100%|") and "200/200" in bars[-1], err
+    assert max(len(line) for line in bars) <= 80
+    assert "labelling" not in out and "cube: 200 jaw poses" in out

@@ -30,6 +30,7 @@ from ..extras import require
 from ..io.files import read_text
 from ..tolerance import TOLERANCE
 from ..verdicts import VERDICT_WORDS, VerdictCode
+from .progress import bar_size
 
 __all__ = ["ANY_POSITIVE", "DEFAULT_F_MAX", "FLAGS", "SWITCHES", "as_flags", "build_parser",
            "main"]
@@ -182,7 +183,7 @@ def _analyze_arrays(args: argparse.Namespace) -> int:
     start = time.perf_counter()
     try:
         with tqdm(total=info.count, initial=before, unit=" grasps", unit_scale=True,
-                  file=sys.stderr, disable=None,
+                  file=sys.stderr, disable=None, **bar_size(),
                   desc=printable(os.path.basename(args.file), 40)) as bar:
             results = analyze_npz(args.file, chunk=args.chunk, epsilon=args.epsilon,
                                   progress=bar.update, resume=resume)
@@ -746,7 +747,7 @@ def _robust_stage(obj: Any, labels: Any, gripper: Any, args: argparse.Namespace,
     samples = settings["samples"]
     start = time.perf_counter()
     with tqdm(total=len(labels) * samples, unit=" samples", unit_scale=True, file=sys.stderr,
-              disable=None, desc="robustness") as bar:
+              disable=None, **bar_size(), desc="robustness") as bar:
         r = robust_labels(obj, labels, gripper, args.mu, samples=samples, seed=args.seed,
                           pose_sigma=settings["pose_sigma"], angle_sigma=settings["angle_sigma"],
                           mu_sigma=settings["mu_sigma"], normal_sigma=settings["normal_sigma"],
@@ -830,7 +831,7 @@ def _task_stage(obj: Any, labels: Any, settings: dict[str, Any]) -> tuple[Any, d
     wrench = gravity_wrench(settings["mass"], com, settings["gravity"])
     start = time.perf_counter()
     with tqdm(total=len(labels), unit=" grasps", unit_scale=True, file=sys.stderr,
-              disable=None, desc="task wrench") as bar:
+              disable=None, **bar_size(), desc="task wrench") as bar:
         code, spare, upper = label_task(labels, wrench, settings["f_max"], settings["edges"],
                                         progress=bar.update)
     seconds = time.perf_counter() - start
@@ -854,7 +855,7 @@ def _metrics_stage(labels: Any) -> tuple[Any, dict[str, Any]]:
 
     start = time.perf_counter()
     with tqdm(total=len(labels), unit=" grasps", unit_scale=True, file=sys.stderr,
-              disable=None, desc="metrics") as bar:
+              disable=None, **bar_size(), desc="metrics") as bar:
         labels = labels.with_metrics(label_metrics(labels, progress=bar.update))
     seconds = time.perf_counter() - start
     entry = {f"{name}_median": float(np.median(getattr(labels, name))) if len(labels) else None
@@ -970,6 +971,7 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
         support = support_plane(obj)
     start = time.perf_counter()
     with tqdm(total=args.count, unit=" grasps", unit_scale=True, file=sys.stderr, disable=None,
+              **bar_size(),
               desc="labelling") as bar:
         labels = grasp_labels(obj, gripper, args.mu, args.count, args.seed,
                               args.contact, progress=bar.update,

@@ -86,7 +86,7 @@ from ..objects.io import MESH_SUFFIXES, POLYGON_SUFFIXES, ROBOT_SUFFIXES
 from ..objects.urdf import mesh_files
 from ..verdicts import Verdict, VerdictCode
 from .interrupt import holding
-from .progress import ProgressLines, every_from_environment
+from .progress import ProgressLines, bar_size, every_from_environment
 from .workers import Relay, Watchdog, die_with_run, number_worker, tell_compiling, tell_dask_run
 
 __all__ = [
@@ -908,8 +908,10 @@ def _run_locked(paths: list[Path], out: Path, job: Job, executor: Executor | Non
     if not every >= 0:
         raise InputError(f"progress_every must be a number of seconds >= 0, got {every!r}")
     lines_wanted = progress is None and not _terminal()   # piped: lines instead of a bar
+    size = bar_size()  # none: the terminal's own, followed as it changes
     bar = tqdm(total=0, unit="obj", desc="objects", file=sys.stderr,
-               disable=not progress if progress is not None else None, dynamic_ncols=True)
+               disable=not progress if progress is not None else None,
+               dynamic_ncols=not size, **size)
     write = log or (lambda line: bar.write(line, file=sys.stderr))
 
     def say(line: str) -> None:
