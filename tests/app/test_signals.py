@@ -9,6 +9,7 @@ import pty
 import signal
 import subprocess
 import sys
+from pathlib import Path
 
 import psutil
 import pytest
@@ -65,6 +66,99 @@ def test_ctrl_c_stops_a_command_inside_a_compiled_call(tmp_path):
     assert proc.returncode == 130
     assert out == "" and err.splitlines() == ["forceclosure: interrupted"], (out, err)
     assert returned.read_bytes() == bytes(8)  # the call had not returned
+
+
+#: A command that saves, then works on: inside holding(), one compiled call of seconds,
+#: then the rest of the save (argv[2]); then one of a minute. Each call marks its return
+#: in argv[1] (two numbers mapped in memory).
+SAVING = """
+import math, sys
+import numba
+import numpy as np
+from forceclosure.app import cli
+from forceclosure.app.interrupt import holding
+
+@numba.njit(nogil=True, cache=False)
+def spin(n, returned, k):
+    s = 0.0
+    for i in range(n):
+        s += math.sin(i * 1e-3)
+    returned[k] = 1
+    return s
+
+def save(args):
+    returned = np.asarray(np.memmap(sys.argv[1], dtype=np.int64, mode="r+", shape=(2,)))
+    spin(10, np.zeros(1, np.int64), 0)
+    with holding():
+        print("saving", flush=True)
+        spin(4 * 10**8, returned, 0)
+        with open(sys.argv[2], "w") as f:
+            f.write("saved")
+    spin(3 * 10**9, returned, 1)
+    return 0
+
+cli._cmd_demo = save
+sys.exit(cli.main(["demo"]))
+"""
+
+
+def test_ctrl_c_during_a_save_waits_for_it(tmp_path):
+    """Ctrl-C while the command saves (inside holding(), in a compiled call longer than the
+    grace): the save completes (its kernel returned, the file after it is written); the
+    work after it is stopped inside its compiled call: status 130, one line."""
+    returned, saved = tmp_path / "returned", tmp_path / "saved"
+    returned.write_bytes(bytes(16))
+    proc = subprocess.Popen([sys.executable, "-c", SAVING, str(returned), str(saved)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        line = proc.stdout.readline()
+        assert line == "saving\n", (line, proc.stderr.read() if line == "" else "")
+        os.kill(proc.pid, signal.SIGINT)
+        out, err = proc.communicate()
+    finally:
+        proc.kill()
+    assert out == "" and saved.read_text() == "saved"
+    marks = returned.read_bytes()
+    assert marks[:8] != bytes(8) and marks[8:] == bytes(8)  # the save's call returned only
+    assert proc.returncode == 130 and err.splitlines() == ["forceclosure: interrupted"], err
+
+
+@pytest.mark.long
+def test_ctrl_c_on_a_pool_dataset_keeps_the_records_and_writes_the_table(tmp_path):
+    """SIGINT to a dataset run on a local pool once two objects are recorded: exit 130,
+    the summary says interrupted, results.parquet holds exactly the records written, no
+    temporary is left and nothing from resource_tracker; the same command resumes them."""
+    import json
+
+    import pandas as pd
+    import pybullet_data
+
+    urdfs = Path(pybullet_data.getDataPath()) / "random_urdfs"
+    out = tmp_path / "out"
+    argv = [sys.executable, "-m", "forceclosure", "dataset",
+            *(str(urdfs / f"{i:03d}" / f"{i:03d}.urdf") for i in range(12)),
+            "--out", str(out), "--fingers", "3", "--contact", "hard", "--mu", "0.5",
+            "--top", "1", "--samples", "1000", "--workers", "2", "--json"]
+    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        while len(list((out / "objects").glob("*.json"))) < 2:  # the event: two recorded
+            assert proc.poll() is None, proc.stderr.read()
+            psutil.wait_procs([psutil.Process(proc.pid)], timeout=0.05)
+        os.kill(proc.pid, signal.SIGINT)
+        out_text, err = proc.communicate()
+    finally:
+        proc.kill()
+    assert proc.returncode == 130, err
+    summary = json.loads(out_text)
+    records = sorted(p.stem for p in (out / "objects").glob("*.json"))
+    assert summary["interrupted"] and summary["done"] == len(records) < 12
+    table = pd.read_parquet(out / "results.parquet")
+    assert len(table) == len(records)
+    assert [p for p in out.rglob("*") if p.name.endswith(".tmp")] == []
+    assert "resource_tracker" not in err and "leaked" not in err
+    again = subprocess.run(argv, capture_output=True, text=True)
+    assert again.returncode == 0, again.stderr
+    assert json.loads(again.stdout)["skipped"] == len(records)
 
 
 @pytest.mark.long

@@ -9,9 +9,11 @@ that SIGINT is handled at once; then it
 1. raises ``KeyboardInterrupt`` in the worker (between its bytecodes, as the
    signal did before: the commands' own Ctrl-C paths run as they did, saving
    what is done);
-2. waits :data:`GRACE` seconds for the worker to end, and as long as it is
-   inside :func:`holding` (a save: never cut short, a second Ctrl-C included);
-3. if the worker is still busy (a compiled call that has not returned),
+2. waits :data:`GRACE` seconds for the worker to take it (to run Python
+   again), then as long as the worker ends on its own (its Ctrl-C path: a
+   pool stopped, tables written); a second Ctrl-C ends the process then,
+   unless the worker is inside :func:`holding` (a save: never cut short);
+3. if the worker has not taken it (a compiled call that has not returned),
    prints ``forceclosure: interrupted``, flushes, and ends the process with
    status 130 (``os._exit``). Files are written atomically (a temporary,
    then a rename), so a write the exit cuts short never replaces a good file.
@@ -28,7 +30,7 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager, suppress
 from typing import Any
 
-__all__ = ["GRACE", "holding", "run_interruptible"]
+__all__ = ["GRACE", "CommandInterrupted", "holding", "run_interruptible"]
 
 #: Seconds a command gets after Ctrl-C to end on its own (its compiled call to return and
 #: the saving to begin) before the process exits.
@@ -66,11 +68,23 @@ def saving() -> bool:
     return bool(_held)
 
 
+_received = threading.Event()
+
+
+class CommandInterrupted(KeyboardInterrupt):
+    """Ctrl-C, raised in the command's thread. Made when that thread runs Python again
+    (its compiled call returned): from then on, it ends on its own (its Ctrl-C paths)."""
+
+    def __init__(self, *args: object) -> None:
+        super().__init__(*args)
+        _received.set()
+
+
 def _raise_in(thread: threading.Thread) -> None:
-    """``KeyboardInterrupt`` in ``thread``, at its next bytecode."""
+    """:class:`CommandInterrupted` in ``thread``, at its next bytecode."""
     if thread.ident is not None:
         ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(thread.ident),
-                                                   ctypes.py_object(KeyboardInterrupt))
+                                                   ctypes.py_object(CommandInterrupted))
 
 
 def run_interruptible(work: Callable[[], int], grace: float = GRACE,
@@ -110,6 +124,7 @@ def run_interruptible(work: Callable[[], int], grace: float = GRACE,
         finally:
             ended.set()
 
+    _received.clear()
     worker = threading.Thread(target=target, name="forceclosure-command", daemon=True)
     worker.start()
     asked, deadline = False, None
@@ -121,13 +136,14 @@ def run_interruptible(work: Callable[[], int], grace: float = GRACE,
             if asked and deadline is None and not saving():  # the save Ctrl-C came in is over
                 deadline = time.monotonic() + grace
                 _raise_in(worker)
-            if deadline is not None and time.monotonic() > deadline and not saving():
+            if (deadline is not None and time.monotonic() > deadline and not saving()
+                    and not _received.is_set()):  # still in a compiled call: end it
                 _exit(line)
         except KeyboardInterrupt:
             if not asked:
                 asked = True  # stopped at once, or after the save under way
-            elif not saving():  # a second Ctrl-C: now, unless a save is under way
-                _exit(line)
+            elif not saving():  # a second Ctrl-C: now (its cleaning up cut short, its
+                _exit(line)      # files atomic), unless a save is under way
     if "error" in outcome:
         error = outcome.pop("error")
         try:
