@@ -123,6 +123,56 @@ def test_ctrl_c_during_a_save_waits_for_it(tmp_path):
     assert proc.returncode == 130 and err.splitlines() == ["forceclosure: interrupted"], err
 
 
+#: A command that saves its work when interrupted (as analyze --out does): its compiled
+#: call of seconds inside patient(), which marks its return in argv[1].
+PATIENT = """
+import math, sys
+import numba
+import numpy as np
+from forceclosure.app import cli
+from forceclosure.app.interrupt import patient
+
+@numba.njit(nogil=True, cache=False)
+def spin(n, returned):
+    s = 0.0
+    for i in range(n):
+        s += math.sin(i * 1e-3)
+    returned[0] = 1
+    return s
+
+def work(args):
+    returned = np.asarray(np.memmap(sys.argv[1], dtype=np.int64, mode="r+", shape=(1,)))
+    spin(10, np.zeros(1, np.int64))
+    with patient():
+        print("started", flush=True)
+        spin(10**9, returned)
+    return 0
+
+cli._cmd_demo = work
+sys.exit(cli.main(["demo"]))
+"""
+
+
+def test_ctrl_c_waits_for_a_command_that_saves_its_work(tmp_path):
+    """A command inside patient() (it saves what is done when interrupted) is waited for:
+    one line says so, its compiled call returns, then it is interrupted (status 130)."""
+    returned = tmp_path / "returned"
+    returned.write_bytes(bytes(8))
+    proc = subprocess.Popen([sys.executable, "-c", PATIENT, str(returned)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        _started(proc)
+        os.kill(proc.pid, signal.SIGINT)
+        out, err = proc.communicate()
+    finally:
+        proc.kill()
+    assert out == "" and returned.read_bytes() != bytes(8)
+    assert proc.returncode == 130
+    assert err.splitlines() == [
+        "forceclosure: stopping when the current step returns, to save what is done "
+        "(Ctrl-C again: quit without saving)", "forceclosure: interrupted"], err
+
+
 @pytest.mark.long
 def test_ctrl_c_on_a_pool_dataset_keeps_the_records_and_writes_the_table(tmp_path):
     """SIGINT to a dataset run on a local pool once two objects are recorded: exit 130,

@@ -160,11 +160,13 @@ def _analyze_arrays(args: argparse.Namespace) -> int:
     """A large grasp set from an .npz: a chunk at a time, a progress bar, a summary; with
     --out, the results saved atomically, also on Ctrl-C (partial, resumed by a re-run)."""
     import time
+    from contextlib import nullcontext
 
     import numpy as np
     from tqdm import tqdm
 
     from ..io.grasp_arrays import ERROR, AnalysisInterrupted, analyze_npz, open_npz
+    from .interrupt import patient
 
     if args.chunk < 1:
         raise InputError(f"--chunk must be a positive number of grasps, got {args.chunk}")
@@ -182,7 +184,8 @@ def _analyze_arrays(args: argparse.Namespace) -> int:
     before = 0 if resume is None else resume.done
     start = time.perf_counter()
     try:
-        with tqdm(total=info.count, initial=before, unit=" grasps", unit_scale=True,
+        with patient() if args.out else nullcontext(), \
+             tqdm(total=info.count, initial=before, unit=" grasps", unit_scale=True,
                   file=sys.stderr, disable=None, **bar_size(),
                   desc=printable(os.path.basename(args.file), 40)) as bar:
             results = analyze_npz(args.file, chunk=args.chunk, epsilon=args.epsilon,

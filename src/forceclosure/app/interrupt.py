@@ -15,7 +15,9 @@ that SIGINT is handled at once; then it
    unless the worker is inside :func:`holding` (a save: never cut short);
 3. if the worker has not taken it (a compiled call that has not returned),
    prints ``forceclosure: interrupted``, flushes, and ends the process with
-   status 130 (``os._exit``). Files are written atomically (a temporary,
+   status 130 (``os._exit``) -- unless the command is inside :func:`patient`
+   (it saves its work when interrupted): then it says it waits for the call,
+   and a second Ctrl-C ends the process. Files are written atomically (a temporary,
    then a rename), so a write the exit cuts short never replaces a good file.
 """
 
@@ -30,7 +32,7 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager, suppress
 from typing import Any
 
-__all__ = ["GRACE", "CommandInterrupted", "holding", "run_interruptible"]
+__all__ = ["GRACE", "CommandInterrupted", "holding", "patient", "run_interruptible", "saving"]
 
 #: Seconds a command gets after Ctrl-C to end on its own (its compiled call to return and
 #: the saving to begin) before the process exits.
@@ -61,6 +63,30 @@ def holding() -> Iterator[None]:
     finally:
         with suppress(ValueError):
             _held.remove(token)
+
+
+_patient: list[object] = []  # one token per block that saves its work when interrupted
+
+
+@contextmanager
+def patient() -> Iterator[None]:
+    """A block that saves the work done when interrupted (``analyze FILE.npz --out``):
+    on Ctrl-C the process waits for its compiled call to return, however long, saying so
+    in one line; a second Ctrl-C ends it at once, without that save.
+
+    Examples
+    --------
+    >>> with patient():
+    ...     bool(_patient)
+    True
+    """
+    token = object()
+    try:
+        _patient.append(token)
+        yield
+    finally:
+        with suppress(ValueError):
+            _patient.remove(token)
 
 
 def saving() -> bool:
@@ -127,7 +153,7 @@ def run_interruptible(work: Callable[[], int], grace: float = GRACE,
     _received.clear()
     worker = threading.Thread(target=target, name="forceclosure-command", daemon=True)
     worker.start()
-    asked, deadline = False, None
+    asked, deadline, told = False, None, False
     # not worker.join(timeout): Ctrl-C inside it marks the thread as ended while it runs
     # (Python 3.11's threading, bpo-45274); a sleep is interrupted cleanly
     while not ended.is_set():
@@ -137,8 +163,12 @@ def run_interruptible(work: Callable[[], int], grace: float = GRACE,
                 deadline = time.monotonic() + grace
                 _raise_in(worker)
             if (deadline is not None and time.monotonic() > deadline and not saving()
-                    and not _received.is_set()):  # still in a compiled call: end it
-                _exit(line)
+                    and not _received.is_set()):  # still in a compiled call
+                if not _patient:
+                    _exit(line)
+                if not told:
+                    told = _say("forceclosure: stopping when the current step returns, "
+                                "to save what is done (Ctrl-C again: quit without saving)")
         except KeyboardInterrupt:
             if not asked:
                 asked = True  # stopped at once, or after the save under way
@@ -151,6 +181,13 @@ def run_interruptible(work: Callable[[], int], grace: float = GRACE,
         finally:
             del error
     return outcome["status"]
+
+
+def _say(line: str) -> bool:
+    """Print ``line`` on standard error (True)."""
+    with suppress(Exception):
+        print(line, file=sys.stderr, flush=True)
+    return True
 
 
 def _exit(line: str) -> None:
