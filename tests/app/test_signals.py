@@ -76,7 +76,10 @@ import math, sys
 import numba
 import numpy as np
 from forceclosure.app import cli
+from forceclosure.app import interrupt
 from forceclosure.app.interrupt import holding
+
+interrupt.GRACE = 0.1  # the save's call below outlasts it
 
 @numba.njit(nogil=True, cache=False)
 def spin(n, returned, k):
@@ -91,7 +94,7 @@ def save(args):
     spin(10, np.zeros(1, np.int64), 0)
     with holding():
         print("saving", flush=True)
-        spin(4 * 10**8, returned, 0)
+        spin(2 * 10**8, returned, 0)
         with open(sys.argv[2], "w") as f:
             f.write("saved")
     spin(3 * 10**9, returned, 1)
@@ -130,7 +133,10 @@ import math, sys
 import numba
 import numpy as np
 from forceclosure.app import cli
+from forceclosure.app import interrupt
 from forceclosure.app.interrupt import patient
+
+interrupt.GRACE = 0.1  # the call below outlasts it
 
 @numba.njit(nogil=True, cache=False)
 def spin(n, returned):
@@ -145,7 +151,7 @@ def work(args):
     spin(10, np.zeros(1, np.int64))
     with patient():
         print("started", flush=True)
-        spin(10**9, returned)
+        spin(2 * 10**8, returned)
     return 0
 
 cli._cmd_demo = work

@@ -113,7 +113,7 @@ def _raise_in(thread: threading.Thread) -> None:
                                                    ctypes.py_object(CommandInterrupted))
 
 
-def run_interruptible(work: Callable[[], int], grace: float = GRACE,
+def run_interruptible(work: Callable[[], int], grace: float | None = None,
                       line: str = "forceclosure: interrupted") -> int:
     """Run ``work`` (a command) so that Ctrl-C stops it within about ``grace`` seconds.
 
@@ -121,9 +121,9 @@ def run_interruptible(work: Callable[[], int], grace: float = GRACE,
     ----------
     work : callable
         The command; returns its exit status. What it raises is raised here.
-    grace : float
-        Seconds ``work`` gets after Ctrl-C to end on its own (not counting time
-        inside :func:`holding`) before the process exits with status 130.
+    grace : float, optional
+        Seconds ``work`` gets after Ctrl-C to take it (to return from a compiled
+        call) before the process exits with status 130; :data:`GRACE` by default.
     line : str
         Printed on standard error when the process exits that way.
 
@@ -137,6 +137,7 @@ def run_interruptible(work: Callable[[], int], grace: float = GRACE,
     >>> run_interruptible(lambda: 3)
     3
     """
+    grace = GRACE if grace is None else grace
     if threading.current_thread() is not threading.main_thread():
         return work()  # signals are the main thread's: nothing to gain
     outcome: dict[str, Any] = {}
