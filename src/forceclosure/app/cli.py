@@ -30,6 +30,7 @@ from ..extras import require
 from ..io.files import read_text
 from ..tolerance import TOLERANCE
 from ..verdicts import VERDICT_WORDS, VerdictCode
+from .progress import bar_size
 
 __all__ = ["ANY_POSITIVE", "DEFAULT_F_MAX", "FLAGS", "SWITCHES", "as_flags", "build_parser",
            "main"]
@@ -159,11 +160,13 @@ def _analyze_arrays(args: argparse.Namespace) -> int:
     """A large grasp set from an .npz: a chunk at a time, a progress bar, a summary; with
     --out, the results saved atomically, also on Ctrl-C (partial, resumed by a re-run)."""
     import time
+    from contextlib import nullcontext
 
     import numpy as np
     from tqdm import tqdm
 
     from ..io.grasp_arrays import ERROR, AnalysisInterrupted, analyze_npz, open_npz
+    from .interrupt import patient
 
     if args.chunk < 1:
         raise InputError(f"--chunk must be a positive number of grasps, got {args.chunk}")
@@ -181,8 +184,9 @@ def _analyze_arrays(args: argparse.Namespace) -> int:
     before = 0 if resume is None else resume.done
     start = time.perf_counter()
     try:
-        with tqdm(total=info.count, initial=before, unit=" grasps", unit_scale=True,
-                  file=sys.stderr, disable=None,
+        with patient() if args.out else nullcontext(), \
+             tqdm(total=info.count, initial=before, unit=" grasps", unit_scale=True,
+                  file=sys.stderr, disable=None, **bar_size(),
                   desc=printable(os.path.basename(args.file), 40)) as bar:
             results = analyze_npz(args.file, chunk=args.chunk, epsilon=args.epsilon,
                                   progress=bar.update, resume=resume)
@@ -262,12 +266,15 @@ def _partial_results(out: str, source: str, epsilon: bool):
 
 def _save(results, out: str) -> None:
     """Save with Ctrl-C held off: a second Ctrl-C must not lose what the first one saves."""
+    from .interrupt import holding
+
     try:
         previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
     except ValueError:  # not the main thread: signals are not ours to handle
         previous = None
     try:
-        results.save(out)
+        with holding():  # the process waits for the save before it exits on Ctrl-C
+            results.save(out)
     finally:
         if previous is not None:
             signal.signal(signal.SIGINT, previous)
@@ -750,7 +757,7 @@ def _robust_stage(obj: Any, labels: Any, gripper: Any, args: argparse.Namespace,
     samples = settings["samples"]
     start = time.perf_counter()
     with tqdm(total=len(labels) * samples, unit=" samples", unit_scale=True, file=sys.stderr,
-              disable=None, desc="robustness") as bar:
+              disable=None, **bar_size(), desc="robustness") as bar:
         r = robust_labels(obj, labels, gripper, args.mu, samples=samples, seed=args.seed,
                           pose_sigma=settings["pose_sigma"], angle_sigma=settings["angle_sigma"],
                           mu_sigma=settings["mu_sigma"], normal_sigma=settings["normal_sigma"],
@@ -834,7 +841,7 @@ def _task_stage(obj: Any, labels: Any, settings: dict[str, Any]) -> tuple[Any, d
     wrench = gravity_wrench(settings["mass"], com, settings["gravity"])
     start = time.perf_counter()
     with tqdm(total=len(labels), unit=" grasps", unit_scale=True, file=sys.stderr,
-              disable=None, desc="task wrench") as bar:
+              disable=None, **bar_size(), desc="task wrench") as bar:
         code, spare, upper = label_task(labels, wrench, settings["f_max"], settings["edges"],
                                         progress=bar.update)
     seconds = time.perf_counter() - start
@@ -858,7 +865,7 @@ def _metrics_stage(labels: Any) -> tuple[Any, dict[str, Any]]:
 
     start = time.perf_counter()
     with tqdm(total=len(labels), unit=" grasps", unit_scale=True, file=sys.stderr,
-              disable=None, desc="metrics") as bar:
+              disable=None, **bar_size(), desc="metrics") as bar:
         labels = labels.with_metrics(label_metrics(labels, progress=bar.update))
     seconds = time.perf_counter() - start
     entry = {f"{name}_median": float(np.median(getattr(labels, name))) if len(labels) else None
@@ -977,6 +984,7 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
         support = support_plane(obj)
     start = time.perf_counter()
     with tqdm(total=args.count, unit=" grasps", unit_scale=True, file=sys.stderr, disable=None,
+              **bar_size(),
               desc="labelling") as bar:
         labels = grasp_labels(obj, gripper, args.mu, args.count, args.seed,
                               args.contact, progress=bar.update,
@@ -1485,7 +1493,10 @@ def main(argv: list[str] | None = None) -> int:
         from .limits import check_options
 
         check_options(args)  # every option's range, before any work (app/limits.py)
-        return args.run(args)
+        from .interrupt import run_interruptible
+
+        # the command in a thread: Ctrl-C ends it within seconds, even in compiled code
+        return run_interruptible(lambda: args.run(args))
     except InputError as e:
         _error(as_flags(str(e)))
         return 2

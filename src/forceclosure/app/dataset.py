@@ -85,7 +85,8 @@ from ..io.outdir import atomic_file, locked, remove_temporaries, write_atomicall
 from ..objects.io import MESH_SUFFIXES, POLYGON_SUFFIXES, ROBOT_SUFFIXES
 from ..objects.urdf import mesh_files
 from ..verdicts import Verdict, VerdictCode
-from .progress import ProgressLines, every_from_environment
+from .interrupt import holding
+from .progress import ProgressLines, bar_size, every_from_environment
 from .workers import Relay, Watchdog, die_with_run, number_worker, tell_compiling, tell_dask_run
 
 __all__ = [
@@ -1005,8 +1006,10 @@ def _run_locked(paths: list[Path], out: Path, job: Job, executor: Executor | Non
     if not every >= 0:
         raise InputError(f"progress_every must be a number of seconds >= 0, got {every!r}")
     lines_wanted = progress is None and not _terminal()   # piped: lines instead of a bar
+    size = bar_size()  # none: the terminal's own, followed as it changes
     bar = tqdm(total=0, unit="obj", desc="objects", file=sys.stderr,
-               disable=not progress if progress is not None else None, dynamic_ncols=True)
+               disable=not progress if progress is not None else None,
+               dynamic_ncols=not size, **size)
     write = log or (lambda line: bar.write(line, file=sys.stderr))
 
     def say(line: str) -> None:
@@ -1066,9 +1069,10 @@ def _run_locked(paths: list[Path], out: Path, job: Job, executor: Executor | Non
     finally:
         bar.close()
         try:
-            write_table(out, records.values())
-            if hasattr(job, "write_tables"):  # tables of its own (gripper: grasps.parquet)
-                job.write_tables(out, records.values())
+            with holding():  # Ctrl-C on the command line waits for the tables (app/interrupt)
+                write_table(out, records.values())
+                if hasattr(job, "write_tables"):  # tables of its own (gripper: grasps.parquet)
+                    job.write_tables(out, records.values())
         except OSError as e:
             table = e
     if failure is not None or table is not None:
@@ -1158,6 +1162,7 @@ def _worker_init(job: Job, dims: tuple[int, ...] = (2, 3), notices: Any = None,
     import numba
 
     die_with_run()
+    _process_local_numba_lock()
     numba.set_num_threads(1)
     if notices is not None:
         notices.cancel_join_thread()  # a line not yet sent never holds up the worker's end
@@ -1165,6 +1170,26 @@ def _worker_init(job: Job, dims: tuple[int, ...] = (2, 3), notices: Any = None,
             f"worker {os.getpid()}")
         tell_compiling(notices.put, who)
     _warm_up(job, dims)
+
+
+def _process_local_numba_lock() -> None:
+    """In a pool worker, before numba starts its threads: give numba's threading-layer
+    start-up a lock of this process only.
+
+    Numba takes a multiprocessing ``RLock`` for that start-up when the start
+    method's name contains "fork" -- "forkserver" does -- a named semaphore
+    registered with the run's ``resource_tracker`` and unregistered only by
+    the worker's exit handlers. A worker the pool ends (a time limit, or its
+    ``stop`` at the end of the run) runs none, and the tracker then printed
+    "There appear to be 1 leaked semaphore objects to clean up at shutdown"
+    on the run's standard error. The lock only guards a start-up inside this
+    process (a worker starts no processes), so a thread lock does its work.
+    """
+    with suppress(Exception):  # numba's private module state; without it, the old way
+        from numba.np.ufunc import parallel
+
+        if getattr(parallel, "_backend_init_process_lock", False) is None:
+            parallel._backend_init_process_lock = threading.RLock()
 
 
 def _warm_up(job: Job, dims: tuple[int, ...]) -> None:
@@ -1243,7 +1268,10 @@ def _local_pool(workers: int, run: _Run, job: Job,
         for name in list(run.todo):
             submit(name)
         while pending:
-            name, future = arrived.get()
+            try:  # in slices: Ctrl-C, raised in this thread (app/interrupt), lands at once
+                name, future = arrived.get(timeout=0.2)
+            except queue.Empty:
+                continue
             pending -= 1
             path = run.todo[name]
             try:

@@ -13,13 +13,17 @@ from __future__ import annotations
 
 import math
 import os
+import shutil
+import sys
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 from ..errors import InputError
 
-__all__ = ["ENVIRONMENT", "EVERY", "ProgressLines", "duration", "every_from_environment"]
+__all__ = ["ENVIRONMENT", "EVERY", "ProgressLines", "bar_size", "duration",
+           "every_from_environment"]
 
 #: Seconds between two progress lines, by default.
 EVERY = 10.0
@@ -47,6 +51,35 @@ def every_from_environment() -> float:
         raise InputError(f"{ENVIRONMENT}: must be a number of seconds >= 0 (inf: no "
                          f"progress lines), got {text[:40]!r}")
     return value
+
+
+def bar_size(stream: Any = None) -> dict[str, int]:
+    """The size of a progress bar drawn on ``stream`` (standard error by default), as
+    tqdm's keyword arguments: none when it is a terminal that says its size, or no
+    terminal (tqdm measures the one, and draws nothing on the other); else -- a
+    terminal of 0 columns and rows, as a pseudo-terminal nobody sized says --
+    ``ncols`` and ``nrows`` from ``COLUMNS`` and ``LINES``, or 80 by 24.
+
+    tqdm (``disable=None``) draws its bar when its file, standard error, is a
+    terminal, whatever standard output is; on a terminal of size 0 it drew
+    nothing but a line end: no progress at all.
+
+    Examples
+    --------
+    >>> import io
+    >>> bar_size(io.StringIO())   # not a terminal
+    {}
+    """
+    stream = sys.stderr if stream is None else stream
+    try:
+        size = os.get_terminal_size(stream.fileno())
+    except (AttributeError, OSError, ValueError):
+        return {}
+    if size.columns > 0 and size.lines > 0:
+        return {}
+    fallback = shutil.get_terminal_size((80, 24))
+    return {"ncols": size.columns if size.columns > 0 else fallback.columns or 80,
+            "nrows": size.lines if size.lines > 0 else fallback.lines or 24}
 
 
 def duration(seconds: float) -> str:
