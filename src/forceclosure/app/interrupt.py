@@ -156,10 +156,11 @@ def run_interruptible(work: Callable[[], int], grace: float | None = None,
     worker.start()
     asked, deadline, told = False, None, False
     # not worker.join(timeout): Ctrl-C inside it marks the thread as ended while it runs
-    # (Python 3.11's threading, bpo-45274); a sleep is interrupted cleanly
+    # (Python 3.11's threading, bpo-45274); an event's wait is interrupted cleanly, and
+    # returns as soon as the command ends
     while not ended.is_set():
         try:
-            time.sleep(SLICE)
+            ended.wait(SLICE)
             if asked and deadline is None and not saving():  # the save Ctrl-C came in is over
                 deadline = time.monotonic() + grace
                 _raise_in(worker)
