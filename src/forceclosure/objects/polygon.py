@@ -343,9 +343,9 @@ class Polygon:
         """``[[xmin, ymin], [xmax, ymax]]``."""
         return np.array([self.outer.min(axis=0), self.outer.max(axis=0)])
 
-    @property
+    @cached_property
     def size(self) -> float:
-        """Length of the bounding box's diagonal: the object's length scale."""
+        """Length of the bounding box's diagonal: the object's length scale (cached)."""
         return float(np.linalg.norm(np.ptp(self.outer, axis=0)))
 
     @property

@@ -17,6 +17,7 @@ Examples
 
 from __future__ import annotations
 
+import bisect
 from typing import Any
 
 import numpy as np
@@ -36,27 +37,32 @@ __all__ = ["TIE", "Found", "candidate_sites", "ranked", "search"]
 TIE = 1e-6
 
 
-def ranked(built: list[tuple[float, int, Any]], slack: float = 0.0,
-           ) -> list[tuple[float, int, Any]]:
+def _by_size(b: tuple[float, int, Any]) -> tuple[float, int]:
+    return -b[0], b[1]
+
+
+def ranked(built: list[tuple[float, int, Any]], slack: float = 0.0, limit: int | None = None,
+           presorted: bool = False) -> list[tuple[float, int, Any]]:
     """``(size, site, item)`` triples in rank order: by decreasing size, where every size
     within :data:`TIE` (relative) plus ``slack`` of the largest of its run ties with it, and
-    ties go by site.
+    ties go by site. ``limit``: the first that many only (the runs past them are not
+    looked at); ``presorted``: ``built`` is already by decreasing size, then site.
 
     Examples
     --------
     >>> [k for _, k, _ in ranked([(0.5, 3, None), (1.0, 2, None), (1.0 - 1e-9, 0, None)])]
     [0, 2, 3]
     """
-    rest = sorted(built, key=lambda b: (-b[0], b[1]))
+    rest = built if presorted else sorted(built, key=_by_size)
     out: list[tuple[float, int, Any]] = []
     start = 0
-    while start < len(rest):
+    while start < len(rest) and (limit is None or len(out) < limit):
         end = start + 1
         while end < len(rest) and rest[end][0] >= rest[start][0] * (1 - TIE) - slack:
             end += 1
         out += sorted(rest[start:end], key=lambda b: b[1])
         start = end
-    return out
+    return out if limit is None else out[:limit]
 
 
 class Found(list):
@@ -155,7 +161,8 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
     if construction.bound is not None and len(sites):
         bound = np.array([tie_rounded(b) for b in construction.bound(where, sites, hand)])
     order = range(len(sites)) if bound is None else np.argsort(-bound, kind="stable")
-    built: list[tuple[float, int, RegionSet]] = []  # (size, site, regions): keeps its proof
+    # (size, site, regions), by decreasing size then site; a region set keeps its proof
+    built: list[tuple[float, int, RegionSet]] = []
     undecided: list[tuple[Any, str]] = []
 
     def failed_proof(k: int) -> None:
@@ -164,8 +171,13 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
     def beaten(size: float) -> bool:
         """Whether ``top`` proved region sets rank ahead of any site whose regions are at
         most ``size``: the best the sites left can do (they come by decreasing bound)."""
+        # the top ranked are whole runs of ties and the lowest sites of one more, so the
+        # smallest of them is at most the top-th largest size: a size that ties with that
+        # is not beaten, found without ranking (a run of thousands of ties stays linear)
+        if len(built) < top or size >= built[top - 1][0] * (1 - TIE) - slack:
+            return False
         while len(built) >= top:
-            first = ranked(built, slack)[:top]
+            first = ranked(built, slack, limit=top, presorted=True)
             failed = [b for b in first if not b[2].certify().holds]
             if not failed:
                 return size < min(b[0] for b in first) * (1 - TIE) - slack
@@ -190,9 +202,9 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
         if construction.enough is not None and not regions.certify().holds:
             failed_proof(int(k))
             continue
-        built.append((float(regions.relative_min_size), int(k), regions))
+        bisect.insort(built, (float(regions.relative_min_size), int(k), regions), key=_by_size)
     proved = []
-    for _, k, regions in ranked(built, slack):
+    for _, k, regions in ranked(built, slack, presorted=True):
         if len(proved) == top:
             break
         if regions.certify().holds:
