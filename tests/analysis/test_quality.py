@@ -131,6 +131,7 @@ def test_spreading_pairs_close_as_corollary_3_says():
         assert star == pytest.approx(np.tan(angle), rel=1e-9)
 
 
+@pytest.mark.long  # 6 s; test_kernels' least friction against closed forms and the reference stays
 def test_least_friction_of_point_contacts_is_the_reference_bisection_compiled():
     """least_friction on point contacts runs one compiled bisection; with exact cones it
     agrees with the bisection over full analyses to the precision exact cones are decided

@@ -105,6 +105,7 @@ sys.exit(cli.main(["demo"]))
 """
 
 
+@pytest.mark.long  # 5 s of real processes
 def test_ctrl_c_during_a_save_waits_for_it(tmp_path):
     """Ctrl-C while the command saves (inside holding(), in a compiled call longer than the
     grace): the save completes (its kernel returned, the file after it is written); the
@@ -159,6 +160,7 @@ sys.exit(cli.main(["demo"]))
 """
 
 
+@pytest.mark.long  # 5 s of real processes
 def test_ctrl_c_waits_for_a_command_that_saves_its_work(tmp_path):
     """A command inside patient() (it saves what is done when interrupted) is waited for:
     one line says so, its compiled call returns, then it is interrupted (status 130)."""

@@ -100,6 +100,7 @@ def test_exact_rational_planar_hard_fingers():
     assert checked > 20
 
 
+@pytest.mark.long  # 10 s; the agreement on every family stays in the default run
 def test_exact_rational_spatial_pyramids():
     """Cube-face grasps with 4-edge pyramids: the kernel's 6-D hull against exact enumeration.
 

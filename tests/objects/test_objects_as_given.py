@@ -108,6 +108,7 @@ def arc_square(segments=5000, turn=4e-3):
     return np.vstack([bottom, [[1, 1], [-1, 1]]])
 
 
+@pytest.mark.long  # 15 s; test_a_single_tiny_kink_is_kept keeps the case in the default run
 def test_a_finely_tessellated_arc_is_not_straightened(tmp_path, capsys):
     """The 5000-chord arc turns 8e-7 rad a vertex: no merged edge with the chord's normal,
     and every printed region holds on the real boundary (it did not: 6e-4 rad outside)."""

@@ -128,9 +128,9 @@ def check_mug_regions(found, samples=1500):
         assert np.all(deepest > 0.5)
 
 
-@pytest.mark.parametrize("args", [["--fingers", "3", "--contact", "hard"],
-                                  pytest.param(["--fingers", "2", "--contact", "soft"],
-                                               marks=pytest.mark.long)])
+@pytest.mark.parametrize("args", [
+    pytest.param(["--fingers", "3", "--contact", "hard"], marks=pytest.mark.long),  # 10 s
+    pytest.param(["--fingers", "2", "--contact", "soft"], marks=pytest.mark.long)])
 def test_the_mug_is_grasped_from_the_command_line(capsys, args):
     assert main(["synthesize", MUG, *args, "--mu", "0.5"]) == 2
     assert "--allow-open" in capsys.readouterr().err

@@ -49,6 +49,7 @@ def test_two_fingers_same_places(name, offset, scale):
     _check(name, HANDS[0], offset, scale)
 
 
+@pytest.mark.long  # 8 s in all; two fingers on every polygon stay in the default run
 @pytest.mark.parametrize("offset,scale", MOVES[:2] + MOVES[3:])
 @pytest.mark.parametrize("hand", HANDS[1:], ids=lambda h: f"{h[0]}-{h[1]}-{h[3]}")
 @pytest.mark.parametrize("name", FEW)

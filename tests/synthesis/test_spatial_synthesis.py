@@ -488,6 +488,7 @@ def test_seven_frictionless_regions_hold_for_normals_turned_by_the_margin(name):
             assert _frictionless_closure(P, _turned(N, t, rng))
 
 
+@pytest.mark.long  # 9 s
 def test_frictionless_fingers_grown_on_a_mesh_hold_for_turned_normals():
     """Search zones for frictionless fingers (regions grown on the mesh) with a margin: every
     generator of the pyramid around the forces within the margin must reach its zones, so
