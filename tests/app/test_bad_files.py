@@ -120,3 +120,26 @@ def test_tiny_length_scale_leaks_no_warning(tmp_path, capsys):
     assert all("the torques overflow" in line for line in err), err
     results = json.loads(captured.out)["results"]
     assert results[1]["verdict"] == "closure"
+
+
+def test_a_closed_grasp_never_reports_epsilon_0(tmp_path, capsys):
+    """A closed grasp's epsilon is positive (the origin is inside the hull, Theorem 1); at
+    length scales where doubles do not resolve the hull it came out 0: now it is null with
+    the reason said, and at length 1 it is the positive number."""
+    import json
+
+    pinch = [{"point": [-1, 0, 0], "normal": [-1, 0, 0], "model": "soft", "mu": 0.5},
+             {"point": [1, 0, 0], "normal": [1, 0, 0], "model": "soft", "mu": 0.5}]
+    path = tmp_path / "g.json"
+    path.write_text(json.dumps({"grasps": [{"length_scale": s, "contacts": pinch}
+                                           for s in (1.0, 1e-30, 1e-100)]}))
+    assert main(["analyze", str(path), "--json"]) == 0
+    results = json.loads(capsys.readouterr().out)["results"]
+    assert [r["verdict"] for r in results] == ["closure"] * 3
+    assert results[0]["epsilon"] > 0
+    for r in results[1:]:
+        assert r["epsilon"] is None or r["epsilon"] > 0
+        if r["epsilon"] is None:
+            assert r["null_reasons"]["epsilon"].startswith("not resolved")
+    assert main(["analyze", str(path)]) == 0
+    assert "epsilon 0 " not in capsys.readouterr().out

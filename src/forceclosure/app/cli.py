@@ -108,6 +108,8 @@ def _human(record: dict[str, Any], label: str, explanation: str) -> str:
         ref = ", ".join(f"{x:.3g}" for x in record["reference"])
         quality.append(f"epsilon {record['epsilon']:.3g} (L1; torques about ({ref}) "
                        f"per length {record['length_scale']:.3g})")
+    if "epsilon" in nulls and nulls.get("epsilon") != nulls.get("least_friction"):
+        quality.append(f"epsilon {nulls['epsilon']}")
     if "least_friction" in nulls:  # not computed: say so, not "no friction closes it"
         quality.append(("epsilon and least friction " if "epsilon" in nulls else
                         "least friction ") + nulls["least_friction"])

@@ -236,6 +236,8 @@ def _finite(value: Any) -> bool:
 #: Why a value is null in a record, when not for its usual reason (``null_reasons``).
 NOT_COMPUTED = "not computed (--no-quality)"
 NOT_FINITE = "not a finite number (the computation overflowed)"
+UNRESOLVED = ("not resolved: the grasp is closed, so it is positive, but doubles do not "
+              "resolve its wrench hull (torques and forces too far apart at this length scale)")
 TOO_MANY = (f"not computed: more than {MAX_QUALITY_CONTACTS} spatial contact points "
             "(minutes a grasp beyond)")
 
@@ -301,6 +303,8 @@ def result_record(entry: GraspEntry, cone: str | Cone, quality: bool = True,
     reasons.update({key: NOT_FINITE for key, value in (("margin", a.margin), ("epsilon", eps))
                     if value is not None and not math.isfinite(value)})  # least friction:
     # infinite when no friction closes the grasp, its usual null
+    if closed and eps is not None and not eps > 0:  # Theorem 1: a closed grasp's is > 0
+        reasons["epsilon"] = UNRESOLVED
     if not quality:
         reasons.update(epsilon=NOT_COMPUTED, least_friction=NOT_COMPUTED)
     elif too_many:
