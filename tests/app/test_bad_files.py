@@ -125,7 +125,8 @@ def test_tiny_length_scale_leaks_no_warning(tmp_path, capsys):
 def test_a_closed_grasp_never_reports_epsilon_0(tmp_path, capsys):
     """A closed grasp's epsilon is positive (the origin is inside the hull, Theorem 1); at
     length scales where doubles do not resolve the hull it came out 0: now it is null with
-    the reason said, and at length 1 it is the positive number."""
+    the reason said (and so is a margin not resolved there), and at length 1 it is the
+    positive number."""
     import json
 
     pinch = [{"point": [-1, 0, 0], "normal": [-1, 0, 0], "model": "soft", "mu": 0.5},
@@ -141,5 +142,7 @@ def test_a_closed_grasp_never_reports_epsilon_0(tmp_path, capsys):
         assert r["epsilon"] is None or r["epsilon"] > 0
         if r["epsilon"] is None:
             assert r["null_reasons"]["epsilon"].startswith("not resolved")
+        if r["margin"] is None:  # every null says why
+            assert r["null_reasons"]["margin"].startswith("not resolved")
     assert main(["analyze", str(path)]) == 0
     assert "epsilon 0 " not in capsys.readouterr().out

@@ -238,6 +238,8 @@ NOT_COMPUTED = "not computed (--no-quality)"
 NOT_FINITE = "not a finite number (the computation overflowed)"
 UNRESOLVED = ("not resolved: the grasp is closed, so it is positive, but doubles do not "
               "resolve its wrench hull (torques and forces too far apart at this length scale)")
+UNRESOLVED_MARGIN = ("not resolved at this length scale (the verdict was proved in the "
+                     "grasp's own frame: its margin there is in 'reason')")
 TOO_MANY = (f"not computed: more than {MAX_QUALITY_CONTACTS} spatial contact points "
             "(minutes a grasp beyond)")
 
@@ -305,6 +307,8 @@ def result_record(entry: GraspEntry, cone: str | Cone, quality: bool = True,
     # infinite when no friction closes the grasp, its usual null
     if closed and eps is not None and not eps > 0:  # Theorem 1: a closed grasp's is > 0
         reasons["epsilon"] = UNRESOLVED
+    if closed and a.margin is None:  # proved in the grasp's own frame (its reason says so)
+        reasons["margin"] = UNRESOLVED_MARGIN
     if not quality:
         reasons.update(epsilon=NOT_COMPUTED, least_friction=NOT_COMPUTED)
     elif too_many:
