@@ -237,7 +237,8 @@ def test_analyze_npz_truncated_array_keeps_the_rows_before_it(tmp_path, capsys):
     np.testing.assert_array_equal(verdict[done], np.where(closed, 2, 0)[:48])
 
 
-@pytest.mark.parametrize("contact,want", [("hard", 3), ("soft", 2)])
+@pytest.mark.parametrize("contact,want", [
+    pytest.param("hard", 3, marks=pytest.mark.long), ("soft", 2)])  # hard: 7 s
 def test_synthesize_a_mesh_with_the_default_fingers(contact, want, capsys):
     """`synthesize MESH` without --fingers takes the API's (and dataset's) default: the
     fewest that can hold a polyhedron, 3 hard or 2 soft (two hard fingers cannot resist

@@ -254,7 +254,8 @@ def test_two_soft_fingers_far_away_or_scaled(offset, scale):
 @pytest.mark.parametrize("obj,fingers,contact,mu", [
     ("square", 2, "hard", 0.3), ("triangle", 3, "hard", 0.5),
     ("hexagon", 4, "frictionless", 0.0), ("cube", 2, "soft", 0.5),
-    ("cube", 3, "hard", 0.5), pytest.param("l-prism", 3, "hard", 0.6, marks=pytest.mark.long)])
+    pytest.param("cube", 3, "hard", 0.5, marks=pytest.mark.long),  # 7 s
+    pytest.param("l-prism", 3, "hard", 0.6, marks=pytest.mark.long)])
 def test_one_margin_reaches_every_construction(obj, fingers, contact, mu):
     """--margin has one meaning (radians off every cone; frictionless: turned normals) and
     every construction feels it: the best regions shrink from 1e-3 to 0.2. With friction,
@@ -313,7 +314,8 @@ def test_real_meshes_moved_and_scaled_hold_on_the_original_geometry(name, finger
 
 
 @pytest.mark.parametrize("name,fingers,contact,offset,scale", [
-    ("cube", 3, "hard", 1e8, 1.0), ("triangular-prism", 3, "hard", -3e5, 2.0**-12),
+    pytest.param("cube", 3, "hard", 1e8, 1.0, marks=pytest.mark.long),  # 7 s
+    ("triangular-prism", 3, "hard", -3e5, 2.0**-12),
     pytest.param("l-prism", 3, "hard", 1e8, 1e4, marks=pytest.mark.long),
     pytest.param("hexagonal-prism", 3, "hard", 0.0, 1e-4, marks=pytest.mark.long),  # 12 s
     pytest.param("hexagonal-prism", 3, "hard", 2e7, 3.0, marks=pytest.mark.long),

@@ -234,6 +234,7 @@ def test_best_three_hard_on_a_prism_survive_sampling():
 # ---------------------------------------------------------------- §5.5 seven frictionless
 
 
+@pytest.mark.long  # 10 s; test_constructions builds and checks the seven on the cube
 def test_seven_frictionless_regions_exact_and_sampled():
     found = best_seven_frictionless_regions(bundled("cube"), top=2, samples=8000)
     assert found
@@ -245,6 +246,7 @@ def test_seven_frictionless_regions_exact_and_sampled():
         assert check.holds, check.detail
 
 
+@pytest.mark.long  # 8 s
 def test_seven_certificate_fails_on_a_region_too_large():
     """Widen one region to its whole face: the minors change sign at some vertex tuple,
     and sampling finds grasps that are not force-closure too."""
