@@ -14,10 +14,9 @@ from pathlib import Path
 import psutil
 import pytest
 
-#: A command whose work is one call of a compiled kernel, a minute long here (seconds on a
-#: fast machine: far more than the time Ctrl-C takes): "started" before; the kernel itself
-#: writes 1 in the file argv[1] (mapped in memory) as it returns.
-BUSY = """
+#: The imports and the compiled kernel both scripts below run: ``spin(n, returned)`` loops
+#: ``n`` times without the GIL, then writes 1 in ``returned``.
+SPIN = """
 import math, sys
 import numba
 import numpy as np
@@ -30,7 +29,12 @@ def spin(n, returned):
         s += math.sin(i * 1e-3)
     returned[0] = 1
     return s
+"""
 
+#: A command whose work is one call of a compiled kernel, a minute long here (seconds on a
+#: fast machine: far more than the time Ctrl-C takes): "started" before; the kernel itself
+#: writes 1 in the file argv[1] (mapped in memory) as it returns.
+BUSY = SPIN + """
 def busy(args):
     returned = np.asarray(np.memmap(sys.argv[1], dtype=np.int64, mode="r+", shape=(1,)))
     spin(10, np.zeros(1, np.int64))  # compiled before it says it started
@@ -129,23 +133,11 @@ def test_ctrl_c_during_a_save_waits_for_it(tmp_path):
 
 #: A command that saves its work when interrupted (as analyze --out does): its compiled
 #: call of seconds inside patient(), which marks its return in argv[1].
-PATIENT = """
-import math, sys
-import numba
-import numpy as np
-from forceclosure.app import cli
+PATIENT = SPIN + """
 from forceclosure.app import interrupt
 from forceclosure.app.interrupt import patient
 
 interrupt.GRACE = 0.1  # the call below outlasts it
-
-@numba.njit(nogil=True, cache=False)
-def spin(n, returned):
-    s = 0.0
-    for i in range(n):
-        s += math.sin(i * 1e-3)
-    returned[0] = 1
-    return s
 
 def work(args):
     returned = np.asarray(np.memmap(sys.argv[1], dtype=np.int64, mode="r+", shape=(1,)))
