@@ -398,7 +398,7 @@ def _cmd_constructions(args: argparse.Namespace) -> int:
     table = registered()
     if args.json:
         json.dump([{"dim": c.dim, "fingers": c.fingers, "contact": c.contact, "name": c.name,
-                    "paper": c.paper, "method": c.method, "searched": c.searched,
+                    "paper": c.paper, "method": c.method, "searched": c.described,
                     "bound": c.bound is not None, "prune": c.prune is not None}
                    for c in table], sys.stdout, indent=2)
         sys.stdout.write("\n")
@@ -410,7 +410,7 @@ def _cmd_constructions(args: argparse.Namespace) -> int:
         fingers = "any number of" if c.fingers is None else str(c.fingers)
         contact = "" if c.contact == "any" else f" {c.contact}"
         print(f"  {where}, {fingers}{contact} fingers, {c.name}: {c.paper}")
-        print(textwrap.fill(f"searches {c.searched}", 96, initial_indent=" " * 6,
+        print(textwrap.fill(f"searches {c.described}", 96, initial_indent=" " * 6,
                             subsequent_indent=" " * 6))
     return 0
 

@@ -13,7 +13,6 @@ first. A hand it cannot construct is refused with one line that says why.
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass
 from typing import Any
 
@@ -75,9 +74,8 @@ class Synthesis:
         """What was searched, in words; a completeness the search does not have (a site
         undecided) is not claimed."""
         if self.undecided == 0:
-            return self.construction.searched
-        text = re.sub(r" \(complete: [^)]*\)", "", self.construction.searched)
-        return (f"{text}; not complete: {self.undecided} site"
+            return self.construction.described
+        return (f"{self.construction.searched}; not complete: {self.undecided} site"
                 f"{'s' if self.undecided != 1 else ''} undecided (regions there could not be "
                 "proved in the coordinates given)")
 

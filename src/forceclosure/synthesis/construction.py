@@ -134,6 +134,14 @@ class Construction:
     bound: Callable[[Any, Sites, Hand], NDArray[np.float64]] | None = None
     enough: int | None = None
     complete: bool = False
+    #: Why the search is complete, in words (with ``complete``): said after ``searched``.
+    completeness: str = ""
+
+    @property
+    def described(self) -> str:
+        """What it searches, in words, with why that is complete where it is."""
+        return (f"{self.searched} (complete: {self.completeness})" if self.completeness
+                else self.searched)
 
     @property
     def key(self) -> tuple[int, int | None, str, str]:

@@ -468,8 +468,8 @@ MAXIMAL = register(Construction(
     dim=2, fingers=2, contact="hard", name="maximal", paper="§5.1, Corollary 3",
     method="edges", sites=edge_pair_sites, prune=counter_overlap_prune,
     bound=largest_segments_bound, build=_build_maximal,
-    searched="every pair of edges, the fingers squeezing or pushing apart (complete: "
-             "Lemma 1 gives every two-finger grasp)", complete=True))
+    searched="every pair of edges, the fingers squeezing or pushing apart", complete=True,
+    completeness="Lemma 1 gives every two-finger grasp"))
 
 
 def _convex(polygon: Polygon) -> bool:
