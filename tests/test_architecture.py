@@ -179,9 +179,9 @@ def test_geometry_imports_nothing_above_it():
 #: and ``io.atomic`` are leaf primitives (read a user's file, write one atomically) that import
 #: only ``errors``, so every layer may use them, as may ``schemas`` (the shipped JSON schemas),
 #: ``extras`` (the optional packages, imported on use) and ``verdicts`` (the verdicts' words and
-#: codes); ``_moved`` keeps the old module paths.
+#: codes).
 LAYERS = [
-    ["errors", "tolerance", "_moved", "io.files", "io.atomic", "schemas", "extras",
+    ["errors", "tolerance", "io.files", "io.atomic", "schemas", "extras",
      "verdicts"],
     ["geometry"],
     ["contacts", "kernels"],

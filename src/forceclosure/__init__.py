@@ -22,11 +22,6 @@ from importlib import import_module
 from importlib.metadata import PackageNotFoundError, version
 from typing import TYPE_CHECKING, Any
 
-from ._moved import install as _install_moved
-from ._moved import moved_attribute as _moved_attribute
-
-_install_moved()  # the old module paths (forceclosure.closure, ...) keep working
-
 try:
     __version__ = version("forceclosure")
 except PackageNotFoundError:  # pragma: no cover - running from a source tree
@@ -53,9 +48,7 @@ _HOME = {
     **dict.fromkeys(["graspnet_array", "save_acronym", "save_graspnet"], "io.export"),
     **dict.fromkeys(["plot_grasps"], "pictures.grasp_plot"),
     **dict.fromkeys(["Synthesis", "synthesize"], "synthesis.best"),
-    **dict.fromkeys(["Certificate", "Regions", "best_frictionless_regions", "best_regions",
-                     "best_seven_frictionless_regions", "best_soft_pair_regions",
-                     "best_three_finger_regions", "best_three_hard_regions"], "synthesis"),
+    **dict.fromkeys(["Certificate", "Regions"], "synthesis"),
     **dict.fromkeys(["Polygon", "Polyhedron", "bundled", "glyph", "prism"], "objects"),
     **dict.fromkeys(["load_object"], "objects.io"),
 }
@@ -66,7 +59,7 @@ def __getattr__(name: str) -> Any:
         value = getattr(import_module(f".{_HOME[name]}", __name__), name)
         globals()[name] = value
         return value
-    return _moved_attribute(__name__, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def __dir__() -> list[str]:
@@ -108,16 +101,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, eagerly
     from .objects.io import load_object
     from .pictures.grasp_plot import plot_grasps
     from .simulators import contacts_from_mujoco, contacts_from_pybullet
-    from .synthesis import (
-        Certificate,
-        Regions,
-        best_frictionless_regions,
-        best_regions,
-        best_seven_frictionless_regions,
-        best_soft_pair_regions,
-        best_three_finger_regions,
-        best_three_hard_regions,
-    )
+    from .synthesis import Certificate, Regions
     from .synthesis.best import Synthesis, synthesize
 
 __all__ = [
@@ -145,12 +129,6 @@ __all__ = [
     "WrenchSet",
     "__version__",
     "analyze",
-    "best_frictionless_regions",
-    "best_regions",
-    "best_seven_frictionless_regions",
-    "best_soft_pair_regions",
-    "best_three_finger_regions",
-    "best_three_hard_regions",
     "bundled",
     "collides",
     "contacts_from_mujoco",

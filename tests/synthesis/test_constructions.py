@@ -24,14 +24,13 @@ from forceclosure.schemas import load_schema
 from forceclosure.synthesis import (
     Hand,
     RegionSet,
-    candidate_sites,
-    registered,
-    sampling_check,
+    constructions,
     search,
 )
 from forceclosure.synthesis.construction import Undecided
-from forceclosure.synthesis.ranked_search import TIE
+from forceclosure.synthesis.ranked_search import TIE, candidate_sites
 from forceclosure.synthesis.regions import tie_rounded
+from forceclosure.synthesis.spatial.patches import sampling_check
 
 SCHEMA = load_schema("regions")
 
@@ -60,7 +59,7 @@ def _hand(c):
 
 
 def _cases():
-    for c in registered():
+    for c in constructions():
         names = POLYGONS if c.dim == 2 else POLYHEDRA
         for name in names:
             slow = (((c.dim, c.fingers, c.contact) in SLOW and name != "cube")
@@ -73,13 +72,13 @@ CASES = list(_cases())
 
 
 def test_the_table_has_every_construction_of_the_paper():
-    keys = {c.key for c in registered()}
+    keys = {c.key for c in constructions()}
     assert {(2, 2, "hard", "maximal"), (2, 2, "hard", "nguyen"), (2, 2, "hard", "vertices"),
             (2, 3, "hard", "maximal"), (2, 4, "frictionless", "maximal"),
             (2, 4, "frictionless", "nguyen"), (3, 2, "soft", "maximal"),
             (3, 2, "soft", "nguyen"), (3, 3, "hard", "maximal"),
             (3, 7, "frictionless", "maximal"), (3, None, "any", "mesh")} <= keys
-    for c in registered():
+    for c in constructions():
         assert c.paper and c.searched and c.method in ("edges", "faces", "mesh")
         assert (c.dim, c.fingers, c.contact) in HANDS, f"no test hand for {c.key}"
 
@@ -206,7 +205,7 @@ def test_the_command_lists_the_table(capsys):
     assert main(["constructions", "--json"]) == 0
     table = json.loads(capsys.readouterr().out)
     assert [(c["dim"], c["fingers"], c["contact"], c["name"]) for c in table] == [
-        c.key for c in registered()]
+        c.key for c in constructions()]
     assert main(["constructions"]) == 0
     out = capsys.readouterr().out
     assert "polyhedron, 2 soft fingers, maximal: §5.2" in out and "Lemma 1" in out

@@ -8,8 +8,8 @@ import pytest
 
 from forceclosure import InputError, Verdict, analyze, point_contact
 from forceclosure.objects import bundled
+from forceclosure.synthesis import synthesize
 from forceclosure.synthesis.planar.four_frictionless import (
-    best_frictionless_regions,
     cofactors,
     maximal_frictionless_regions,
 )
@@ -48,7 +48,7 @@ def test_cofactor_signs_decide_closure_like_theorem_1():
 def test_every_quadruple_in_every_region_is_force_closure(name):
     polygon = bundled(name)
     rng = np.random.default_rng(2)
-    found = best_frictionless_regions(polygon, top=3)
+    found = synthesize(polygon, 4, "frictionless", top=3).found
     assert found
     for r in found:
         assert r.certify().holds
@@ -121,7 +121,7 @@ def test_refusals_and_empty_cases():
         maximal_frictionless_regions(square, (0, 0, 1, 2))
     with pytest.raises(InputError, match="no edge 7"):
         maximal_frictionless_regions(square, (0, 1, 2, 7))
-    assert best_frictionless_regions(bundled("triangle")) == []  # three edges only
+    assert synthesize(bundled("triangle"), 4, "frictionless").found == []  # three edges only
 
 
 @pytest.mark.parametrize("name", ["square", "hexagon", "l-shape", "frame", "star",

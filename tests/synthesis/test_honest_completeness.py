@@ -11,8 +11,9 @@ from forceclosure import InputError
 from forceclosure.app.cli import main
 from forceclosure.objects import Polygon
 from forceclosure.synthesis import best
-from forceclosure.synthesis.construction import Construction, Hand, Undecided, construction_for
+from forceclosure.synthesis.construction import Construction, Hand, Undecided
 from forceclosure.synthesis.ranked_search import search
+from forceclosure.synthesis.table import construction_for
 
 # an L of exact integer corners: at the origin, three grasps for mu 0.4
 L_SHAPE = np.array([[0, 0], [3, 0], [3, 1], [1, 1], [1, 3], [0, 3]], float)

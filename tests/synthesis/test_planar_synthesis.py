@@ -10,7 +10,7 @@ import shapely
 from forceclosure import InputError, Verdict, analyze, point_contact
 from forceclosure.analysis.two_finger import two_finger_closure
 from forceclosure.objects import Polygon, bundled, glyph
-from forceclosure.synthesis import best_regions, maximal_regions, pair_grasps
+from forceclosure.synthesis import maximal_regions, pair_grasps, synthesize
 from forceclosure.synthesis.planar.two_fingers import ANGLE_MARGIN
 
 
@@ -80,7 +80,7 @@ def _sample_box(regions, rng, n):
 def test_every_pair_in_every_region_is_force_closure(polygon):
     rng = np.random.default_rng(1)
     mu = 0.35
-    results = best_regions(polygon, mu, top=4)
+    results = synthesize(polygon, 2, "hard", mu, top=4).found
     assert results, polygon.name
     for r in results:
         assert r.certify().holds
@@ -281,7 +281,6 @@ def test_nguyen_construction_from_the_command(tmp_path, capsys):
     import json
 
     from forceclosure.app.cli import main
-    from forceclosure.synthesis import best_frictionless_regions
 
     assert main(["synthesize", "wrench-head", "--construction", "nguyen", "--json",
                  "--plot", str(tmp_path / "cone.png")]) == 0
@@ -293,10 +292,10 @@ def test_nguyen_construction_from_the_command(tmp_path, capsys):
     ends = np.array(best["points"]).reshape(-1, 2)
     assert ends[:, 1].min() < apex[1] < ends[:, 1].max()
     assert (tmp_path / "cone.png").stat().st_size > 5000
-    four = best_frictionless_regions(bundled("bracket"), top=1, construction="nguyen")
+    four = synthesize(bundled("bracket"), 4, "frictionless", top=1, construction="nguyen").found
     assert four[0].construction.startswith("Nguyen") and four[0].certify().holds
     with pytest.raises(InputError, match="construction must be"):
-        best_regions(bundled("square"), 0.3, construction="other")
+        synthesize(bundled("square"), 2, "hard", 0.3, construction="other")
     assert main(["synthesize", "square", "--fingers", "3", "--construction", "nguyen"]) == 2
 
 
@@ -342,7 +341,7 @@ def test_grasps_in_a_slot_push_apart_and_are_found():
     assert set(closing) == {(1, 3)}  # only the slot's walls
     truth = closing[(1, 3)]
     assert np.all(truth.angle_p[truth.force_closure] > np.pi / 2)  # all pushing apart
-    found = best_regions(polygon, mu, top=5)
+    found = synthesize(polygon, 2, "hard", mu, top=5).found
     assert [(r.edges, r.spreading) for r in found] == [((1, 3), True)]
     r = found[0]
     assert r.certify().holds and "pushing apart" in r.certify().detail
@@ -354,7 +353,7 @@ def test_grasps_in_a_slot_push_apart_and_are_found():
     import dataclasses
 
     assert not dataclasses.replace(r, spreading=False).certify().holds
-    n = best_regions(polygon, mu, top=5, construction="nguyen")
+    n = synthesize(polygon, 2, "hard", mu, top=5, construction="nguyen").found
     assert [(x.edges, x.spreading) for x in n] == [((1, 3), True)] and n[0].certify().holds
     assert n[0].min_length <= r.min_length * (1 + 1e-9)
     assert set(_analyzed(polygon, n[0], rng, 500)[0]) == {Verdict.CLOSURE}
@@ -364,12 +363,12 @@ def test_grasps_in_a_slot_push_apart_and_are_found():
                                      _slot_in_a_triangle()], ids=lambda p: p.name)
 @pytest.mark.parametrize("construction", ["maximal", "nguyen"])
 def test_spreading_regions_hold_under_the_general_test(polygon, construction):
-    """Every region set best_regions returns (both orientations ranked together, best
+    """Every region set two fingers are given (both orientations ranked together, best
     first) is certified, and 300 random pairs and the corners of each pass Theorem 1's
     general test, in the orientation it claims."""
     rng = np.random.default_rng(4)
     mu = 0.4 if polygon.name != "slot in a triangle" else 0.2
-    found = best_regions(polygon, mu, top=12, construction=construction)
+    found = synthesize(polygon, 2, "hard", mu, top=12, construction=construction).found
     assert any(r.spreading for r in found)
     for r in found:
         assert r.certify().holds
@@ -401,7 +400,7 @@ def test_frame_grasps_inside_its_hole(capsys):
 @pytest.mark.parametrize("polygon", [bundled("frame"), bundled("wrench-head"), glyph("e"),
                                      _slot_in_a_triangle()], ids=lambda p: p.name)
 def test_pruning_keeps_every_pair_that_pushes_apart(polygon):
-    """best_regions prunes the spreading LP to edges that reach outside each other's lines;
+    """The two-finger search prunes the spreading LP to edges that reach outside each other's lines;
     every pair whose own LP (maximal_regions, no pruning) gives spreading regions is among
     its results, as long."""
     mu = 0.6
@@ -411,7 +410,8 @@ def test_pruning_keeps_every_pair_that_pushes_apart(polygon):
         if r is not None:
             assert r.spreading and r.certify().holds
             want[(i, j)] = r.min_length
-    got = {r.edges: r.min_length for r in best_regions(polygon, mu, top=10_000) if r.spreading}
+    got = {r.edges: r.min_length
+           for r in synthesize(polygon, 2, "hard", mu, top=10_000).found if r.spreading}
     assert set(got) == set(want) and want, (got, want)
     for k, length in want.items():
         assert got[k] == pytest.approx(length, rel=1e-12)

@@ -19,21 +19,18 @@ from forceclosure.objects.io import load_object
 from forceclosure.synthesis import (
     FacePatch,
     SevenRegions,
-    best_seven_frictionless_regions,
-    best_soft_pair_regions,
-    best_three_hard_regions,
     classify_three,
-    counter_overlap,
     counter_overlapping_cone,
     prototype_grasps,
-    sampling_check,
     seven_frictionless_regions,
     soft_pair_regions,
     three_hard_regions,
     zone_regions,
 )
 from forceclosure.synthesis.best import synthesize
+from forceclosure.synthesis.spatial.patches import sampling_check
 from forceclosure.synthesis.spatial.seven_frictionless import cofactor_signs
+from forceclosure.synthesis.spatial.three_hard import counter_overlap, three_hard_construction
 from forceclosure.synthesis.spatial.two_soft import ANGLE_MARGIN, PYRAMID_EDGES
 from forceclosure.synthesis.spatial.zones import surface_samples
 
@@ -107,7 +104,8 @@ def test_nguyen_two_sided_cone_matches_the_disk_bound():
     ("l-prism", "maximal"), ("holed-block", "maximal"), ("hexagonal-prism", "maximal"),
     ("triangular-prism", "maximal"), ("l-prism", "nguyen"), ("hexagonal-prism", "nguyen")])
 def test_best_soft_pairs_on_bundled_polyhedra_survive_sampling(name, construction):
-    found = best_soft_pair_regions(bundled(name), 0.5, top=2, construction=construction)
+    found = synthesize(bundled(name), 2, "soft", 0.5, top=2, construction=construction,
+                       method="faces").found
     assert found
     for r in found:
         assert r.certify().holds
@@ -167,8 +165,8 @@ def test_soft_pair_invariance(scale, shift, axis, angle):
     K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
     R = np.eye(3) + math.sin(angle) * K + (1 - math.cos(angle)) * K @ K
     moved = Polyhedron.from_arrays(cube.vertices @ R.T * scale + shift, cube.triangles)
-    base = best_soft_pair_regions(cube, 0.4, top=1)[0].min_area
-    found = best_soft_pair_regions(moved, 0.4, top=1)[0]
+    base = synthesize(cube, 2, "soft", 0.4, top=1, method="faces").found[0].min_area
+    found = synthesize(moved, 2, "soft", 0.4, top=1, method="faces").found[0]
     bound = (math.cos(math.pi / 16) * math.cos(math.pi / 32)) ** 2
     assert bound <= found.min_area / (base * scale**2) <= 1 / bound
     assert found.certify().holds
@@ -225,7 +223,8 @@ def test_three_hard_regions_on_the_cube(faces, cls):
 
 
 def test_best_three_hard_on_a_prism_survive_sampling():
-    found = best_three_hard_regions(bundled("triangular-prism"), 0.6, top=2, max_faces=5)
+    found = synthesize(bundled("triangular-prism"), 3, "hard", 0.6, top=2, method="faces",
+                       construction=three_hard_construction(max_faces=5)).found
     assert found
     for r in found:
         assert r.certify().holds and sampling_check(r, samples=1500).holds
@@ -236,7 +235,7 @@ def test_best_three_hard_on_a_prism_survive_sampling():
 
 @pytest.mark.long  # 10 s; test_constructions builds and checks the seven on the cube
 def test_seven_frictionless_regions_exact_and_sampled():
-    found = best_seven_frictionless_regions(bundled("cube"), top=2, samples=8000)
+    found = synthesize(bundled("cube"), 7, "frictionless", top=2, samples=8000).found
     assert found
     for r in found:
         cert = r.certify()
@@ -253,7 +252,7 @@ def test_seven_certificate_fails_on_a_region_too_large():
     from dataclasses import replace
 
     cube = bundled("cube")
-    r = best_seven_frictionless_regions(cube, top=1, samples=8000)[0]
+    r = synthesize(cube, 7, "frictionless", top=1, samples=8000).found[0]
     face = cube.faces[r.regions[0][0].face]
     whole = FacePatch.on(face, face.polygon.outer)
     bad = SevenRegions(**{**{f: getattr(r, f) for f in r.__dataclass_fields__},

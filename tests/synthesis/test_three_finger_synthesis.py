@@ -10,7 +10,7 @@ import pytest
 from forceclosure import InputError, Verdict, analyze, point_contact
 from forceclosure.app.cli import main
 from forceclosure.objects import Polygon, bundled, glyph
-from forceclosure.synthesis import best_three_finger_regions, three_finger_regions
+from forceclosure.synthesis import synthesize, three_finger_regions
 from forceclosure.synthesis.planar.three_fingers import GRID, SEARCHED
 from forceclosure.synthesis.planar.two_fingers import maximal_regions
 
@@ -21,7 +21,7 @@ from forceclosure.synthesis.planar.two_fingers import maximal_regions
 def test_every_triple_in_every_region_is_force_closure(polygon):
     rng = np.random.default_rng(4)
     mu = 0.3
-    found = best_three_finger_regions(polygon, mu, top=3)
+    found = synthesize(polygon, 3, "hard", mu, top=3).found
     for r in found:
         assert r.certify().holds
         es = [polygon.edges[k] for k in r.edges]
@@ -87,7 +87,7 @@ def test_square_three_fingers(mu):
     The search before this change said that no triple admits a grasp."""
     square = bundled("square")
     rng = np.random.default_rng(16)
-    found = best_three_finger_regions(square, mu, top=10)
+    found = synthesize(square, 3, "hard", mu, top=10).found
     assert sorted(r.edges for r in found) == list(itertools.combinations(range(4), 3))
     head_on = 2 * math.tan(math.atan(mu) - 1e-3)
     for r in found:
@@ -106,7 +106,7 @@ def test_square_three_fingers(mu):
                          + [glyph("A")], ids=lambda p: p.name)
 def test_every_family_checked_by_theorem_1(polygon, mu):
     rng = np.random.default_rng(6)
-    found = best_three_finger_regions(polygon, mu, top=4)
+    found = synthesize(polygon, 3, "hard", mu, top=4).found
     assert found  # every polygon here has three-finger grasps at these frictions
     for r in found:
         _assert_every_choice_closes(polygon, r, mu, rng, random=30)
@@ -134,7 +134,7 @@ def test_no_grasp_on_three_consecutive_sides_of_a_hexagon():
     and (Theorem 1) no force closure, wherever the fingers are."""
     hexagon, mu = Polygon.regular(6), 0.3
     assert three_finger_regions(hexagon, (0, 1, 2), mu) is None
-    found = best_three_finger_regions(hexagon, mu, top=100)
+    found = synthesize(hexagon, 3, "hard", mu, top=100).found
     assert found and all(sorted((k - min(r.edges)) % 6 for k in r.edges) != [0, 1, 2]
                          for r in found)
     rng = np.random.default_rng(3)

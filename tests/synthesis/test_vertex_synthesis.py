@@ -6,7 +6,13 @@ import pytest
 from forceclosure import Verdict, analyze, point_contact, vertex_contact
 from forceclosure.app.cli import main
 from forceclosure.objects import bundled, glyph
-from forceclosure.synthesis import convex_vertices, vertex_grasps
+from forceclosure.synthesis import synthesize
+from forceclosure.synthesis.planar.vertex_grasps import convex_vertices
+
+
+def vertex_grasps(polygon, mu, top=5):
+    """The table's vertex construction, through the one door."""
+    return synthesize(polygon, 2, "soft", mu, top=top, construction="vertices").found
 
 
 def test_convex_vertices():
@@ -46,10 +52,8 @@ def test_every_vertex_grasp_is_force_closure(polygon):
 
 def test_the_triangle_needs_a_vertex():
     """No two fingers on edges hold the triangle at mu 0.3; a finger on a corner does."""
-    from forceclosure.synthesis import best_regions
-
     triangle = bundled("triangle")
-    assert best_regions(triangle, 0.3) == []
+    assert synthesize(triangle, 2, "hard", 0.3).found == []
     best = vertex_grasps(triangle, 0.3, top=1)[0]
     assert best.other[0] == "edge" and best.min_length > 0.5
 

@@ -28,6 +28,7 @@ from .. import __version__
 from ..errors import InputError, clip, printable
 from ..extras import require
 from ..io.files import read_text
+from ..synthesis.table import DEFAULT, names
 from ..tolerance import TOLERANCE
 from ..verdicts import VERDICT_WORDS, VerdictCode
 from .progress import bar_size
@@ -330,12 +331,12 @@ def _demo_objects() -> None:
     from ..analysis.closure import analyze
     from ..contacts import point_contact
     from ..objects import POLYGONS, POLYHEDRA, bundled
-    from ..synthesis import best_regions
+    from ..synthesis.best import synthesize
 
     print("== bundled polygons: the best two-finger grasp, mu 0.3, and its independent "
           "regions ==")
     for name in POLYGONS:
-        found = best_regions(bundled(name), 0.3, top=1)
+        found = synthesize(bundled(name), 2, "hard", 0.3, top=1).found
         if not found:
             print(f"  {name:17} no force-closure grasp with two fingers at mu 0.3")
             continue
@@ -393,9 +394,9 @@ def _cmd_objects(args: argparse.Namespace) -> int:
 def _cmd_constructions(args: argparse.Namespace) -> int:
     import textwrap
 
-    from ..synthesis.construction import registered
+    from ..synthesis.table import constructions
 
-    table = registered()
+    table = constructions()
     if args.json:
         json.dump([{"dim": c.dim, "fingers": c.fingers, "contact": c.contact, "name": c.name,
                     "paper": c.paper, "method": c.method, "searched": c.described,
@@ -493,10 +494,9 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
               "(--fingers N to choose)")
     found, mu, method = result.found, result.mu, result.method
     corners = []
-    if args.vertices:
-        from ..synthesis import vertex_grasps
-
-        corners = vertex_grasps(obj, mu, top=args.top, margin=args.margin)
+    if args.vertices:  # the table's vertex construction, two fingers
+        corners = synthesize(obj, 2, "soft", mu, top=args.top, margin=args.margin,
+                             construction="vertices").found
     if args.json:
         record = {"object": obj.name, "fingers": args.fingers, "contact": args.contact,
                   "mu": mu, "size": obj.size, "units": getattr(obj, "units", None),
@@ -1208,9 +1208,11 @@ def _synthesis_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--margin", type=float, default=1e-3,
                    help="radians: the regions stay force-closure when every contact normal "
                         "turns by up to this angle (default 1e-3; cones narrowed by it)")
-    p.add_argument("--construction", choices=("maximal", "nguyen"), default="maximal",
-                   help="maximal regions (an exact LP), or the paper's two-sided cone "
-                        "constructions (§5.1, §5.4)")
+    p.add_argument("--construction", choices=names(), default=DEFAULT,
+                   help="a name in the table of constructions (forceclosure constructions): "
+                        "maximal regions (an exact LP), the paper's two-sided cone "
+                        "constructions (nguyen: §5.1, §5.2, §5.4), a soft finger on a vertex "
+                        "(vertices: polygons), regions grown on the mesh (mesh: polyhedra)")
     p.add_argument("--method", choices=("auto", "faces", "mesh"), default="auto",
                    help="polyhedra: the paper's constructions on faces (two soft, three hard, "
                         "seven frictionless fingers), or regions grown over a mesh around "

@@ -5,22 +5,17 @@ An adapter at the synthesis level (geometry → contacts → analysis →
 synthesis/gripper → pictures/io → app): it turns what a user has, a jaw pose,
 into contacts and labels them with the analysis; it may import the analysis,
 objects and synthesis (antipodal sampling uses its patches), never pictures,
-the exports or the app. It was the module :mod:`.jaw` before (issue 16), whose
-names it still gives: ``from forceclosure.gripper import ParallelJaw`` works.
+the exports or the app. Its names are in its modules
+(``from forceclosure.gripper.jaw import ParallelJaw``,
+``from forceclosure.gripper.labels import grasp_labels``), and the most used at the top
+level (``from forceclosure import ParallelJaw, grasp_labels``).
 
 Examples
 --------
->>> from forceclosure.gripper import ParallelJaw, jaw
->>> ParallelJaw is jaw.ParallelJaw
+>>> from forceclosure.gripper.jaw import ParallelJaw
+>>> from forceclosure import ParallelJaw as same
+>>> ParallelJaw is same
 True
 """
 
-from typing import Any
-
-from .._moved import forward
-
-__all__ = ["JawContacts", "JawPose", "ParallelJaw", "contacts_of", "pose_from_contacts"]
-
-
-def __getattr__(name: str) -> Any:
-    return forward(__name__, f"{__name__}.jaw", name)
+__all__: list[str] = []

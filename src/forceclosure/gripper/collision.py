@@ -338,7 +338,7 @@ def choose_approach(obj: Any, poses: Any, gripper: ParallelJaw, approaches: int 
     approach (+z, from below) puts the palm in the cube; turned half a
     turn (the third of 4 axes, -z) it is clear.
 
-    >>> from forceclosure.gripper import JawPose
+    >>> from forceclosure.gripper.jaw import JawPose
     >>> axis, hit = choose_approach("cube", [JawPose([0, 0, 0.8], [1, 0, 0], [0, 0, 1], 2.0)],
     ...                             ParallelJaw(3.0), approaches=4)
     >>> (axis.round(12) + 0.0).tolist(), hit.tolist()

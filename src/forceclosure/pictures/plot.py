@@ -185,9 +185,11 @@ def on_vertex(regions: Any) -> bool:
     Examples
     --------
     >>> from forceclosure.objects import bundled
-    >>> from forceclosure.synthesis import best_regions, vertex_grasps
+    >>> from forceclosure.synthesis import synthesize
     >>> square = bundled("square")
-    >>> on_vertex(best_regions(square, 0.3, top=1)[0]), on_vertex(vertex_grasps(square, 0.3)[0])
+    >>> pair = synthesize(square, 2, "hard", 0.3, top=1).found[0]
+    >>> corner = synthesize(square, 2, "soft", 0.3, construction="vertices").found[0]
+    >>> on_vertex(pair), on_vertex(corner)
     (False, True)
     """
     return "vertex" in regions.kinds
@@ -497,10 +499,11 @@ def plot_regions(regions: Sequence[Any], path: str | Path | None = None,
     Examples
     --------
     >>> from forceclosure.objects import bundled
-    >>> from forceclosure.synthesis import best_regions, vertex_grasps
+    >>> from forceclosure.synthesis import synthesize
     >>> square = bundled("square")
-    >>> fig = plot_regions([*best_regions(square, 0.3, top=2), *vertex_grasps(square, 0.3,
-    ...                                                                        top=1)])
+    >>> fig = plot_regions([*synthesize(square, 2, "hard", 0.3, top=2).found,
+    ...                     *synthesize(square, 2, "soft", 0.3, top=1,
+    ...                                 construction="vertices").found])
     >>> len(fig.axes[0].lines) > 0
     True
     """
@@ -736,8 +739,8 @@ def plot_spatial_regions(regions: Any, path: str | Path | None = None,
     Parameters
     ----------
     regions : SpatialRegions
-        One region set (e.g. the best of
-        :func:`forceclosure.synthesis.best_soft_pair_regions`).
+        One region set (e.g. the best that
+        :func:`~forceclosure.synthesis.best.synthesize` finds on a polyhedron).
     path : str or Path, optional
         Save the picture there (``.png`` or ``.svg``).
     title : str, optional
@@ -855,7 +858,7 @@ def plot_found(found: Sequence[Any], path: str | Path | None = None, title: str 
     ----------
     found : sequence of RegionSet
         Region sets on one object, best first (``synthesize(...).found``,
-        with any :func:`~forceclosure.synthesis.vertex_grasps` added).
+        with any found by ``construction="vertices"`` added).
     path : str or Path, optional
         Save the picture there (``.png`` or ``.svg``).
     title : str, optional

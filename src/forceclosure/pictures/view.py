@@ -151,8 +151,7 @@ def spatial_figure(found: Sequence[SpatialRegions], title: str | None = None, *,
     Parameters
     ----------
     found : sequence of SpatialRegions
-        Region sets on the same polyhedron, best first (as returned by
-        :func:`forceclosure.synthesis.best_soft_pair_regions` and its kin).
+        Region sets on the same polyhedron, best first (``synthesize(...).found``).
         The first is shown; a menu switches to the others.
     title : str, optional
     up : {"x", "y", "z"}
@@ -270,10 +269,11 @@ def planar_figure(found: Sequence[RegionSet], title: str | None = None) -> go.Fi
     Examples
     --------
     >>> from forceclosure.objects import bundled
-    >>> from forceclosure.synthesis import best_regions, vertex_grasps
+    >>> from forceclosure.synthesis import synthesize
     >>> square = bundled("square")
-    >>> fig = planar_figure([*best_regions(square, 0.3, top=2), *vertex_grasps(square, 0.3,
-    ...                                                                         top=1)])
+    >>> fig = planar_figure([*synthesize(square, 2, "hard", 0.3, top=2).found,
+    ...                      *synthesize(square, 2, "soft", 0.3, top=1,
+    ...                                  construction="vertices").found])
     >>> sorted({t.legendgroup for t in fig.data if t.legendgroup})
     ['grasp 1', 'grasp 2', 'v1']
     """
@@ -447,7 +447,7 @@ def grasps_figure(obj, labels, top: int = 10, gripper=None, title: str | None = 
 
     Examples
     --------
-    >>> from forceclosure.gripper import ParallelJaw
+    >>> from forceclosure.gripper.jaw import ParallelJaw
     >>> from forceclosure.gripper.labels import grasp_labels
     >>> labels = grasp_labels("cube", ParallelJaw(3.0), 0.3, 6, least_friction=False)
     >>> fig = grasps_figure("cube", labels, top=4)
@@ -540,7 +540,7 @@ def write_grasps_html(obj, labels, path: str | Path, top: int = 10, gripper=None
     Examples
     --------
     >>> import tempfile, pathlib
-    >>> from forceclosure.gripper import ParallelJaw
+    >>> from forceclosure.gripper.jaw import ParallelJaw
     >>> from forceclosure.gripper.labels import grasp_labels
     >>> labels = grasp_labels("cube", ParallelJaw(3.0), 0.3, 6, least_friction=False)
     >>> out = pathlib.Path(tempfile.mkdtemp()) / "grasps.html"

@@ -20,9 +20,10 @@ import numpy as np
 
 from ..errors import InputError
 from ..objects import Polygon, Polyhedron
-from .construction import Construction, Hand, construction_for, registered
+from .construction import Construction, Hand
 from .ranked_search import search
 from .regions import MARGIN, RegionSet, check_margin, narrowed
+from .table import DEFAULT, construction_for, constructions, names, served
 
 __all__ = ["CONTACTS", "MAX_FINGERS", "RESOLUTION", "SIZES", "Synthesis", "check_hand",
            "check_resolution", "default_fingers", "default_fingers_reason", "synthesize"]
@@ -127,7 +128,8 @@ MAX_FINGERS = 8
 
 
 def check_hand(dim: int, fingers: int | None, contact: str = "hard", mu: float = 0.3, *,
-               top: int = 5, construction: str = "maximal", method: str = "auto") -> int:
+               top: int = 5, construction: str | Construction = DEFAULT,
+               method: str = "auto") -> int:
     """Refuse, in one line, a hand the constructions cannot serve on a ``dim``-D object;
     return the number of fingers (``None``: :func:`default_fingers`).
 
@@ -151,26 +153,31 @@ least 3 hard fingers (two cannot resist rotation about the line between them)
     frictionless = contact == "frictionless"
     if not frictionless and not (mu > 0 and np.isfinite(mu)):
         raise InputError(f"mu must be a positive number, got {mu:g}")
-    if construction not in ("maximal", "nguyen"):
-        raise InputError(f"construction must be maximal or nguyen, got {construction!r}")
+    if isinstance(construction, str) and construction not in names():
+        raise InputError(f"construction must be one of {', '.join(names())} (the table's "
+                         f"names), got {construction!r}")
+    if not isinstance(construction, str | Construction):
+        raise InputError(f"construction must be a name or a Construction, got "
+                         f"{construction!r}")
     if method not in ("auto", "faces", "mesh"):
         raise InputError(f"method must be auto, faces or mesh, got {method!r}")
     if not isinstance(top, int | np.integer) or isinstance(top, bool) or top < 1:
         raise InputError(f"top must be a positive integer, got {top!r}")
-    table = registered()
+    table = constructions()
     if dim == 2:
         hard = "frictionless" if frictionless else "hard"  # a soft finger acts as a hard one
-        served = sorted({(c.fingers, c.contact) for c in table if c.dim == 2
-                         and c.name in ("maximal", "nguyen")})
-        if (fingers, hard) not in served:
+        if not served(2, fingers, hard):
+            hands = sorted({(c.fingers, c.contact) for c in table if c.dim == 2
+                            and c.fingers is not None})
             raise InputError(f"fingers={fingers}, contact={hard!r}: on a polygon the "
-                             f"constructions are for {_hands(served)} fingers (the plane "
+                             f"constructions are for {_hands(hands)} fingers (the plane "
                              "needs four without friction)")
         if construction == "nguyen" and (2, fingers, hard, "nguyen") not in {
                 c.key for c in table}:
             raise InputError(f"construction='nguyen': the paper's construction on a polygon "
                              f"is for {_hands(_nguyen(table, 2))} fingers; {fingers} use "
                              "construction='maximal'")
+        construction_for(2, fingers, hard, construction)  # a name the table has for the hand
         return fingers
     if not isinstance(fingers, int | np.integer) or isinstance(fingers, bool):
         raise InputError(f"fingers must be a whole number, got {fingers!r}")
@@ -183,18 +190,20 @@ least 3 hard fingers (two cannot resist rotation about the line between them)
                "them)", "frictionless": " (Lakshminarayana 1978)"}[contact]
         raise InputError(f"fingers={fingers}, contact={contact!r}: a spatial grasp needs at "
                          f"least {minimum} {contact} fingers{why}")
-    faces = sorted({(c.fingers, c.contact) for c in table if c.method == "faces"})
+    faces = sorted({(c.fingers or 0, c.contact) for c in table if c.method == "faces"})
     if method == "faces" and (fingers, contact) not in faces:
         raise InputError(f"method='faces': the paper constructs {_hands(faces)} fingers on "
                          f"faces, not {fingers} {contact}; use method='mesh'")
     if construction == "nguyen" and (fingers, contact) not in _nguyen(table, 3):
         raise InputError(f"construction='nguyen': in space the paper's two-sided cone is for "
                          f"{_hands(_nguyen(table, 3))} fingers (§5.2)")
+    construction_for(3, fingers, contact, construction, method)  # the table has it for the hand
     return fingers
 
 
-def _nguyen(table, dim: int) -> list[tuple[int, str]]:
-    return sorted({(c.fingers, c.contact) for c in table if c.dim == dim and c.name == "nguyen"})
+def _nguyen(table: tuple[Construction, ...], dim: int) -> list[tuple[int, str]]:
+    return sorted({(c.fingers or 0, c.contact) for c in table
+                   if c.dim == dim and c.name == "nguyen"})
 
 
 def _hands(hands: list[tuple[int, str]]) -> str:
@@ -242,8 +251,8 @@ move it nearer the origin (its regions move with it)
 
 def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
                contact: str = "hard", mu: float = 0.3, *, top: int = 5, margin: float = MARGIN,
-               construction: str = "maximal", method: str = "auto", samples: int = 20_000,
-               seed: int = 0, allow_open: bool = False) -> Synthesis:
+               construction: str | Construction = DEFAULT, method: str = "auto",
+               samples: int = 20_000, seed: int = 0, allow_open: bool = False) -> Synthesis:
     """The ``top`` best force-closure grasps on ``obj`` with their independent regions.
 
     Parameters
@@ -264,9 +273,15 @@ def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
         force direction within it, seven frictionless fingers in space keep
         the signs of their minors for every normal within it
         (:func:`~forceclosure.synthesis.regions.check_margin`).
-    construction : {"maximal", "nguyen"}
-        Maximal regions, or the paper's two-sided cone constructions (two or
-        four fingers in the plane, two soft fingers in space).
+    construction : str or Construction
+        A name in the table of constructions (:mod:`~forceclosure.synthesis.table`) that
+        serves the hand: ``"maximal"`` (the default: the largest regions, or the mesh
+        method for a hand no construction on faces serves), ``"nguyen"`` (the paper's
+        two-sided cones: two or four fingers in the plane, two soft fingers in space),
+        ``"vertices"`` (two fingers in the plane, a soft one on a convex vertex),
+        ``"mesh"`` (regions grown on a polyhedron's mesh); or a :class:`Construction`
+        of one's own. Another name is refused in one line listing the table's names for
+        the hand.
     method : {"auto", "faces", "mesh"}
         Polyhedra: the paper's constructions on faces, or regions grown on
         the mesh; ``auto`` takes faces unless the object is curved (most faces
@@ -284,7 +299,8 @@ def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
     Raises
     ------
     InputError
-        For a hand that cannot be served (:func:`check_hand`).
+        For a hand that cannot be served (:func:`check_hand`), or a construction the table
+        does not have for it.
 
     Examples
     --------

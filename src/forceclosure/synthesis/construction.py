@@ -1,13 +1,14 @@
-"""The table of constructions: what each of the paper's constructions needs, and its steps.
+"""The construction contract: what a construction of independent regions gives, and its steps.
 
 Every way of building independent regions of contact — the paper's on edges
 (§5.1, §5.4) and faces (§5.2, §5.3, §5.5), and the mesh method beyond it —
-is one :class:`Construction`, registered under ``(dimension, fingers,
-contact, name)`` by the module that implements it. Each gives the same four
-steps, which :func:`~forceclosure.synthesis.ranked_search.search` runs:
+is one :class:`Construction` in one module, listed once in the table
+(:mod:`~forceclosure.synthesis.table`) under ``(dimension, fingers, contact,
+name)``. Each gives the same four steps, which
+:func:`~forceclosure.synthesis.ranked_search.search` runs:
 
 1. ``sites(obj, hand)``: the candidate tuples (edge pairs, face triples,
-   sampled prototype grasps…);
+   sampled prototype grasps…), in blocks;
 2. ``prune(obj, sites, hand)``: a vectorised necessary condition (the
    force-direction closure of the normals), a boolean mask;
 3. ``bound(obj, sites, hand)``: optionally, an upper bound on each site's
@@ -16,32 +17,34 @@ steps, which :func:`~forceclosure.synthesis.ranked_search.search` runs:
    :class:`Undecided` (the site has regions by the bound, but none could be proved in the
    coordinates given: the search then says it is not complete).
 
-:func:`construction_for` is the front door's table lookup.
+Every step is given the :class:`Hand`, which carries the search's own
+:attr:`Hand.memo`: what one step leaves for a later one of the same search (no
+state is kept between searches).
 
 Examples
 --------
+>>> from forceclosure.synthesis.table import construction_for
 >>> c = construction_for(2, 2, "hard")
->>> c.name, c.paper, c.method
-('maximal', '§5.1, Corollary 3', 'edges')
->>> construction_for(3, 4, "hard").name      # no construction on faces: the mesh method
-'mesh'
+>>> c.key, c.paper
+((2, 2, 'hard', 'maximal'), '§5.1, Corollary 3')
+
+References
+----------
+V.-D. Nguyen, "Constructing force-closure grasps", IJRR 7(3), 1988, §5.
 """
 
 from __future__ import annotations
 
-import importlib
-import pkgutil
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import InputError
 from .regions import MARGIN
 
-__all__ = ["Construction", "Hand", "Undecided", "construction_for", "register", "registered"]
+__all__ = ["Construction", "Hand", "Undecided"]
 
 
 @dataclass(frozen=True)
@@ -60,6 +63,11 @@ class Hand:
         Random grasps sampled by the constructions that start from prototypes.
     top : int
         Region sets wanted.
+    memo : dict
+        The search's own memory: what one step of a construction leaves for a later step
+        of the same search (the bound's solve of every edge pair, which the builds read).
+        :func:`~forceclosure.synthesis.ranked_search.search` gives each search an empty
+        one; it takes no part in comparing or hashing hands.
     """
 
     fingers: int
@@ -69,6 +77,7 @@ class Hand:
     samples: int = 20_000
     seed: int = 0
     top: int = 5
+    memo: dict[str, Any] = field(default_factory=dict, compare=False, hash=False, repr=False)
 
 
 Sites = Sequence[Any]
@@ -147,69 +156,3 @@ class Construction:
     def key(self) -> tuple[int, int | None, str, str]:
         """``(dim, fingers, contact, name)``, its place in the table."""
         return (self.dim, self.fingers, self.contact, self.name)
-
-
-_TABLE: dict[tuple[int, int | None, str, str], Construction] = {}
-_loaded = False
-
-
-def register(construction: Construction) -> Construction:
-    """Enter a construction in the table (each construction's module calls it once).
-
-    A second construction under the same key is refused: the table has one
-    entry per problem.
-    """
-    if construction.key in _TABLE and _TABLE[construction.key] is not construction:
-        raise ValueError(f"a construction is already registered for {construction.key}")
-    _TABLE[construction.key] = construction
-    return construction
-
-
-def registered() -> tuple[Construction, ...]:
-    """Every registered construction, after importing every module of the package, in the
-    order of their keys.
-
-    Examples
-    --------
-    >>> sorted({c.method for c in registered()})
-    ['edges', 'faces', 'mesh']
-    """
-    global _loaded
-    if not _loaded:  # once: the modules register themselves as they are imported
-        package = importlib.import_module(__package__)
-        for info in pkgutil.walk_packages(package.__path__, f"{__package__}."):
-            importlib.import_module(info.name)
-        _loaded = True
-    return tuple(sorted(_TABLE.values(), key=lambda c: (c.dim, c.fingers or 99, c.contact,
-                                                         c.name)))
-
-
-def construction_for(dim: int, fingers: int, contact: str, name: str = "maximal",
-                     method: str = "auto", curved: bool = False) -> Construction:
-    """The construction for a hand on a ``dim``-D object: the table's entry, else the mesh
-    method on a polyhedron.
-
-    In the plane a soft finger acts as a hard one. ``method="mesh"`` asks for
-    the mesh method, ``"faces"`` for a construction on faces; ``"auto"`` takes
-    the construction unless the object is ``curved`` (most of its faces one
-    triangle).
-
-    Raises
-    ------
-    InputError
-        When no construction serves the hand.
-    """
-    registered()
-    if dim == 2 and contact == "soft":
-        contact = "hard"
-    entry = _TABLE.get((dim, fingers, contact, name))
-    if dim == 3 and (method == "mesh" or entry is None or (method == "auto" and curved)):
-        if method == "faces":
-            raise InputError(f"method='faces': the paper constructs two soft, three hard or "
-                             f"seven frictionless fingers on faces, not {fingers} {contact}; "
-                             "use method='mesh'")
-        return _TABLE[(3, None, "any", "mesh")]
-    if entry is None:
-        raise InputError(f"construction={name!r}: none for {fingers} {contact} fingers on a "
-                         f"{'polygon' if dim == 2 else 'polyhedron'}")
-    return entry

@@ -18,6 +18,7 @@ Examples
 from __future__ import annotations
 
 import bisect
+import dataclasses
 from typing import Any
 
 import numpy as np
@@ -146,6 +147,7 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
         (:attr:`Found.undecided`: then the answer is not complete).
     """
     top = hand.top
+    hand = dataclasses.replace(hand, memo={})  # this search's own memory, for its steps
     if not isinstance(top, int | np.integer) or isinstance(top, bool) or top < 1:
         raise InputError(f"top must be a positive integer, got {top!r}")
     # on a polygon, every step but the proofs runs in object-centred, scaled coordinates

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from ...errors import InputError
 from ...objects.polyhedron import Polyhedron
-from ..construction import Construction, Hand, register
+from ..construction import Construction, Hand
 from ..regions import narrowed
 from ..spatial.zones import Prototype, ZoneRegions, prototype_grasps, zone_regions
 
@@ -43,7 +43,7 @@ def _grow(polyhedron: Polyhedron, prototype: Prototype, hand: Hand) -> ZoneRegio
         return None
 
 
-MESH = register(Construction(
+MESH = Construction(
     dim=3, fingers=None, contact="any", name="mesh", paper="§5.3's search zones, on a mesh",
     method="mesh", sites=_prototypes, build=_grow,
-    searched="around the best sampled grasps by epsilon"))
+    searched="around the best sampled grasps by epsilon")

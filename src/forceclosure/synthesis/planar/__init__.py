@@ -10,25 +10,9 @@
 * :mod:`.edge_pair`, :mod:`.edge_sites` — the candidate edge tuples.
 
 Part of :mod:`forceclosure.synthesis` (it imports the analysis, objects,
-geometry and the core, never the gripper, pictures, io or the app). It was the
-module :mod:`.two_fingers` before (issue 16), whose names it still gives:
-``from forceclosure.synthesis.planar import best_regions`` works.
-
-Examples
---------
->>> from forceclosure.synthesis.planar import best_regions, two_fingers
->>> best_regions is two_fingers.best_regions
-True
+geometry and the core, never the gripper, pictures, io or the app). Its names are
+in its modules (``from forceclosure.synthesis.planar.two_fingers import
+maximal_regions``).
 """
 
-from typing import Any
-
-from ..._moved import forward
-
-__all__ = ["ANGLE_MARGIN", "CHUNK", "MAX_EDGE_PAIRS", "IndependentRegions", "PairGrasps", "Sector",
-           "best_regions", "counter_overlapping_sector", "max_min_segments", "maximal_regions",
-           "pair_grasps"]
-
-
-def __getattr__(name: str) -> Any:
-    return forward(__name__, f"{__name__}.two_fingers", name)
+__all__: list[str] = []

@@ -38,9 +38,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import linprog
 
-from ...errors import InputError
 from ...objects.polygon import Polygon
-from ..construction import Construction, Hand, register
+from ..construction import Construction, Hand
 from ..regions import (
     MARGIN,
     TRIMS,
@@ -56,7 +55,7 @@ from ..regions import (
 from .edge_sites import edge_tuples, force_direction_prune
 from .vertex_grasps import _extremes
 
-__all__ = ["STRICT", "FrictionlessRegions", "best_frictionless_regions", "cofactors",
+__all__ = ["STRICT", "FrictionlessRegions", "cofactors",
            "maximal_frictionless_regions", "nguyen_frictionless_regions"]
 
 #: The cofactors are kept this fraction of the polygon's size away from zero.
@@ -262,31 +261,6 @@ def _builder(build):
     return on
 
 
-def best_frictionless_regions(polygon: Polygon, top: int = 5, margin: float = MARGIN,
-                              construction: str = "maximal") -> list[FrictionlessRegions]:
-    """Independent regions for four frictionless fingers on every quadruple of edges.
-
-    A quadruple is pruned unless its four pushing directions ``-n_i``
-    positively span the plane (force-direction closure, Theorem 2: cheap and
-    necessary). The rest are ranked by their shortest segment
-    (:func:`~forceclosure.synthesis.ranked_search.search`).
-
-    Examples
-    --------
-    >>> from forceclosure.objects import bundled
-    >>> [r.edges for r in best_frictionless_regions(bundled("hexagon"), top=2)]
-    [(0, 1, 3, 4), (0, 2, 3, 5)]
-    """
-    from ..construction import construction_for
-    from ..ranked_search import search
-
-    if construction not in ("maximal", "nguyen"):
-        raise InputError(f"construction must be 'maximal' or 'nguyen', got {construction!r}")
-    check_margin(margin)
-    return search(construction_for(2, 4, "frictionless", construction), polygon,
-                  Hand(4, "frictionless", 0.0, margin, top=top))
-
-
 def _meeting_point(e1, e2):
     """``P12(t1, t2)``, where the normal lines at the two contacts meet, as an affine map:
     ``P12 = c + M @ (t1, t2)``; None when the normals are parallel (no meeting point)."""
@@ -387,9 +361,12 @@ def _generators_of(directions):
     return [list(map(float, v)) for v in directions]
 
 
-for _name, _build, _paper in (("maximal", maximal_frictionless_regions, "§5.4"),
-                              ("nguyen", nguyen_frictionless_regions, "§5.4, Algorithm 2")):
-    register(Construction(
-        dim=2, fingers=4, contact="frictionless", name=_name, paper=_paper, method="edges",
-        sites=edge_tuples(4), prune=force_direction_prune, build=_builder(_build),
-        searched="every four edges whose normals positively span the plane"))
+def _four(name: str, build, paper: str) -> Construction:
+    return Construction(
+        dim=2, fingers=4, contact="frictionless", name=name, paper=paper, method="edges",
+        sites=edge_tuples(4), prune=force_direction_prune, build=_builder(build),
+        searched="every four edges whose normals positively span the plane")
+
+
+MAXIMAL = _four("maximal", maximal_frictionless_regions, "§5.4")
+NGUYEN = _four("nguyen", nguyen_frictionless_regions, "§5.4, Algorithm 2")

@@ -67,7 +67,7 @@ from scipy.optimize import linprog
 
 from ...errors import InputError
 from ...objects.polygon import Polygon
-from ..construction import Construction, Hand, register
+from ..construction import Construction, Hand
 from ..regions import (
     MARGIN,
     TRIMS,
@@ -86,7 +86,7 @@ from .edge_sites import edge_tuples, force_direction_prune
 from .two_fingers import IndependentRegions, maximal_regions
 from .vertex_grasps import _extremes, _generators
 
-__all__ = ["DEPTH", "GRID", "SEARCHED", "ThreeFingerRegions", "best_three_finger_regions",
+__all__ = ["DEPTH", "GRID", "SEARCHED", "ThreeFingerRegions",
            "three_finger_regions"]
 
 #: ``X`` is kept this fraction of the object's size away from each contact, along its force.
@@ -102,7 +102,7 @@ CLEAR = 0.02
 #: Grasps analysed by one call of the batch analysis (bounds the memory used).
 BATCH = 65_536
 
-#: What :func:`best_three_finger_regions` searched when it returns nothing (for the CLI).
+#: What the three-finger search covers, said when it finds nothing (for the CLI).
 SEARCHED = (
     "every triple of edges whose friction cones, narrowed by the margin, can balance "
     "(force-direction closure), by three certified constructions: (1) lines of force meeting at "
@@ -491,32 +491,6 @@ def three_finger_regions(polygon: Polygon, edges: tuple[int, int, int], mu: floa
     return _best_of(polygon, edges, mu, shrunk, pairs, prototypes)
 
 
-def best_three_finger_regions(polygon: Polygon, mu: float, top: int = 5,
-                              margin: float = MARGIN) -> list[ThreeFingerRegions]:
-    """Three-finger regions on every triple of edges, best (longest shortest segment) first.
-
-    Each triple gets the largest of the module's three families (common
-    centre with whole cones, common centre around the best grid prototype, a
-    force-closure pair plus a free finger). Triples whose narrowed cones
-    cannot balance any force are pruned (Theorem 2), and the rest visited by
-    their shortest edge, a bound on their regions
-    (:func:`~forceclosure.synthesis.ranked_search.search`). An empty list rules out
-    only what :data:`SEARCHED` says.
-
-    Examples
-    --------
-    >>> from forceclosure.objects import bundled
-    >>> best = best_three_finger_regions(bundled("square"), mu=0.8, top=2)
-    >>> [(r.edges, r.pair) for r in best]
-    [((0, 1, 2), (0, 2)), ((0, 1, 3), (1, 3))]
-    """
-    from ..construction import construction_for
-    from ..ranked_search import search
-
-    _check(polygon, mu, margin)
-    return search(construction_for(2, 3, "hard"), polygon, Hand(3, "hard", mu, margin, top=top))
-
-
 def _shortest_edge(polygon: Polygon, sites: NDArray, hand: Hand) -> NDArray[np.float64]:
     """Step 3: a triple's shortest segment is at most its shortest edge."""
     return polygon.edge_arrays.length[sites].min(axis=1) / polygon.size
@@ -526,7 +500,7 @@ def _build(polygon: Polygon, site: NDArray, hand: Hand) -> ThreeFingerRegions | 
     return three_finger_regions(polygon, tuple(int(e) for e in site), hand.mu, hand.margin)
 
 
-register(Construction(
+THREE_FINGERS = Construction(
     dim=2, fingers=3, contact="hard", name="maximal", paper="§5.4 (three fingers)",
     method="edges", sites=edge_tuples(3), prune=force_direction_prune, bound=_shortest_edge,
-    build=_build, searched=SEARCHED))
+    build=_build, searched=SEARCHED)

@@ -28,7 +28,6 @@ parameters ``(t1, t2)``, so are the four conditions. Therefore:
 from __future__ import annotations
 
 import math
-import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -39,7 +38,7 @@ from ...geometry.clip import clip
 from ...geometry.cones import counter_overlap
 from ...geometry.rings import signed_area
 from ...objects.polygon import Edge, Polygon
-from ..construction import Construction, Hand, Undecided, register
+from ..construction import Construction, Hand, Undecided
 from ..regions import TRIMS, narrowed
 from .edge_pair import (
     ANGLE_MARGIN,
@@ -52,13 +51,13 @@ from .edge_pair import (
 )
 
 __all__ = ["ANGLE_MARGIN", "CHUNK", "MAX_EDGE_PAIRS", "IndependentRegions", "PairGrasps", "Sector",
-           "best_regions", "counter_overlapping_sector", "max_min_segments", "maximal_regions",
+           "counter_overlapping_sector", "max_min_segments", "maximal_regions",
            "pair_grasps"]
 
 #: Edge pairs solved at once by :func:`max_min_segments` (bounds the memory used).
 CHUNK = 2_048
 
-#: Most edge pairs :func:`best_regions` searches (a polygon of about 6,300 edges).
+#: Most edge pairs the two-finger search takes (a polygon of about 6,300 edges).
 MAX_EDGE_PAIRS = 20_000_000
 
 
@@ -437,39 +436,40 @@ def _solve(polygon: Polygon, sites: NDArray, mu: float) -> tuple[NDArray, NDArra
     return z, u1, u2
 
 
-#: The last solve of each polygon's pairs, ``(mu, sites, z, u1, u2)``: the bound solves every
-#: pair at once, and the few built read their segments from it (a solve of one pair alone
-#: costs as much as of two thousand).
-_SOLVED: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-
-
 def largest_segments_bound(polygon: Polygon, sites: NDArray, hand: Hand) -> NDArray:
     """Step 3: the largest shorter segment of each pair over the object's size, solved for
-    all pairs at once (exact: the regions built are these, trimmed at most by 2e-9)."""
+    all pairs at once (exact: the regions built are these, trimmed at most by 2e-9). The
+    solve is left in the search's :attr:`~forceclosure.synthesis.construction.Hand.memo`:
+    the few pairs built read their segments from it (a solve of one pair alone costs as
+    much as of two thousand)."""
     mu = narrowed(hand.mu, hand.margin)
     z, u1, u2 = _solve(polygon, sites, mu)
-    _SOLVED[polygon] = (mu, sites, z, u1, u2)
+    hand.memo[_SOLVED] = (polygon, mu, sites, z, u1, u2)
     return z / polygon.size
+
+
+#: The key of the bound's solve, ``(polygon, mu, sites, z, u1, u2)``, in a search's memo.
+_SOLVED = "two_fingers.solved"
 
 
 def _build_maximal(polygon: Polygon, site: NDArray, hand: Hand,
                    ) -> IndependentRegions | Undecided | None:
     mu = narrowed(hand.mu, hand.margin)
-    solved = _SOLVED.get(polygon)
-    row = (np.flatnonzero((solved[1] == site).all(axis=1))
-           if solved is not None and solved[0] == mu else ())
-    z, u1, u2 = ((a[row[:1]] for a in solved[2:]) if len(row) else
+    solved = hand.memo.get(_SOLVED)
+    row = (np.flatnonzero((solved[2] == site).all(axis=1))
+           if solved is not None and solved[0] is polygon and solved[1] == mu else ())
+    z, u1, u2 = ((a[row[:1]] for a in solved[3:]) if len(row) else
                  _solve(polygon, site[None], mu))
     i, j, way = (int(x) for x in site)
     return _certified(polygon, i, j, z[0], u1[0], u2[0], (hand.mu, hand.mu), bool(way))
 
 
-MAXIMAL = register(Construction(
+MAXIMAL = Construction(
     dim=2, fingers=2, contact="hard", name="maximal", paper="§5.1, Corollary 3",
     method="edges", sites=edge_pair_sites, prune=counter_overlap_prune,
     bound=largest_segments_bound, build=_build_maximal,
     searched="every pair of edges, the fingers squeezing or pushing apart", complete=True,
-    completeness="Lemma 1 gives every two-finger grasp"))
+    completeness="Lemma 1 gives every two-finger grasp")
 
 
 def _convex(polygon: Polygon) -> bool:
@@ -480,37 +480,3 @@ def _convex(polygon: Polygon) -> bool:
     d = np.array([e.direction for e in polygon.edges])
     turns = d[:, 0] * np.roll(d[:, 1], -1) - d[:, 1] * np.roll(d[:, 0], -1)
     return bool(np.all(turns >= 0) or np.all(turns <= 0))
-
-
-def best_regions(polygon: Polygon, mu: float, top: int = 5, margin: float = ANGLE_MARGIN,
-                 construction: str = "maximal") -> list[IndependentRegions]:
-    """Independent regions for two hard fingers on every pair of edges, best first.
-
-    Pairs whose friction cones cannot counter-overlap are pruned by a test on
-    the two normals. The rest are solved together by
-    :func:`max_min_segments`, in both of Corollary 3's orientations (the
-    fingers squeezing, or pushing apart from inside a slot or a hole; only the
-    first on a convex polygon), and built in decreasing order of their
-    largest regions (maximal ones, or, with ``construction="nguyen"``,
-    Nguyen's two-sided cones), ranked by their shorter segment (the placement
-    error the grasp tolerates; ties by edge indices, squeezing first): the
-    ``top`` ones are returned, each certified
-    (:func:`~forceclosure.synthesis.ranked_search.search`).
-
-    Examples
-    --------
-    >>> from forceclosure.objects import bundled
-    >>> best = best_regions(bundled("hexagon"), mu=0.3, top=3)
-    >>> [r.edges for r in best], round(best[0].min_length, 3)
-    ([(0, 3), (1, 4), (2, 5)], 0.518)
-    >>> [(r.edges, r.spreading) for r in best_regions(bundled("frame"), mu=0.4, top=4)]
-    [((0, 2), False), ((1, 3), False), ((4, 6), True), ((5, 7), True)]
-    """
-    from ..construction import construction_for
-    from ..ranked_search import search
-
-    check_mu(mu, mu, margin)
-    if construction not in ("maximal", "nguyen"):
-        raise InputError(f"construction must be 'maximal' or 'nguyen', got {construction!r}")
-    return search(construction_for(2, 2, "hard", construction), polygon,
-                  Hand(2, "hard", mu, margin, top=top))

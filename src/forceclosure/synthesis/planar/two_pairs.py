@@ -21,7 +21,6 @@ Examples
 
 from __future__ import annotations
 
-import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -29,7 +28,7 @@ from numpy.typing import NDArray
 
 from ...errors import InputError
 from ...objects.polygon import Polygon
-from ..construction import Construction, Hand, register
+from ..construction import Construction, Hand
 from ..regions import MARGIN, Certificate, Regions, check_edges, check_margin, narrowed, proved_once
 from .edge_pair import IndependentRegions
 from .edge_sites import edge_tuples
@@ -142,16 +141,17 @@ def two_pair_regions(polygon: Polygon, edges: tuple[int, int, int, int], mu: flo
     return _build(polygon, edges, float(mu), margin)
 
 
-#: Per polygon: the best two-finger segment of each pair of edges (either orientation),
-#: over the size, as an (n, n) table.
-_TABLES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+#: The key of a search's memo (:attr:`~forceclosure.synthesis.construction.Hand.memo`)
+#: under which the polygon's table is kept: the best two-finger segment of each pair of
+#: edges (either orientation), over the size, as an (n, n) array.
+_TABLE = "two_pairs.table"
 
 
 def _pair_table(polygon: Polygon, hand: Hand) -> NDArray[np.float64]:
     mu = narrowed(hand.mu, hand.margin)
-    kept = _TABLES.get(polygon)
-    if kept is not None and kept[0] == mu:
-        return kept[1]
+    kept = hand.memo.get(_TABLE)
+    if kept is not None and kept[0] is polygon and kept[1] == mu:
+        return kept[2]
     n = len(polygon.edges)
     table = np.zeros((n, n))
     sites = np.concatenate(list(edge_pair_sites(polygon, Hand(2, "hard", hand.mu, hand.margin))))
@@ -161,7 +161,7 @@ def _pair_table(polygon: Polygon, hand: Hand) -> NDArray[np.float64]:
         i, j = sites[:, 0], sites[:, 1]
         np.maximum.at(table, (i, j), z)
         table = np.maximum(table, table.T)
-    _TABLES[polygon] = (mu, table)
+    hand.memo[_TABLE] = (polygon, mu, table)
     return table
 
 
@@ -185,9 +185,9 @@ def _build_site(polygon: Polygon, site: NDArray, hand: Hand) -> PairedRegions | 
     return _build(polygon, tuple(int(e) for e in site), hand.mu, hand.margin)
 
 
-TWO_PAIRS = register(Construction(
+TWO_PAIRS = Construction(
     dim=2, fingers=4, contact="hard", name="maximal", paper="§5.1, Corollary 3 (two pairs)",
     method="edges", sites=edge_tuples(4), prune=_prune, bound=_bound, build=_build_site,
     searched="every four edges split into two pairs that each hold the object alone (two "
-             "force-closure pairs; grasps that need all four fingers are not searched)"))
+             "force-closure pairs; grasps that need all four fingers are not searched)")
 

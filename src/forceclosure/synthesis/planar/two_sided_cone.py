@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...objects.polygon import Edge, Polygon
-from ..construction import Construction, Hand, register
+from ..construction import Construction, Hand
 from ..spatial.patches import clip
 from .edge_pair import ANGLE_MARGIN, IndependentRegions, Sector, shrunk_pair
 from .two_fingers import counter_overlap_prune, edge_pair_sites, largest_segments_bound
@@ -146,10 +146,10 @@ def _build_nguyen(polygon: Polygon, site: NDArray, hand: Hand) -> IndependentReg
     return nguyen_regions(polygon, i, j, hand.mu, margin=hand.margin, spreading=bool(way))
 
 
-NGUYEN = register(Construction(
+NGUYEN = Construction(
     dim=2, fingers=2, contact="hard", name="nguyen", paper="§5.1, Algorithm 1",
     method="edges", sites=edge_pair_sites, prune=counter_overlap_prune,
     bound=largest_segments_bound, build=_build_nguyen,
     searched="every pair of edges, the fingers squeezing or pushing apart, with a two-sided "
              "cone where the edges admit one (pairs too far apart for their lengths have "
-             "none: construction='maximal' covers them)"))
+             "none: construction='maximal' covers them)")

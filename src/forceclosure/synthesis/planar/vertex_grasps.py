@@ -26,15 +26,12 @@ from fractions import Fraction
 import numpy as np
 from numpy.typing import NDArray
 
-from ...errors import InputError
 from ...geometry.cones import friction_forces
 from ...objects.polygon import Polygon
-from ..construction import Construction, Hand, register
+from ..construction import Construction, Hand
 from ..regions import (
-    MARGIN,
     Certificate,
     RegionSet,
-    check_margin,
     exact_inward,
     exact_point,
     narrowed,
@@ -42,7 +39,7 @@ from ..regions import (
     rounded,
 )
 
-__all__ = ["VertexGrasp", "convex_vertices", "vertex_grasps"]
+__all__ = ["VertexGrasp", "convex_vertices"]
 
 
 def convex_vertices(polygon: Polygon) -> list[tuple[int, int, int]]:
@@ -198,32 +195,6 @@ class VertexGrasp(RegionSet):
                            "(linear conditions) along all of it")
 
 
-def vertex_grasps(polygon: Polygon, mu: float, top: int = 5,
-                  margin: float = MARGIN) -> list[VertexGrasp]:
-    """Two-finger grasps with a soft finger on a convex vertex, best first.
-
-    Pairs a vertex with every edge not adjacent to it (its region: the whole
-    interval of force-closure grasps, with every cone narrowed by ``margin``
-    radians, :func:`~forceclosure.synthesis.regions.check_margin`) and with
-    every other convex vertex (a single grasp).
-    Grasps are ranked by the region on the edge; vertex pairs come last.
-
-    Examples
-    --------
-    >>> from forceclosure.objects import bundled
-    >>> g = vertex_grasps(bundled("triangle"), mu=0.3, top=1)[0]   # no edge pair works
-    >>> g.other[0], round(g.min_length, 3), g.certify().holds
-    ('edge', 0.897, True)
-    """
-    if not (isinstance(mu, int | float) and np.isfinite(mu) and mu > 0):
-        raise InputError(f"friction coefficient must be a positive number, got {mu!r}")
-    from ..construction import construction_for
-    from ..ranked_search import search
-
-    return search(construction_for(2, 2, "hard", "vertices"), polygon,
-                  Hand(2, "soft", float(mu), check_margin(margin), top=top))
-
-
 def vertex_sites(polygon: Polygon, hand: Hand):
     """Step 1: each convex vertex with every edge not adjacent to it, then with every later
     convex vertex: rows ``(corner, kind, k)`` (``kind`` ``"edge"`` or ``"vertex"``)."""
@@ -257,11 +228,11 @@ def _build_vertex(polygon: Polygon, site, hand: Hand) -> VertexGrasp | None:
     return None
 
 
-register(Construction(
+VERTICES = Construction(
     dim=2, fingers=2, contact="hard", name="vertices", paper="Corollary 3 at a vertex",
     method="edges", sites=vertex_sites, build=_build_vertex,
     searched="a soft finger on every convex vertex, with every edge not adjacent to it and "
-             "every other convex vertex"))
+             "every other convex vertex")
 
 
 def _interval(p: NDArray, edge, cone_p, cone_q) -> tuple[float, float] | None:

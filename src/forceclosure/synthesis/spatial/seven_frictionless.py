@@ -35,13 +35,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from ...errors import InputError
 from ...objects.polyhedron import Polyhedron
-from ..construction import Construction, Hand, register
+from ..construction import Construction, Hand
 from ..regions import MARGIN, Certificate, check_margin, proved_once
 from .patches import FacePatch
 from .zones import Prototype, ZoneRegions, prototype_grasps, zone_regions
 
 __all__ = ["BISECTIONS", "FILTER", "MAX_CORNERS", "SMALLEST", "SevenRegions",
-           "best_seven_frictionless_regions", "cofactor_signs", "minors_hold",
+           "cofactor_signs", "minors_hold",
            "seven_frictionless_regions"]
 
 #: Corners kept per region, so that a minor is checked at ``MAX_CORNERS ** 6`` tuples.
@@ -316,29 +316,6 @@ def seven_frictionless_regions(polyhedron: Polyhedron, prototype: Prototype | Ar
     return dataclasses.replace(r, regions=at(scale), margin=margin)
 
 
-def best_seven_frictionless_regions(polyhedron: Polyhedron, top: int = 3,
-                                    samples: int = 20_000, seed: int = 0,
-                                    margin: float = MARGIN) -> list[SevenRegions]:
-    """The ``top`` grasps by seven frictionless fingers with the largest regions.
-
-    Random seven-point grasps are analysed in a batch; the best by epsilon
-    (one per set of faces) become prototypes, and each gets its regions,
-    robust to normals turned by ``margin`` (:func:`seven_frictionless_regions`).
-
-    Examples
-    --------
-    >>> from forceclosure.objects import bundled
-    >>> found = best_seven_frictionless_regions(bundled("cube"), top=1, samples=5000)
-    >>> len(found), found[0].certify().holds
-    (1, True)
-    """
-    from ..construction import construction_for
-    from ..ranked_search import search
-
-    return search(construction_for(3, 7, "frictionless"), polyhedron,
-                  Hand(7, "frictionless", 0.0, margin, samples, seed, top))
-
-
 def _prototype_sites(polyhedron: Polyhedron, hand: Hand):
     """Step 1: the best ``20 top`` of ``samples`` random grasps by epsilon, one per set of
     faces."""
@@ -359,7 +336,7 @@ def _build(polyhedron: Polyhedron, prototype: Prototype, hand: Hand) -> SevenReg
         return None
 
 
-register(Construction(
+SEVEN = Construction(
     dim=3, fingers=7, contact="frictionless", name="maximal", paper="§5.5", method="faces",
     sites=_prototype_sites, build=_build, enough=3,
-    searched="around the best sampled seven-finger grasps by epsilon, one per set of faces"))
+    searched="around the best sampled seven-finger grasps by epsilon, one per set of faces")

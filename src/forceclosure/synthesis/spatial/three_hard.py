@@ -35,7 +35,7 @@ from ...analysis.closure import Verdict, vector_closure
 from ...errors import InputError
 from ...geometry import cones
 from ...objects.polyhedron import Polyhedron
-from ..construction import Construction, Hand, register
+from ..construction import Construction, Hand
 from ..regions import MARGIN, check_margin, narrowed, tie_rounded
 from .two_soft import _check_faces, _check_mu
 from .zones import (
@@ -48,9 +48,8 @@ from .zones import (
     zone_regions,
 )
 
-__all__ = ["CLASSES", "GraspClass", "ThreeHardRegions", "best_three_hard_regions",
-           "classify_three", "counter_overlap", "force_direction_closure_of_faces",
-           "three_hard_regions"]
+__all__ = ["CLASSES", "GraspClass", "ThreeHardRegions", "classify_three", "counter_overlap",
+           "force_direction_closure_of_faces", "three_hard_construction", "three_hard_regions"]
 
 #: The paper's names for the four classes (Fig. 9), by number of counter-overlapping pairs.
 CLASSES = {
@@ -190,37 +189,29 @@ def _around(polyhedron: Polyhedron, prototype: Prototype, mu: float,
 MAX_FACES, SAMPLES = 12, 500
 
 
-def best_three_hard_regions(polyhedron: Polyhedron, mu: float, top: int = 5,
-                            max_faces: int = MAX_FACES, samples: int = SAMPLES,
-                            seed: int = 0, margin: float = MARGIN) -> list[ThreeHardRegions]:
-    """The ``top`` face triples with the largest independent regions for three hard fingers.
+def three_hard_construction(max_faces: int = MAX_FACES, samples: int = SAMPLES) -> Construction:
+    """The table's construction for three hard fingers on faces (§5.3), with the
+    ``max_faces`` largest faces combined in triples and ``samples`` grasps sampled on each
+    (the table's entry is :data:`THREE_HARD`, with the defaults).
 
-    The ``max_faces`` largest faces are combined in triples (two fingers may
-    share a face), screened by force-direction closure of their friction
-    cones, and given regions by :func:`three_hard_regions`; ranked by the
-    smallest region. Nguyen's cost for ``c`` required contacts on ``n``
-    faces is ``O(n^c c 2^c)``; the screening removes most triples first.
+    The faces are combined in triples (two fingers may share a face), screened by
+    force-direction closure of their friction cones, and given regions by
+    :func:`three_hard_regions`. Nguyen's cost for ``c`` required contacts on ``n`` faces is
+    ``O(n^c c 2^c)``; the screening removes most triples first.
 
     Examples
     --------
     >>> from forceclosure.objects import bundled
-    >>> found = best_three_hard_regions(bundled("cube"), 0.5, top=2, max_faces=6)
+    >>> from forceclosure.synthesis import synthesize
+    >>> found = synthesize(bundled("cube"), 3, "hard", 0.5, top=2,
+    ...                    construction=three_hard_construction(max_faces=6)).found
     >>> all(r.certify().holds for r in found), len(found)
     (True, 2)
+
+    References
+    ----------
+    V.-D. Nguyen, "Constructing force-closure grasps", IJRR 7(3), 1988, §5.3.
     """
-    from ..construction import construction_for
-    from ..ranked_search import search
-
-    _check_mu(mu, 0.0)
-    default = (max_faces, samples) == (MAX_FACES, SAMPLES)
-    construction = construction_for(3, 3, "hard") if default else _three_hard(max_faces,
-                                                                               samples)
-    return search(construction, polyhedron, Hand(3, "hard", mu, check_margin(margin),
-                                                 seed=seed, top=top))
-
-
-def _three_hard(max_faces: int = MAX_FACES, samples: int = SAMPLES) -> Construction:
-    """The search steps of :func:`best_three_hard_regions`."""
     def sites(polyhedron: Polyhedron, hand: Hand):
         """Step 1: triples of the ``max_faces`` largest faces (two fingers may share one,
         not all three); ties (equal faces of a symmetric object) to the lower index."""
@@ -255,4 +246,4 @@ def _three_hard(max_faces: int = MAX_FACES, samples: int = SAMPLES) -> Construct
                  f"force-direction closure, around the best of {samples} grasps on each")
 
 
-register(_three_hard())
+THREE_HARD = three_hard_construction()

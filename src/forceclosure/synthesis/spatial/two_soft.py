@@ -46,12 +46,12 @@ from ...geometry.clip import clip
 from ...geometry.cones import counter_overlap, counter_overlap_angle, friction_forces
 from ...geometry.rings import signed_area
 from ...objects.polyhedron import PlanarFace, Polyhedron
-from ..construction import Construction, Hand, register
+from ..construction import Construction, Hand
 from ..regions import MARGIN, Certificate, narrowed, proved_once
 from .patches import FacePatch, SpatialRegions, convex_pieces
 
 __all__ = ["ANGLE_MARGIN", "PYRAMID_EDGES", "SIDES", "CircularCone", "SoftPairRegions",
-           "best_soft_pair_regions", "counter_overlapping_cone", "soft_pair_regions"]
+           "counter_overlapping_cone", "soft_pair_construction", "soft_pair_regions"]
 
 #: Default margin (radians) taken off each friction cone's half-angle.
 ANGLE_MARGIN = MARGIN  # the one margin (regions.check_margin)
@@ -314,7 +314,7 @@ def soft_pair_regions(polyhedron: Polyhedron, face1: int, face2: int, mu: float,
         Sides of the maximal construction's polygons.
     certified : bool
         Return the regions only if their exact certificate holds (the search
-        of :func:`best_soft_pair_regions` proves only those it returns).
+        of :func:`soft_pair_construction` proves only those it returns).
 
     Returns
     -------
@@ -361,34 +361,6 @@ def soft_pair_regions(polyhedron: Polyhedron, face1: int, face2: int, mu: float,
     return regions if not certified or regions.certify().holds else None
 
 
-def best_soft_pair_regions(polyhedron: Polyhedron, mu: float, top: int = 5,
-                           margin: float = ANGLE_MARGIN, construction: str = "maximal",
-                           sides: int = SIDES) -> list[SoftPairRegions]:
-    """The ``top`` face pairs with the largest independent regions for two soft fingers.
-
-    Every pair of faces is screened by force-direction closure of its normals
-    (:func:`counter_overlapping_cone`, vectorised over all pairs); the pairs
-    left are visited in decreasing order of an upper bound on their regions
-    (the smaller inscribed disk of the two faces), and the search stops when
-    the bound falls below the ``top``-th region found: branch and bound, so
-    a polyhedron with a thousand faces takes seconds.
-
-    Examples
-    --------
-    >>> from forceclosure.objects import bundled
-    >>> found = best_soft_pair_regions(bundled("cube"), 0.5, top=3)
-    >>> [sorted(r.faces[0] + r.faces[1]) for r in found]   # the three pairs of opposite faces
-    [[0, 1], [2, 4], [3, 5]]
-    """
-    from ..construction import construction_for
-    from ..ranked_search import search
-
-    _check_mu(mu, margin)
-    chosen = (construction_for(3, 2, "soft", construction) if sides == SIDES
-              else _soft_pair(construction, sides))
-    return search(chosen, polyhedron, Hand(2, "soft", mu, margin, top=top))
-
-
 def face_pair_sites(polyhedron: Polyhedron, hand: Hand):
     """Step 1: every pair of faces ``i < j``, as rows."""
     i, j = np.triu_indices(len(polyhedron.faces), k=1)
@@ -415,8 +387,29 @@ def _inscribed_bound(factor: float):
     return bound
 
 
-def _soft_pair(construction: str, sides: int = SIDES) -> Construction:
-    """The search steps of :func:`soft_pair_regions` with ``construction`` and ``sides``."""
+def soft_pair_construction(construction: str, sides: int = SIDES) -> Construction:
+    """The table's construction for two soft fingers on faces (§5.2): the search steps of
+    :func:`soft_pair_regions` with ``construction`` (``"maximal"`` or ``"nguyen"``) and
+    ``sides`` (the table's entries, :data:`MAXIMAL` and :data:`NGUYEN`, have the default).
+
+    Every pair of faces is screened by force-direction closure of its normals
+    (vectorised over all pairs); the pairs left are visited in decreasing order of an upper
+    bound on their regions (the smaller inscribed disk of the two faces), and the search
+    stops when the bound falls below the ``top``-th region found: branch and bound.
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> from forceclosure.synthesis import synthesize
+    >>> found = synthesize(bundled("cube"), 2, "soft", 0.5, top=3,
+    ...                    construction=soft_pair_construction("maximal", sides=8)).found
+    >>> [sorted(r.faces[0] + r.faces[1]) for r in found]   # the three pairs of opposite faces
+    [[0, 1], [2, 4], [3, 5]]
+
+    References
+    ----------
+    V.-D. Nguyen, "Constructing force-closure grasps", IJRR 7(3), 1988, §5.2.
+    """
     def build(polyhedron: Polyhedron, site: NDArray, hand: Hand) -> SoftPairRegions | None:
         return soft_pair_regions(polyhedron, int(site[0]), int(site[1]), hand.mu,
                                  margin=hand.margin, construction=construction, sides=sides,
@@ -431,8 +424,8 @@ def _soft_pair(construction: str, sides: int = SIDES) -> Construction:
         searched="every pair of faces whose friction cones can counter-overlap")
 
 
-for _name in ("maximal", "nguyen"):
-    register(_soft_pair(_name))
+MAXIMAL = soft_pair_construction("maximal")
+NGUYEN = soft_pair_construction("nguyen")
 
 
 def _inradius(face: PlanarFace) -> float:
