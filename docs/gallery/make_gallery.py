@@ -10,14 +10,6 @@ import pybullet_data
 from forceclosure.objects import bundled, glyph
 from forceclosure.objects.io import load_object
 from forceclosure.pictures.plot import plot_object, plot_regions, plot_spatial_regions
-from forceclosure.synthesis import (
-    best_frictionless_regions,
-    best_regions,
-    best_soft_pair_regions,
-    best_three_finger_regions,
-    best_three_hard_regions,
-    vertex_grasps,
-)
 from forceclosure.synthesis.best import synthesize
 
 HERE = Path(__file__).parent
@@ -26,26 +18,30 @@ HERE = Path(__file__).parent
 def main() -> None:
     pictures = {
         "wrench-head-two-fingers.png": lambda: plot_regions(
-            best_regions(bundled("wrench-head"), 0.3, top=3)),
+            synthesize(bundled("wrench-head"), 2, "hard", 0.3, top=3).found),
         "wrench-head-nguyen.png": lambda: plot_regions(
-            best_regions(bundled("wrench-head"), 0.3, top=3, construction="nguyen")),
+            synthesize(bundled("wrench-head"), 2, "hard", 0.3, top=3,
+                       construction="nguyen").found),
         "triangle-three-fingers.png": lambda: plot_regions(
-            best_three_finger_regions(bundled("triangle"), 0.3, top=1)),
+            synthesize(bundled("triangle"), 3, "hard", 0.3, top=1).found),
         "bracket-four-frictionless.png": lambda: plot_regions(
-            best_frictionless_regions(bundled("bracket"), top=2)),
-        "glyph-A-two-fingers.png": lambda: plot_regions(best_regions(glyph("A"), 0.3, top=3)),
-        "glyph-e-two-fingers.png": lambda: plot_regions(best_regions(glyph("e"), 0.5, top=3)),
+            synthesize(bundled("bracket"), 4, "frictionless", top=2).found),
+        "glyph-A-two-fingers.png": lambda: plot_regions(
+            synthesize(glyph("A"), 2, "hard", 0.3, top=3).found),
+        "glyph-e-two-fingers.png": lambda: plot_regions(
+            synthesize(glyph("e"), 2, "hard", 0.5, top=3).found),
         "frame-four-frictionless.png": lambda: plot_regions(
-            best_frictionless_regions(bundled("frame"), top=1)),
+            synthesize(bundled("frame"), 4, "frictionless", top=1).found),
         "triangle-vertex.png": lambda: plot_regions(
-            vertex_grasps(bundled("triangle"), 0.3, top=3)),
+            synthesize(bundled("triangle"), 2, "soft", 0.3, top=3,
+                       construction="vertices").found),
         "holed-block.png": lambda: plot_object(bundled("holed-block")),
         "pybullet-duck.png": lambda: plot_object(
             load_object(Path(pybullet_data.getDataPath()) / "duck.obj"), up="y"),
         "l-prism-two-soft.png": lambda: plot_spatial_regions(
-            best_soft_pair_regions(bundled("l-prism"), 0.5, top=1)[0]),
+            synthesize(bundled("l-prism"), 2, "soft", 0.5, top=1).found[0]),
         "cube-three-hard.png": lambda: plot_spatial_regions(
-            best_three_hard_regions(bundled("cube"), 0.5, top=1)[0]),
+            synthesize(bundled("cube"), 3, "hard", 0.5, top=1).found[0]),
         "duck-three-hard.png": lambda: plot_spatial_regions(synthesize(
             load_object(Path(pybullet_data.getDataPath()) / "duck.obj"), 3, "hard", 0.5,
             top=1).found[0], up="y"),

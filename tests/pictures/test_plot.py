@@ -30,12 +30,7 @@ from forceclosure.pictures.plot import (
     plot_spatial_regions,
     upright_axis,
 )
-from forceclosure.synthesis import (
-    best_regions,
-    best_soft_pair_regions,
-    best_three_hard_regions,
-    vertex_grasps,
-)
+from forceclosure.synthesis import synthesize
 
 #: matplotlib's tab10, the first four (blue, orange, green, red), from its documentation.
 TAB10 = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728")
@@ -49,12 +44,12 @@ def _pixels(path, hex_colour, tol=40) -> int:
 
 @pytest.fixture(scope="module")
 def cube_three_hard():
-    return best_three_hard_regions(bundled("cube"), 0.5, top=1)[0]
+    return synthesize(bundled("cube"), 3, "hard", 0.5, top=1).found[0]
 
 
 @pytest.fixture(scope="module")
 def cube_soft_pair():
-    return best_soft_pair_regions(bundled("cube"), 0.5, top=1)[0]
+    return synthesize(bundled("cube"), 2, "soft", 0.5, top=1).found[0]
 
 
 def test_import_and_pictures_leave_the_backend_and_pyplot_alone(tmp_path):
@@ -64,11 +59,12 @@ backend = lambda: dict.__getitem__(matplotlib.rcParams, "backend")  # get_backen
 before = backend()
 import forceclosure.pictures.plot as fp
 from forceclosure.objects import bundled
-from forceclosure.synthesis import best_regions, soft_pair_regions
+from forceclosure.synthesis import soft_pair_regions, synthesize
 after_import = backend() == before and "matplotlib.pyplot" not in sys.modules
 fp.plot_object(bundled("square"), {str(tmp_path / 'a.png')!r})
 fp.plot_object(bundled("cube"), {str(tmp_path / 'b.png')!r})
-fp.plot_regions(best_regions(bundled("square"), 0.3, top=1), {str(tmp_path / 'c.png')!r})
+square = synthesize(bundled("square"), 2, "hard", 0.3, top=1).found
+fp.plot_regions(square, {str(tmp_path / 'c.png')!r})
 fp.plot_spatial_regions(soft_pair_regions(bundled("cube"), 0, 1, 0.5), {str(tmp_path / 'd.svg')!r})
 print(after_import, "matplotlib.pyplot" in sys.modules, backend() == before)
 """
@@ -83,7 +79,7 @@ def test_no_figure_left_open(tmp_path, cube_soft_pair):
     import matplotlib.pyplot as plt  # here only to count pyplot's figures
 
     square = bundled("square")
-    regions = best_regions(square, 0.3, top=2)
+    regions = synthesize(square, 2, "hard", 0.3, top=2).found
     before = plt.get_fignums()
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # pyplot's "More than 20 figures" would fail here
@@ -100,7 +96,7 @@ def test_ax_draws_into_the_users_axes(cube_soft_pair):
     fig = Figure()
     flat, solid = fig.add_subplot(1, 2, 1), fig.add_subplot(1, 2, 2, projection="3d")
     square = bundled("square")
-    assert plot_regions(best_regions(square, 0.3, top=1), ax=flat) is fig
+    assert plot_regions(synthesize(square, 2, "hard", 0.3, top=1).found, ax=flat) is fig
     assert len(flat.lines) >= 2 + 4  # two bold segments, four cone rays
     assert plot_object(square, ax=flat, title="mine") is fig
     assert flat.get_title() == "mine"
@@ -110,7 +106,7 @@ def test_ax_draws_into_the_users_axes(cube_soft_pair):
     with pytest.raises(InputError, match="3-D axes"):
         plot_spatial_regions(cube_soft_pair, ax=flat)
     with pytest.raises(InputError, match="2-D axes"):
-        plot_regions(best_regions(square, 0.3, top=1), ax=solid)
+        plot_regions(synthesize(square, 2, "hard", 0.3, top=1).found, ax=solid)
 
 
 def test_every_finger_drawn_labelled_and_in_its_colour(tmp_path, cube_three_hard):
@@ -155,7 +151,7 @@ def test_only_faces_in_sight_are_numbered(tmp_path):
     # through the opening (at z = 1.5: t = 1.84, y = -0.43, x = 0.89).
     block = plot_object(bundled("holed-block")).axes[0]
     assert sorted(t.get_text() for t in block.texts) == ["0", "2", "3", "7"]
-    assert not plot_spatial_regions(best_soft_pair_regions(cube, 0.5, top=1)[0]).axes[
+    assert not plot_spatial_regions(synthesize(cube, 2, "soft", 0.5, top=1).found[0]).axes[
         0].texts[0].get_text().isdigit()
 
 
@@ -163,7 +159,8 @@ def test_vertex_grasps_are_drawn(tmp_path, capsys):
     """The triangle held by a soft finger on a vertex: its colour on the picture; with
     ``--vertices`` the command draws them after the two-finger grasps (the third colour)."""
     png = tmp_path / "tri.png"
-    plot_regions(vertex_grasps(bundled("triangle"), 0.3, top=1), png)
+    plot_regions(synthesize(bundled("triangle"), 2, "soft", 0.3, top=1,
+                            construction="vertices").found, png)
     assert _pixels(png, TAB10[0]) > 150
     plain, corners = tmp_path / "plain.png", tmp_path / "corners.png"
     assert main(["synthesize", "square", "--mu", "0.3", "--top", "2", "--plot", str(plain)]) == 0
@@ -206,8 +203,8 @@ def test_plot_found_draws_vertex_grasps_wherever_they_are():
     from forceclosure.pictures.plot import plot_found
 
     square = bundled("square")
-    sets = best_regions(square, 0.3, top=2)
-    (corner,) = vertex_grasps(square, 0.3, top=1)
+    sets = synthesize(square, 2, "hard", 0.3, top=2).found
+    (corner,) = synthesize(square, 2, "soft", 0.3, top=1, construction="vertices").found
     for order, colour in (([corner, *sets], TAB10[0]), ([*sets, corner], TAB10[2])):
         ax = plot_found(order).axes[0]
         dots = [line for line in ax.lines if line.get_marker() == "o"]
@@ -217,7 +214,8 @@ def test_plot_found_draws_vertex_grasps_wherever_they_are():
         assert matplotlib.colors.to_hex(dots[0].get_color()) == colour
         assert sorted(t.get_text() for t in ax.texts) == ["1", "1", "2", "2", "v1", "v1"]
     with pytest.raises(InputError, match="same object"):
-        plot_found([*sets, *vertex_grasps(bundled("triangle"), 0.3, top=1)])
+        plot_found([*sets, *synthesize(bundled("triangle"), 2, "soft", 0.3, top=1,
+                                       construction="vertices").found])
 
 
 def _box_file(tmp_path, suffix: str):
@@ -272,7 +270,9 @@ def test_grasps_sharing_a_vertex_all_show():
     """On the triangle at mu 0.3 three of the five vertex grasps have a finger on the vertex
     (-1, 0) (two pair it with the other vertices): their dots there are rings, each drawn
     smaller than the one under it, so that none hides another."""
-    ax = plot_regions(vertex_grasps(bundled("triangle"), 0.3, top=5)).axes[0]
+    corners = synthesize(bundled("triangle"), 2, "soft", 0.3, top=5,
+                         construction="vertices").found
+    ax = plot_regions(corners).axes[0]
     at = [line for line in ax.lines if line.get_marker() == "o"
           and np.allclose(np.column_stack(line.get_data()).astype(float)[0], [-1, 0])]
     sizes = [line.get_markersize() for line in sorted(at, key=lambda line: line.zorder)]

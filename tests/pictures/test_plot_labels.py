@@ -20,7 +20,6 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 
 from forceclosure.objects import Polygon, bundled
 from forceclosure.pictures.plot import on_vertex, plot_regions
-from forceclosure.synthesis import vertex_grasps
 from forceclosure.synthesis.best import synthesize
 
 PLATE = Polygon.from_points([[10, 10], [90, 10], [90, 40], [60, 40], [60, 30], [40, 30],
@@ -41,7 +40,8 @@ def _segment_distance(p, a, b) -> float:
 ])
 def test_labels_do_not_overprint(polygon, fingers, corners):
     found = synthesize(polygon, fingers, "hard", 0.3, top=5).found
-    extra = vertex_grasps(polygon, 0.3, top=corners) if corners else []
+    extra = synthesize(polygon, 2, "soft", 0.3, top=corners,
+                       construction="vertices").found if corners else []
     grasps = [*found, *extra]
     fig = plot_regions(grasps)
     renderer = FigureCanvasAgg(fig).get_renderer()

@@ -30,12 +30,12 @@ from forceclosure.pictures.view import (
     write_grasps_html,
     write_html,
 )
-from forceclosure.synthesis import best_regions, best_soft_pair_regions
+from forceclosure.synthesis import synthesize
 
 
 @pytest.fixture(scope="module")
 def cube_pairs():
-    return best_soft_pair_regions(bundled("cube"), 0.5, top=3)
+    return synthesize(bundled("cube"), 2, "soft", 0.5, top=3).found
 
 
 def _xyz(trace) -> np.ndarray:
@@ -84,7 +84,7 @@ def test_planar_view_segments_and_cones():
     """The bold lines are the regions' segments; every cone ray leaves a segment end at
     atan(mu) from the inward normal."""
     polygon = bundled("hexagon")
-    found = best_regions(polygon, 0.3, top=2)
+    found = synthesize(polygon, 2, "hard", 0.3, top=2).found
     fig = planar_figure(found)
     lines = [t for t in fig.data if t.showlegend is not False]
     assert [t.name for t in lines] == ["grasp 1", "grasp 2"]
@@ -110,7 +110,7 @@ def test_page_is_self_contained(tmp_path, cube_pairs):
         write_html(cube_pairs, tmp_path / "cube.png")
     with pytest.raises(InputError, match="no regions"):
         write_html([], tmp_path / "none.html")
-    other = best_soft_pair_regions(bundled("hexagonal-prism"), 0.5, top=1)[0]
+    other = synthesize(bundled("hexagonal-prism"), 2, "soft", 0.5, top=1).found[0]
     with pytest.raises(InputError, match="same object"):
         spatial_figure([cube_pairs[0], other])
 
@@ -214,11 +214,9 @@ def test_planar_view_draws_each_vertex_grasp_at_its_vertex():
     edge: with the vertex fixed, a finger at q on the edge across holds iff the line from q
     to the vertex stays within the edge's cone narrowed by the margin, a segment
     2 tan(atan 0.3 - 1e-3) long from the corner above (or beside) the vertex."""
-    from forceclosure.synthesis import vertex_grasps
-
     square = bundled("square")
-    corners = vertex_grasps(square, 0.3, top=5)
-    fig = planar_figure([*best_regions(square, 0.3, top=2), *corners])
+    corners = synthesize(square, 2, "soft", 0.3, top=5, construction="vertices").found
+    fig = planar_figure([*synthesize(square, 2, "hard", 0.3, top=2).found, *corners])
     length = 2 * np.tan(np.arctan(0.3) - 1e-3)
     for rank, g in enumerate(corners, start=1):
         (dot,) = [t for t in fig.data if t.name == f"v{rank}"]
@@ -276,8 +274,8 @@ def test_page_of_a_y_up_obj_holds_y_up(tmp_path):
         eye = np.array([camera["eye"][k] for k in "xyz"])
         assert eye @ up == pytest.approx(1.0)  # above the object, along its up axis
     with pytest.raises(InputError, match="up must be"):
-        write_html(best_soft_pair_regions(bundled("cube"), 0.5, top=1), tmp_path / "c.html",
-                   up="w")
+        write_html(synthesize(bundled("cube"), 2, "soft", 0.5, top=1).found,
+                   tmp_path / "c.html", up="w")
 
 
 # -- the page of labelled jaw poses (forceclosure grasps --html) -----------------------------
