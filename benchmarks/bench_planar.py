@@ -85,7 +85,7 @@ def main() -> None:
 
 def whole_polygon(edges: int = 1000, mu: float = 0.3) -> None:
     """All edge pairs of a large polygon at once (the issue's 1000-edge case)."""
-    from forceclosure.synthesis import best_regions
+    from forceclosure.synthesis import synthesize
 
     theta = np.sort(np.random.default_rng(1).uniform(0, 2 * np.pi, edges))
     radius = 1 + 0.05 * np.sin(7 * theta)
@@ -95,7 +95,7 @@ def whole_polygon(edges: int = 1000, mu: float = 0.3) -> None:
     times = []
     for _ in range(3):
         t = time.perf_counter()
-        best_regions(poly, mu, top=5)
+        synthesize(poly, 2, "hard", mu, top=5)
         times.append(time.perf_counter() - t)
     pairs = n * (n - 1) // 2
     print(f"whole polygon: {n} edges, {pairs} pairs, best 5 with maximal regions in "
