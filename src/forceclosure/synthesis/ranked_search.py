@@ -9,7 +9,8 @@ Only certified region sets are returned.
 Examples
 --------
 >>> from forceclosure.objects import bundled
->>> from forceclosure.synthesis.construction import Hand, construction_for
+>>> from forceclosure.synthesis.construction import Hand
+>>> from forceclosure.synthesis.table import construction_for
 >>> found = search(construction_for(2, 2, "hard"), bundled("hexagon"), Hand(2, "hard", 0.3, top=3))
 >>> [r.edges for r in found]
 [(0, 3), (1, 4), (2, 5)]
@@ -99,7 +100,8 @@ def candidate_sites(construction: Construction, obj: Any, hand: Hand, prune: boo
     Examples
     --------
     >>> from forceclosure.objects import bundled
-    >>> from forceclosure.synthesis.construction import Hand, construction_for
+    >>> from forceclosure.synthesis.construction import Hand
+    >>> from forceclosure.synthesis.table import construction_for
     >>> square, c, hand = bundled("square"), construction_for(2, 2, "hard"), Hand(2, "hard", 0.3)
     >>> len(candidate_sites(c, square, hand, prune=False)), candidate_sites(c, square, hand)
     (6, array([[0, 2, 0],
