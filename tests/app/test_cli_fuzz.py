@@ -307,7 +307,7 @@ SYNTHESIS_OPTIONS = {
     "--margin": option_values, "--seed": option_values,
     "--samples": st.sampled_from(["0", "-5", "60", "300", "abc", "1e3"]),
     "--contact": st.sampled_from(["hard", "soft", "frictionless", "HARD", ""]),
-    "--construction": st.sampled_from(["maximal", "nguyen", "x"]),
+    "--construction": st.sampled_from(["maximal", "nguyen", "vertices", "mesh", "x"]),
     "--method": st.sampled_from(["auto", "faces", "mesh", "x"]),
     "--part": names,
 }

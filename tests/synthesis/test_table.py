@@ -10,6 +10,7 @@ construction answers.
 from __future__ import annotations
 
 import dataclasses
+import json
 
 import pytest
 
@@ -141,3 +142,21 @@ def test_a_search_keeps_no_state_between_calls():
     assert hand.memo == {}
     second = search(c, bundled("square"), hand)
     assert [r.edges for r in first] == [(0, 3)] and [r.edges for r in second] == [(0, 2)]
+
+
+def test_the_dataset_goes_through_the_same_door(tmp_path):
+    """``dataset --construction vertices``: the triangle, which no two fingers on edges hold
+    at mu 0.3, is held by a soft finger on a vertex and one on the opposite edge (the edge
+    not meeting the vertex), and its row says so."""
+    import pyarrow.parquet as pq
+
+    from forceclosure.app.cli import main
+
+    out = tmp_path / "out"
+    assert main(["dataset", "triangle", "--construction", "vertices", "--out", str(out),
+                 "--workers", "1"]) == 0
+    (where,) = pq.read_table(out / "results.parquet").column("best_faces").to_pylist()
+    best = json.loads(where)
+    triangle = bundled("triangle")
+    _, a, b = triangle.convex_corners[best["vertex"]]
+    assert best["edge"] not in (a, b)

@@ -806,7 +806,10 @@ def row_of(record: dict[str, Any]) -> dict[str, Any]:
             row["best_min_region"] = best["min_size"]
             row["best_relative_min_region"] = best["relative_min_size"]
             row["best_region_sizes"] = best["sizes"]
-            row["best_faces"] = json.dumps(best["faces"] if "faces" in best else best["edges"])
+            where = best.get("faces", best.get("edges"))
+            if where is None:  # a soft finger on a vertex (construction "vertices")
+                where = {k: best[k] for k in ("vertex", "edge", "other_vertex") if k in best}
+            row["best_faces"] = json.dumps(where)
         row["all_certified"] = all(g["certificate"]["holds"] for g in grasps)
     return row
 
