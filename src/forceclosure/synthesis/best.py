@@ -327,7 +327,8 @@ def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
     # an object read from curves (chords) or curved primitives (facets) has normals that
     # turn by up to its spread: build with at least that margin so that the proofs, which
     # narrow the cones by it, can hold
-    spread = obj.spread if obj.dim == 2 else max((f.spread for f in obj.faces), default=0.0)
+    spread = (obj.spread if isinstance(obj, Polygon)
+              else max((f.spread for f in obj.faces), default=0.0))
     needed = min(1.001 * spread, math.pi / 2 * 0.999)
     mu = 0.0 if contact == "frictionless" else float(mu)
     if contact != "frictionless" and narrowed(mu, max(margin, needed)) <= 0:
@@ -337,7 +338,8 @@ def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
         raise InputError(f"mu {mu:g}: its friction cone (atan(mu) = {math.atan(mu):.3g} rad) "
                          f"leaves nothing once narrowed by {why}")
     margin = max(margin, needed)
-    curved = obj.dim == 3 and np.mean([len(f.triangles) == 1 for f in obj.faces]) > 0.5
+    curved = isinstance(obj, Polyhedron) and bool(
+        np.mean([len(f.triangles) == 1 for f in obj.faces]) > 0.5)
     chosen = construction_for(obj.dim, fingers, contact, construction, method, curved)
     found = search(chosen, obj, Hand(fingers, contact, mu, margin, samples, seed, top))
     return Synthesis(list(found), chosen.method, fingers, contact, mu, chosen,

@@ -35,7 +35,7 @@ V.-D. Nguyen, "Constructing force-closure grasps", IJRR 7(3), 1988, §5.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -80,7 +80,12 @@ class Hand:
     memo: dict[str, Any] = field(default_factory=dict, compare=False, hash=False, repr=False)
 
 
-Sites = Sequence[Any]
+#: A block of candidate sites, of the construction's own kind: an integer array of index
+#: rows (edge pairs, face tuples) or a list (vertex sites, sampled prototypes). The search
+#: passes each block back to the same construction's steps and never looks inside it.
+Sites = Any
+#: What ``build`` returns for one site: its regions, none there, or undecided.
+Built = Any  # a RegionSet, None or an Undecided (RegionSet lives in regions.py, above Hand)
 
 
 @dataclass(frozen=True)
@@ -136,10 +141,10 @@ class Construction:
     name: str
     paper: str
     method: str
-    sites: Callable[[Any, Hand], Sites]
-    build: Callable[[Any, Any, Hand], Any]
+    sites: Callable[[Any, Hand], Iterable[Sites]]
+    build: Callable[[Any, Any, Hand], Built]
     searched: str
-    prune: Callable[[Any, Sites, Hand], NDArray[np.bool_]] | None = None
+    prune: Callable[[Any, Sites, Hand], NDArray[np.bool_] | Sequence[bool]] | None = None
     bound: Callable[[Any, Sites, Hand], NDArray[np.float64]] | None = None
     enough: int | None = None
     complete: bool = False

@@ -207,7 +207,7 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
             failed_proof(int(k))
             continue
         bisect.insort(built, (float(regions.relative_min_size), int(k), regions), key=_by_size)
-    proved = []
+    proved: list[RegionSet] = []
     for _, k, regions in ranked(built, slack, presorted=True):
         if len(proved) == top:
             break
