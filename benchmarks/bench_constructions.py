@@ -1,6 +1,6 @@
 """Every construction through the front door: time and result, optionally against a revision.
 
-For each case (one per registered construction, on bundled objects; and a regular
+For each case (one per construction of the table, on bundled objects; and a regular
 400-gon, whose edge pairs all tie for branch and bound),
 ``synthesize()`` is called once to warm up (compiling kernels on a fresh
 install), then timed as the best of ``--repeat`` calls. With ``--against

@@ -1,4 +1,4 @@
-"""Every registered construction on every bundled object it serves (issue 16's conformance).
+"""Every construction of the table on every bundled object it serves (issue 16's conformance).
 
 For each entry of the table of constructions and each bundled object of its
 dimension, the search's result is empty or made of certified region sets,
@@ -7,7 +7,7 @@ general test, ``analyze``, on points drawn from every region, the regions'
 ends and corners included); each record follows ``forceclosure/schemas/regions.schema.json``
 and round-trips through JSON; a construction's bound is an upper bound; and
 pruning never removes a site on which the construction builds certified
-regions. A new construction is tested by registering it.
+regions. A new construction is tested by its line in the table (synthesis/table.py).
 """
 
 import itertools
