@@ -44,7 +44,7 @@ from scipy.spatial import ConvexHull
 from forceclosure import analyze, generating_wrenches, kernels, point_contact
 from forceclosure.analysis.friction import least_friction
 from forceclosure.analysis.quality import epsilon
-from forceclosure.analysis.two_finger import two_finger_closure
+from forceclosure.analysis.two_finger import SERIAL_BELOW, two_finger_closure
 from forceclosure.contacts import Cone
 
 MUS = np.round(np.arange(1, 11) * 0.1, 1)  # GraspNet-style friction values
@@ -211,7 +211,7 @@ def single_calls(rng, count: int, repeats: int) -> None:
 
 def pair_row(rng, n: int, repeats: int) -> None:
     """One size of the pairs table: the public call, its kernel alone, NumPy."""
-    from forceclosure.kernels import kernel_array, pool_for
+    from forceclosure.kernels import kernel_array
     from forceclosure.kernels import pairs as kernel
 
     p, q = rng.normal(size=(n, 2)), rng.normal(size=(n, 2))
@@ -225,9 +225,10 @@ def pair_row(rng, n: int, repeats: int) -> None:
     code, least = np.empty(n, dtype=np.int8), np.empty(n)
     flat = [kernel_array(a) for a in (p, n_p, q, n_q)]
 
-    def compiled(_):
-        with pool_for(n, 1 << 14):
-            kernel.pair_kernel(*flat, mu, mu, 1e-9, code, least)
+    run = kernel.pair_verdict_serial if n < SERIAL_BELOW else kernel.pair_verdict_kernel
+
+    def compiled(_):  # what two_finger_closure runs, on its prepared inputs
+        run(*flat, mu, mu, 1e-9, False, 1e290, code, least)
 
     reps = [None] * max(1, min(repeats * 20, 2_000_000 // n))
     public = timed(lambda _: two_finger_closure(p, n_p, q, n_q, 0.3), reps)

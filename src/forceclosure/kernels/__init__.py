@@ -108,6 +108,9 @@ def kernel_array(a: ArrayLike, dtype: type = np.float64) -> NDArray:
 
     A read-only or broadcast view would make numba compile another signature.
     """
+    if (isinstance(a, np.ndarray) and a.dtype == dtype and a.flags.c_contiguous
+            and a.flags.writeable):  # as it is (np.require's answer too, in a fraction)
+        return a
     return np.require(a, dtype=dtype, requirements=["C", "W"])
 
 
