@@ -155,8 +155,10 @@ def two_finger_closure(p: ArrayLike, n_p: ArrayLike, q: ArrayLike, n_q: ArrayLik
     if engine not in ("compiled", "reference"):
         raise InputError(f"engine must be 'compiled' or 'reference', got {engine!r}")
     try:
-        shape = np.broadcast_shapes(p.shape[:-1], q.shape[:-1], n_p.shape[:-1],
-                                    n_q.shape[:-1], mu_p.shape, mu_q.shape)
+        shape = p.shape[:-1]
+        if not (p.shape == q.shape == n_p.shape == n_q.shape and mu_p.ndim == mu_q.ndim == 0):
+            shape = np.broadcast_shapes(shape, q.shape[:-1], n_p.shape[:-1], n_q.shape[:-1],
+                                        mu_p.shape, mu_q.shape)
     except ValueError:
         raise InputError("p, n_p, q, n_q, mu_p and mu_q do not broadcast to one shape") from None
     if engine == "reference":

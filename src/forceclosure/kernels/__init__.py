@@ -55,8 +55,8 @@ def cached(kernel) -> bool:
     """Whether ``kernel`` has compiled code cached on disk (numba's cache index) or in this
     process: False on the first run after installing. An unknown numba layout counts as
     cached (nothing is said or avoided on a guess)."""
-    if getattr(kernel, "signatures", None):
-        return True
+    if getattr(kernel, "overloads", None):  # compiled in this process (what ``signatures``
+        return True                          # lists, without building the list)
     try:
         index = kernel._cache._cache_file._index_path
     except AttributeError:

@@ -412,23 +412,6 @@ def _label_row(points, normals, i, mu, atan_mu, T, tol, hard, mu_max, max_coordi
     return c != NONE and c != MARGINAL and c != CLOSURE
 
 
-@nb.njit(inline="always")
-def _verdict_row(p, n_p, q, n_q, i, mp, mq, T, tol, hard, max_coordinate, code, least) -> bool:
-    """Condition, check and decide pair ``i`` of ``(N, d)`` arrays; whether it is flagged
-    (a code other than the three verdicts: bad input, or ``UNDECIDED``)."""
-    if p.shape[1] == 2:
-        c, m = _conditioned_pair(2, p[i, 0], p[i, 1], 0.0, q[i, 0], q[i, 1], 0.0, n_p[i, 0],
-                                 n_p[i, 1], 0.0, n_q[i, 0], n_q[i, 1], 0.0, mp, mq, -1.0, -1.0,
-                                 T, tol, hard, max_coordinate)
-    else:
-        c, m = _conditioned_pair(3, p[i, 0], p[i, 1], p[i, 2], q[i, 0], q[i, 1], q[i, 2],
-                                 n_p[i, 0], n_p[i, 1], n_p[i, 2], n_q[i, 0], n_q[i, 1],
-                                 n_q[i, 2], mp, mq, -1.0, -1.0, T, tol, hard, max_coordinate)
-    code[i] = c
-    least[i] = m
-    return c > CLOSURE
-
-
 @nb.njit(parallel=True, cache=True, nogil=True)
 def pair_verdict_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, hard, max_coordinate, code,
                         least):  # pragma: no cover - compiled
@@ -445,9 +428,25 @@ def pair_verdict_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, hard, max_coordinate, c
     flagged = 0
     step_p = 1 if mu_p.shape[0] > 1 else 0
     step_q = 1 if mu_q.shape[0] > 1 else 0
+    if p.shape[1] == 2:  # the dimension outside the loops, scalars only inside: measured
+        for i in nb.prange(p.shape[0]):  # 1.4x faster serially than a row function's loop
+            c, m = _conditioned_pair(2, p[i, 0], p[i, 1], 0.0, q[i, 0], q[i, 1], 0.0,
+                                     n_p[i, 0], n_p[i, 1], 0.0, n_q[i, 0], n_q[i, 1], 0.0,
+                                     mu_p[i * step_p], mu_q[i * step_q], -1.0, -1.0, T, tol,
+                                     False, max_coordinate)
+            code[i] = c
+            least[i] = m
+            if c > CLOSURE:
+                flagged += 1
+        return flagged
     for i in nb.prange(p.shape[0]):
-        if _verdict_row(p, n_p, q, n_q, i, mu_p[i * step_p], mu_q[i * step_q], T, tol, hard,
-                        max_coordinate, code, least):
+        c, m = _conditioned_pair(3, p[i, 0], p[i, 1], p[i, 2], q[i, 0], q[i, 1], q[i, 2],
+                                 n_p[i, 0], n_p[i, 1], n_p[i, 2], n_q[i, 0], n_q[i, 1],
+                                 n_q[i, 2], mu_p[i * step_p], mu_q[i * step_q], -1.0, -1.0, T,
+                                 tol, hard, max_coordinate)
+        code[i] = c
+        least[i] = m
+        if c > CLOSURE:
             flagged += 1
     return flagged
 
@@ -460,9 +459,25 @@ def pair_verdict_serial(p, n_p, q, n_q, mu_p, mu_q, tol, hard, max_coordinate, c
     flagged = 0
     step_p = 1 if mu_p.shape[0] > 1 else 0
     step_q = 1 if mu_q.shape[0] > 1 else 0
+    if p.shape[1] == 2:
+        for i in range(p.shape[0]):
+            c, m = _conditioned_pair(2, p[i, 0], p[i, 1], 0.0, q[i, 0], q[i, 1], 0.0,
+                                     n_p[i, 0], n_p[i, 1], 0.0, n_q[i, 0], n_q[i, 1], 0.0,
+                                     mu_p[i * step_p], mu_q[i * step_q], -1.0, -1.0, T, tol,
+                                     False, max_coordinate)
+            code[i] = c
+            least[i] = m
+            if c > CLOSURE:
+                flagged += 1
+        return flagged
     for i in range(p.shape[0]):
-        if _verdict_row(p, n_p, q, n_q, i, mu_p[i * step_p], mu_q[i * step_q], T, tol, hard,
-                        max_coordinate, code, least):
+        c, m = _conditioned_pair(3, p[i, 0], p[i, 1], p[i, 2], q[i, 0], q[i, 1], q[i, 2],
+                                 n_p[i, 0], n_p[i, 1], n_p[i, 2], n_q[i, 0], n_q[i, 1],
+                                 n_q[i, 2], mu_p[i * step_p], mu_q[i * step_q], -1.0, -1.0, T,
+                                 tol, hard, max_coordinate)
+        code[i] = c
+        least[i] = m
+        if c > CLOSURE:
             flagged += 1
     return flagged
 
@@ -473,8 +488,9 @@ def pair_labels_kernel(points, normals, mu, tol, hard, mu_max, max_coordinate, c
     """Fill ``code`` (int8) and ``least`` (float64, ``inf`` beyond ``mu_max``) for the
     ``(N, 2, d)`` contact pairs ``points``, ``normals`` (any lengths) at one friction ``mu``,
     in one pass on the calling thread (it releases the GIL: :func:`pair_labels` runs it on
-    slices in threads): each row's normals made unit, coordinates beyond ``2**64`` divided
-    by a power of two, bad rows flagged (``NON_FINITE``, ``TOO_LARGE`` beyond
+    slices in threads): each row conditioned as :func:`_conditioned_pair` does (extreme
+    normals made unit, coordinates beyond ``2**64`` divided by a power of two), bad rows
+    flagged (``NON_FINITE``, ``TOO_LARGE`` beyond
     ``max_coordinate``, ``ZERO_NORMAL``). ``hard`` spatial pairs are never closed.
     Returns how many pairs have a code other than the three verdicts."""
     T = math.tan(tol)
