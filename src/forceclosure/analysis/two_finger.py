@@ -320,17 +320,16 @@ def pair_least_friction(p: NDArray[np.float64], n_p: NDArray[np.float64],
     """The least friction of ``(N, d)`` pairs of soft fingers (planar: any fingers), compiled
     (the pair kernel, whose verdicts at friction 1 are dropped). Inputs as
     :func:`two_finger_closure` checks them; exact cones."""
-    from ..kernels import announce_compiling, kernel_array, pool_for
+    from ..kernels import announce_compiling, kernel_array
     from ..kernels import pairs as kernel
 
-    p, n_p, q, n_q = _conditioned(p, n_p, q, n_q)
     code = np.empty(len(p), dtype=np.int8)
     least = np.empty(len(p))
     one = np.ones(1)
-    announce_compiling(kernel.pair_kernel)
-    with pool_for(len(p), SERIAL_BELOW):
-        kernel.pair_kernel(*(kernel_array(a) for a in (p, n_p, q, n_q)), one, one, 0.0, code,
-                           least)
+    run = kernel.pair_verdict_serial if len(p) < SERIAL_BELOW else kernel.pair_verdict_kernel
+    announce_compiling(run)
+    run(*(kernel_array(a) for a in (p, n_p, q, n_q)), one, one, 0.0, False, MAX_COORDINATE,
+        code, least)
     return least
 
 
@@ -359,7 +358,7 @@ def _compiled(p, n_p, q, n_q, mu_p, mu_q, model, tol, shape):
     if not flagged:
         return code, least
     if np.any(code >= kernel.ZERO_NORMAL):  # bad input: named as the checks name it
-        return _compiled_checked(p, n_p, q, n_q, mu_p, mu_q, model, tol, shape)
+        _compiled_checked(p, n_p, q, n_q, shape, code)
     undecided = np.flatnonzero(code == kernel.UNDECIDED)
     if len(undecided):  # spatial soft pairs beyond Corollary 3: Theorem 1, compiled
         _theorem1(flat, mus, undecided, n, tol, code)
@@ -374,44 +373,31 @@ def _theorem1(flat, mus, undecided, n, tol, code) -> None:
     code[undecided] = analyze_batch(P, N, mu=mu, model="soft", tol=tol).code
 
 
-def _compiled_checked(p, n_p, q, n_q, mu_p, mu_q, model, tol, shape):
-    """The checks and conditioning in NumPy, then the pair kernel on conditioned rows: the
-    path that names a bad pair (the first row the kernel flags, or a coordinate too large)
-    in one line, as :func:`two_finger_closure` always has."""
-    from ..kernels import kernel_array, pool_for
+def _compiled_checked(p, n_p, q, n_q, shape, code) -> None:
+    """Raise the one-line error naming the bad input the kernel flagged in ``code``, as the
+    checks before the compiled pass always named it: a coordinate too large (``p``, then
+    ``q``), else the first pair whose normal is a zero vector or whose values are not finite
+    (with non-finite values anywhere, pairs are read unconditioned, as the checks did)."""
     from ..kernels import pairs as kernel
 
     _check_coordinates(p, q)
     p, n_p, q, n_q = _conditioned(p, n_p, q, n_q)
-
-    def rows(a: NDArray[np.float64], tail: tuple[int, ...]) -> NDArray[np.float64]:
-        if a.shape[: len(a.shape) - len(tail)] != shape:
-            a = np.broadcast_to(a, (*shape, *tail))
-        return kernel_array(a.reshape(-1, *tail))
-
-    flat = [rows(a, (a.shape[-1],)) for a in (p, n_p, q, n_q)]
-    mus = [kernel_array(m.reshape(1)) if m.size == 1 else rows(m, ()) for m in (mu_p, mu_q)]
-    n = flat[0].shape[0]
-    code = np.empty(n, dtype=np.int8)
-    least = np.empty(n)
-    with pool_for(n, SERIAL_BELOW):
-        flagged = kernel.pair_kernel(*flat, *mus, float(tol), code, least)
-    bad = np.flatnonzero(code >= kernel.ZERO_NORMAL) if flagged else ()
-    if len(bad):
-        i = int(bad[0])
-        index = np.unravel_index(i, shape) if len(shape) > 1 else i
-        where = f"pair at index {index}" if shape else "the pair"
-        what = ("a normal is a zero vector" if code[i] == kernel.ZERO_NORMAL
-                else "a point or normal has a non-finite coordinate")
-        raise InputError(f"{where}: {what}")
-    if p.shape[-1] == 3 and model == "hard":
-        code[:] = kernel.NONE
-        least[:] = np.inf
-        return code, least
-    undecided = np.flatnonzero(code == kernel.UNDECIDED) if flagged else ()
-    if len(undecided):
-        _theorem1(flat, mus, undecided, n, tol, code)
-    return code, least
+    d = p.shape[-1]
+    p, n_p, q, n_q = (np.broadcast_to(a, (*shape, d)).reshape(-1, d) for a in (p, n_p, q, n_q))
+    v = q - p
+    with np.errstate(over="ignore", invalid="ignore"):
+        pq2, np2, nq2, cp, cq = (sum(x[:, k] * y[:, k] for k in range(d))
+                                 for x, y in ((v, v), (n_p, n_p), (n_q, n_q), (v, -n_p),
+                                              (v, n_q)))
+        non_finite = ~np.isfinite(pq2 + np2 + nq2 + cp + cq)
+    zero = (np2 <= 1e-24) | (nq2 <= 1e-24)
+    bad = np.flatnonzero(non_finite | zero)
+    i = int(bad[0]) if len(bad) else int(np.flatnonzero(code >= kernel.ZERO_NORMAL)[0])
+    index = np.unravel_index(i, shape) if len(shape) > 1 else i
+    where = f"pair at index {index}" if shape else "the pair"
+    what = ("a point or normal has a non-finite coordinate"
+            if non_finite[i] or code[i] == kernel.NON_FINITE else "a normal is a zero vector")
+    raise InputError(f"{where}: {what}")
 
 
 def _soft_least(pq, a, b, antiparallel_least):

@@ -26,7 +26,7 @@ import numba as nb
 import numpy as np
 
 __all__ = ["CLOSURE", "MARGINAL", "NONE", "NON_FINITE", "TOO_LARGE", "UNDECIDED", "ZERO_NORMAL",
-           "pair_kernel", "pair_labels", "pair_labels_kernel", "pair_verdict_kernel",
+           "pair_labels", "pair_labels_kernel", "pair_verdict_kernel",
            "pair_verdict_serial"]
 
 #: Pair codes, as in :mod:`forceclosure.analysis.two_finger`.
@@ -147,20 +147,6 @@ def _screen(least, tan_half_beta, mu, tol) -> int:
         else UNDECIDED
 
 
-@nb.njit(inline="always")
-def _flag(code, least, i, pq2, np2, nq2, cp, cq) -> bool:
-    """Mark pair ``i`` if it cannot be decided (non-finite, zero normal); whether it was."""
-    if not math.isfinite(pq2 + np2 + nq2 + cp + cq):  # any NaN or inf (or overflow)
-        code[i] = NON_FINITE
-        least[i] = np.nan
-        return True
-    if np2 <= 1e-24 or nq2 <= 1e-24:
-        code[i] = ZERO_NORMAL
-        least[i] = np.inf
-        return True
-    return False
-
-
 @nb.njit(cache=True)
 def _soft_verdict(vx, vy, vz, ax, ay, az, bx, by, bz, mp, mq, tol, atan_p=-1.0,
                   atan_q=-1.0) -> int:
@@ -226,7 +212,8 @@ def _same_side(ax, ay, az, bx, by, bz, atan_p, atan_q) -> bool:
 
 @nb.njit(inline="always")
 def _planar_pair(px, py, qx, qy, ax, ay, bx, by, mp, mq, T):
-    """Code and least friction of one planar pair whose inputs passed :func:`_flag`."""
+    """Code and least friction of one planar pair whose inputs :func:`_conditioned_pair`
+    checked."""
     vx = qx - px
     vy = qy - py
     pq2 = vx * vx + vy * vy
@@ -244,8 +231,8 @@ def _planar_pair(px, py, qx, qy, ax, ay, bx, by, mp, mq, T):
 def _spatial_pair(px, py, pz, qx, qy, qz, ax, ay, az, bx, by, bz, mp, mq, T, tol,
                   atan_p=-1.0, atan_q=-1.0):
     """Code (``UNDECIDED`` where the closed form is ill-conditioned) and least friction of
-    one spatial soft pair whose inputs passed :func:`_flag`; ``atan_p``, ``atan_q`` as in
-    :func:`_soft_verdict`."""
+    one spatial soft pair whose inputs :func:`_conditioned_pair` checked; ``atan_p``,
+    ``atan_q`` as in :func:`_soft_verdict`."""
     vx = qx - px
     vy = qy - py
     vz = qz - pz
@@ -287,51 +274,6 @@ def _spatial_pair(px, py, pz, qx, qy, qz, ax, ay, az, bx, by, bz, mp, mq, T, tol
                                              math.atan(mq) if atan_q < 0.0 else atan_q):
                 c = NONE
     return c, least
-
-
-@nb.njit(parallel=True, cache=True, nogil=True)
-def pair_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, code, least):  # pragma: no cover - compiled
-    """Fill ``code`` (int8) and ``least`` (float64) for ``(N, d)`` pairs, ``d`` = 2 or 3.
-
-    ``mu_p`` and ``mu_q`` have a value per pair, or one value for all.
-    Returns how many pairs have a code other than the three verdicts.
-    """
-    T = math.tan(tol)
-    flagged = 0
-    step_p = 1 if mu_p.shape[0] > 1 else 0
-    step_q = 1 if mu_q.shape[0] > 1 else 0
-    if p.shape[1] == 2:
-        for i in nb.prange(p.shape[0]):
-            vx = q[i, 0] - p[i, 0]
-            vy = q[i, 1] - p[i, 1]
-            ax, ay, bx, by = n_p[i, 0], n_p[i, 1], n_q[i, 0], n_q[i, 1]
-            if _flag(code, least, i, vx * vx + vy * vy, ax * ax + ay * ay, bx * bx + by * by,
-                     -(vx * ax + vy * ay), vx * bx + vy * by):
-                flagged += 1
-                continue
-            c, m = _planar_pair(p[i, 0], p[i, 1], q[i, 0], q[i, 1], ax, ay, bx, by,
-                                mu_p[i * step_p], mu_q[i * step_q], T)
-            code[i] = c
-            least[i] = m
-        return flagged
-    for i in nb.prange(p.shape[0]):
-        vx = q[i, 0] - p[i, 0]
-        vy = q[i, 1] - p[i, 1]
-        vz = q[i, 2] - p[i, 2]
-        ax, ay, az = n_p[i, 0], n_p[i, 1], n_p[i, 2]
-        bx, by, bz = n_q[i, 0], n_q[i, 1], n_q[i, 2]
-        if _flag(code, least, i, vx * vx + vy * vy + vz * vz, ax * ax + ay * ay + az * az,
-                 bx * bx + by * by + bz * bz, -(vx * ax + vy * ay + vz * az),
-                 vx * bx + vy * by + vz * bz):
-            flagged += 1
-            continue
-        c, m = _spatial_pair(p[i, 0], p[i, 1], p[i, 2], q[i, 0], q[i, 1], q[i, 2],
-                             ax, ay, az, bx, by, bz, mu_p[i * step_p], mu_q[i * step_q], T, tol)
-        if c == UNDECIDED:
-            flagged += 1
-        code[i] = c
-        least[i] = m
-    return flagged
 
 
 # --- labels of (N, 2, d) pairs as a user calls them: conditioning inside, one pass ----------
@@ -419,7 +361,7 @@ def pair_verdict_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, hard, max_coordinate, c
     them, ``d`` = 2 or 3, in one pass: each row conditioned (points beyond ``2**64`` in
     units of a power of two, extreme normals made unit) and checked, bad rows flagged
     (``NON_FINITE``, ``TOO_LARGE`` beyond ``max_coordinate``, ``ZERO_NORMAL``), then
-    decided as :func:`pair_kernel` decides conditioned rows (``hard`` spatial pairs never
+    decided by :func:`_planar_pair` or :func:`_spatial_pair` (``hard`` spatial pairs never
     closed). ``mu_p`` and ``mu_q`` have a value per pair, or one value for all. Returns how
     many pairs have a code other than the three verdicts. Parallel;
     :func:`pair_verdict_serial` is the same pass on the calling thread, for small batches
