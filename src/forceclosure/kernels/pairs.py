@@ -333,27 +333,6 @@ def _conditioned_pair(d, px, py, pz, qx, qy, qz, ax, ay, az, bx, by, bz, mp, mq,
                          bz, mp, mq, T, tol, atan_p, atan_q)
 
 
-@nb.njit(inline="always")
-def _label_row(points, normals, i, mu, atan_mu, T, tol, hard, mu_max, max_coordinate, code,
-               least):
-    """Condition, check and label pair ``i`` of ``(N, 2, d)`` arrays; whether it is flagged
-    (a code other than the three verdicts: bad input, or ``UNDECIDED``)."""
-    if points.shape[2] == 2:
-        c, m = _conditioned_pair(2, points[i, 0, 0], points[i, 0, 1], 0.0, points[i, 1, 0],
-                                 points[i, 1, 1], 0.0, normals[i, 0, 0], normals[i, 0, 1], 0.0,
-                                 normals[i, 1, 0], normals[i, 1, 1], 0.0, mu, mu, atan_mu,
-                                 atan_mu, T, tol, hard, max_coordinate)
-    else:
-        c, m = _conditioned_pair(3, points[i, 0, 0], points[i, 0, 1], points[i, 0, 2],
-                                 points[i, 1, 0], points[i, 1, 1], points[i, 1, 2],
-                                 normals[i, 0, 0], normals[i, 0, 1], normals[i, 0, 2],
-                                 normals[i, 1, 0], normals[i, 1, 1], normals[i, 1, 2], mu, mu,
-                                 atan_mu, atan_mu, T, tol, hard, max_coordinate)
-    code[i] = c
-    least[i] = np.inf if m > mu_max else m
-    return c != NONE and c != MARGINAL and c != CLOSURE
-
-
 @nb.njit(parallel=True, cache=True, nogil=True)
 def pair_verdict_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, hard, max_coordinate, code,
                         least):  # pragma: no cover - compiled
@@ -438,9 +417,23 @@ def pair_labels_kernel(points, normals, mu, tol, hard, mu_max, max_coordinate, c
     T = math.tan(tol)
     atan_mu = math.atan(mu)
     flagged = 0
-    for i in range(points.shape[0]):
-        if _label_row(points, normals, i, mu, atan_mu, T, tol, hard, mu_max, max_coordinate,
-                      code, least):
+    planar = points.shape[2] == 2
+    for i in range(points.shape[0]):  # scalars only in the loop (no row function taking
+        if planar:                    # the arrays: measured 1.4x slower in pair_verdict_serial)
+            c, m = _conditioned_pair(2, points[i, 0, 0], points[i, 0, 1], 0.0,
+                                     points[i, 1, 0], points[i, 1, 1], 0.0, normals[i, 0, 0],
+                                     normals[i, 0, 1], 0.0, normals[i, 1, 0], normals[i, 1, 1],
+                                     0.0, mu, mu, atan_mu, atan_mu, T, tol, hard,
+                                     max_coordinate)
+        else:
+            c, m = _conditioned_pair(3, points[i, 0, 0], points[i, 0, 1], points[i, 0, 2],
+                                     points[i, 1, 0], points[i, 1, 1], points[i, 1, 2],
+                                     normals[i, 0, 0], normals[i, 0, 1], normals[i, 0, 2],
+                                     normals[i, 1, 0], normals[i, 1, 1], normals[i, 1, 2], mu,
+                                     mu, atan_mu, atan_mu, T, tol, hard, max_coordinate)
+        code[i] = c
+        least[i] = np.inf if m > mu_max else m
+        if c > CLOSURE:
             flagged += 1
     return flagged
 
