@@ -32,3 +32,18 @@ def test_gripper_benchmark_runs():
     assert "bunny.obj" in run.stdout and "GraspNet" in run.stdout
     assert "ferrari_canny_L1" in run.stdout and "closes every pair GraspNet's passes: True" \
         in run.stdout
+
+
+@pytest.mark.long
+def test_calls_benchmark_runs():
+    """The benchmark of the calls a person makes (issue 26), on a few grasps: every row is
+    printed, and the vectorised NumPy baseline agrees with the pairs' verdicts."""
+    bench = Path(__file__).parents[1] / "benchmarks" / "bench_calls.py"
+    run = subprocess.run([sys.executable, str(bench), "--grasps", "3", "--repeats", "1"],
+                         capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr[-2000:]
+    out = run.stdout
+    for row in ("`analyze()`", "HiGHS reused", "`least_friction()`, 2 soft fingers",
+                "`epsilon()`", "| 1,000,000 | its kernel alone", "public / kernel (CPU)"):
+        assert row in out
+    assert "disagrees" not in out and "load average after" in out

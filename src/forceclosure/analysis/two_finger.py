@@ -76,16 +76,20 @@ class PairClosure(VerdictCodes):
     least_friction: NDArray[np.float64]
     _pairs: tuple[NDArray[np.float64], ...] = field(repr=False)
 
+    def _conditioned_pairs(self) -> tuple[NDArray[np.float64], ...]:
+        pairs = self._pairs
+        return _conditioned(*pairs[:4]) if len(pairs) > 4 else pairs
+
     @property
     def angle_p(self) -> NDArray[np.float64]:
         """Angle between ``Q - P`` and ``-n_P``."""
-        p, n_p, q, _ = self._pairs
+        p, n_p, q, _ = self._conditioned_pairs()
         return _angle(q - p, -n_p)
 
     @property
     def angle_q(self) -> NDArray[np.float64]:
         """Angle between ``P - Q`` and ``-n_Q``."""
-        p, _, q, n_q = self._pairs
+        p, _, q, n_q = self._conditioned_pairs()
         return _angle(p - q, -n_q)
 
 
@@ -142,7 +146,8 @@ def two_finger_closure(p: ArrayLike, n_p: ArrayLike, q: ArrayLike, n_q: ArrayLik
     mu_p = _array(mu_p, "mu_p")
     mu_q = mu_p if mu_q is None else _array(mu_q, "mu_q")
     for name, mu in (("mu_p", mu_p), ("mu_q", mu_q)):
-        if not np.all(np.isfinite(mu)) or np.any(mu < 0):
+        if not (math.isfinite(one := float(mu.flat[0])) and one >= 0 if mu.size == 1
+                else np.all(np.isfinite(mu)) and not np.any(mu < 0)):
             raise InputError(f"'{name}' must be finite and >= 0")
     if model not in ("soft", "hard"):
         raise InputError(f"model must be 'soft' or 'hard' for Corollary 3, got {model!r}")
@@ -150,23 +155,31 @@ def two_finger_closure(p: ArrayLike, n_p: ArrayLike, q: ArrayLike, n_q: ArrayLik
     if engine not in ("compiled", "reference"):
         raise InputError(f"engine must be 'compiled' or 'reference', got {engine!r}")
     try:
-        shape = np.broadcast_shapes(p.shape[:-1], q.shape[:-1], n_p.shape[:-1],
-                                    n_q.shape[:-1], mu_p.shape, mu_q.shape)
+        shape = p.shape[:-1]
+        if not (p.shape == q.shape == n_p.shape == n_q.shape and mu_p.ndim == mu_q.ndim == 0):
+            shape = np.broadcast_shapes(shape, q.shape[:-1], n_p.shape[:-1], n_q.shape[:-1],
+                                        mu_p.shape, mu_q.shape)
     except ValueError:
         raise InputError("p, n_p, q, n_q, mu_p and mu_q do not broadcast to one shape") from None
-    for name, a in (("p", p), ("q", q)):
-        with np.errstate(invalid="ignore"):
-            if np.any(np.isfinite(a) & (np.abs(a) > MAX_COORDINATE)):  # non-finite: below
-                raise InputError(f"'{name}' has a coordinate beyond {MAX_COORDINATE:g}, too "
-                                 "large to compute with")
-    p, n_p, q, n_q = _conditioned(p, n_p, q, n_q)
-    pairs = (p, n_p, q, n_q)
     if engine == "reference":
+        _check_coordinates(p, q)
+        p, n_p, q, n_q = _conditioned(p, n_p, q, n_q)
         code, least = _reference(p, n_p, q, n_q, mu_p, mu_q, model, tol)
+        pairs = (p, n_p, q, n_q)
     else:
         code, least = _compiled(p, n_p, q, n_q, mu_p, mu_q, model, tol, shape)
+        pairs = (p, n_p, q, n_q, None)  # conditioned on use (the angles)
     return PairClosure(np.asarray(code, dtype=np.int8).reshape(shape),
                        np.asarray(least, dtype=float).reshape(shape), pairs)
+
+
+def _check_coordinates(p, q) -> None:
+    """Raise if a finite coordinate of ``p`` or ``q`` is too large to compute with."""
+    for name, a in (("p", p), ("q", q)):
+        with np.errstate(invalid="ignore"):
+            if np.any(np.isfinite(a) & (np.abs(a) > MAX_COORDINATE)):  # non-finite: later
+                raise InputError(f"'{name}' has a coordinate beyond {MAX_COORDINATE:g}, too "
+                                 "large to compute with")
 
 
 def _conditioned(p, n_p, q, n_q):
@@ -307,22 +320,24 @@ def pair_least_friction(p: NDArray[np.float64], n_p: NDArray[np.float64],
     """The least friction of ``(N, d)`` pairs of soft fingers (planar: any fingers), compiled
     (the pair kernel, whose verdicts at friction 1 are dropped). Inputs as
     :func:`two_finger_closure` checks them; exact cones."""
-    from ..kernels import announce_compiling, kernel_array, pool_for
+    from ..kernels import announce_compiling, kernel_array
     from ..kernels import pairs as kernel
 
-    p, n_p, q, n_q = _conditioned(p, n_p, q, n_q)
     code = np.empty(len(p), dtype=np.int8)
     least = np.empty(len(p))
     one = np.ones(1)
-    announce_compiling(kernel.pair_kernel)
-    with pool_for(len(p), SERIAL_BELOW):
-        kernel.pair_kernel(*(kernel_array(a) for a in (p, n_p, q, n_q)), one, one, 0.0, code,
-                           least)
+    run = kernel.pair_verdict_serial if len(p) < SERIAL_BELOW else kernel.pair_verdict_kernel
+    announce_compiling(run)
+    run(*(kernel_array(a) for a in (p, n_p, q, n_q)), one, one, 0.0, False, MAX_COORDINATE,
+        code, least)
     return least
 
 
 def _compiled(p, n_p, q, n_q, mu_p, mu_q, model, tol, shape):
-    from ..kernels import announce_compiling, kernel_array, pool_for
+    """The pairs in one compiled pass that also validates and conditions each row
+    (:func:`forceclosure.kernels.pairs.pair_verdict_kernel`); rows it flags as bad input are
+    reported as before (:func:`_compiled_checked`)."""
+    from ..kernels import announce_compiling, kernel_array
     from ..kernels import pairs as kernel
 
     def rows(a: NDArray[np.float64], tail: tuple[int, ...]) -> NDArray[np.float64]:
@@ -336,30 +351,53 @@ def _compiled(p, n_p, q, n_q, mu_p, mu_q, model, tol, shape):
     n = flat[0].shape[0]
     code = np.empty(n, dtype=np.int8)
     least = np.empty(n)
-    announce_compiling(kernel.pair_kernel)
-    with pool_for(n, SERIAL_BELOW):
-        flagged = kernel.pair_kernel(*flat, *mus, float(tol), code, least)
-    bad = np.flatnonzero(code >= kernel.ZERO_NORMAL) if flagged else ()
-    if len(bad):
-        i = int(bad[0])
-        index = np.unravel_index(i, shape) if len(shape) > 1 else i
-        where = f"pair at index {index}" if shape else "the pair"
-        what = ("a normal is a zero vector" if code[i] == kernel.ZERO_NORMAL
-                else "a point or normal has a non-finite coordinate")
-        raise InputError(f"{where}: {what}")
-    if p.shape[-1] == 3 and model == "hard":
-        code[:] = kernel.NONE
-        least[:] = np.inf
-        return code, least
+    hard = p.shape[-1] == 3 and model == "hard"
+    run = kernel.pair_verdict_serial if n < SERIAL_BELOW else kernel.pair_verdict_kernel
+    announce_compiling(run)
+    flagged = run(*flat, *mus, float(tol), hard, MAX_COORDINATE, code, least)
     if not flagged:
         return code, least
+    if np.any(code >= kernel.ZERO_NORMAL):  # bad input: named as the checks name it
+        _compiled_checked(p, n_p, q, n_q, shape, code)
     undecided = np.flatnonzero(code == kernel.UNDECIDED)
     if len(undecided):  # spatial soft pairs beyond Corollary 3: Theorem 1, compiled
-        P = np.stack([flat[0][undecided], flat[2][undecided]], axis=1)
-        N = np.stack([flat[1][undecided], flat[3][undecided]], axis=1)
-        mu = np.stack([np.broadcast_to(m, (n,))[undecided] for m in mus], axis=1)
-        code[undecided] = analyze_batch(P, N, mu=mu, model="soft", tol=tol).code
+        _theorem1(flat, mus, undecided, n, tol, code)
     return code, least
+
+
+def _theorem1(flat, mus, undecided, n, tol, code) -> None:
+    """Decide the ``undecided`` spatial soft pairs by Theorem 1 (compiled) into ``code``."""
+    P = np.stack([flat[0][undecided], flat[2][undecided]], axis=1)
+    N = np.stack([flat[1][undecided], flat[3][undecided]], axis=1)
+    mu = np.stack([np.broadcast_to(m, (n,))[undecided] for m in mus], axis=1)
+    code[undecided] = analyze_batch(P, N, mu=mu, model="soft", tol=tol).code
+
+
+def _compiled_checked(p, n_p, q, n_q, shape, code) -> None:
+    """Raise the one-line error naming the bad input the kernel flagged in ``code``, as the
+    checks before the compiled pass always named it: a coordinate too large (``p``, then
+    ``q``), else the first pair whose normal is a zero vector or whose values are not finite
+    (with non-finite values anywhere, pairs are read unconditioned, as the checks did)."""
+    from ..kernels import pairs as kernel
+
+    _check_coordinates(p, q)
+    p, n_p, q, n_q = _conditioned(p, n_p, q, n_q)
+    d = p.shape[-1]
+    p, n_p, q, n_q = (np.broadcast_to(a, (*shape, d)).reshape(-1, d) for a in (p, n_p, q, n_q))
+    v = q - p
+    with np.errstate(over="ignore", invalid="ignore"):
+        pq2, np2, nq2, cp, cq = (sum(x[:, k] * y[:, k] for k in range(d))
+                                 for x, y in ((v, v), (n_p, n_p), (n_q, n_q), (v, -n_p),
+                                              (v, n_q)))
+        non_finite = ~np.isfinite(pq2 + np2 + nq2 + cp + cq)
+    zero = (np2 <= 1e-24) | (nq2 <= 1e-24)
+    bad = np.flatnonzero(non_finite | zero)
+    i = int(bad[0]) if len(bad) else int(np.flatnonzero(code >= kernel.ZERO_NORMAL)[0])
+    index = np.unravel_index(i, shape) if len(shape) > 1 else i
+    where = f"pair at index {index}" if shape else "the pair"
+    what = ("a point or normal has a non-finite coordinate"
+            if non_finite[i] or code[i] == kernel.NON_FINITE else "a normal is a zero vector")
+    raise InputError(f"{where}: {what}")
 
 
 def _soft_least(pq, a, b, antiparallel_least):

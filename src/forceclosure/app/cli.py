@@ -1162,7 +1162,7 @@ def _cmd_warmup(args: argparse.Namespace) -> int:
     import numpy as np
 
     from ..analysis.batch import analyze_batch, epsilon_batch, least_friction_batch
-    from ..analysis.two_finger import two_finger_closure
+    from ..analysis.two_finger import SERIAL_BELOW, two_finger_closure
     from ..gripper.jaw import ParallelJaw
     from ..gripper.labels import grasp_labels
 
@@ -1174,8 +1174,9 @@ def _cmd_warmup(args: argparse.Namespace) -> int:
             analyze_batch(points, normals, mu=0.5), analyze_batch(*many, mu=0.5))),
         ("least friction", lambda: least_friction_batch(points, normals)),
         ("Ferrari-Canny epsilon", lambda: epsilon_batch(points, normals, mu=0.5)),
-        ("two-finger pairs, Corollary 3", lambda: two_finger_closure(
-            [0.0, 0, 1], [0.0, 0, 1], [0.0, 0, -1], [0.0, 0, -1], 0.5)),
+        ("two-finger pairs, Corollary 3", lambda: [  # one pair, and a batch for the threads
+            two_finger_closure(np.zeros((k, 3)), [0.0, 0, 1], [0.0, 0, -1], [0.0, 0, -1], 0.5)
+            for k in (1, SERIAL_BELOW)]),
         ("parallel-jaw pads and labels", lambda: grasp_labels(
             "cube", ParallelJaw(3.0), 0.5, 4, approaches=1, depths=1)),
     ]

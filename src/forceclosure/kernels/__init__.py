@@ -55,8 +55,8 @@ def cached(kernel) -> bool:
     """Whether ``kernel`` has compiled code cached on disk (numba's cache index) or in this
     process: False on the first run after installing. An unknown numba layout counts as
     cached (nothing is said or avoided on a guess)."""
-    if getattr(kernel, "signatures", None):
-        return True
+    if getattr(kernel, "overloads", None):  # compiled in this process (what ``signatures``
+        return True                          # lists, without building the list)
     try:
         index = kernel._cache._cache_file._index_path
     except AttributeError:
@@ -108,6 +108,9 @@ def kernel_array(a: ArrayLike, dtype: type = np.float64) -> NDArray:
 
     A read-only or broadcast view would make numba compile another signature.
     """
+    if (isinstance(a, np.ndarray) and a.dtype == dtype and a.flags.c_contiguous
+            and a.flags.writeable):  # as it is (np.require's answer too, in a fraction)
+        return a
     return np.require(a, dtype=dtype, requirements=["C", "W"])
 
 
