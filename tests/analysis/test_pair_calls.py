@@ -122,7 +122,7 @@ def test_bad_rows_are_named_in_one_line():
     P, N, Q = np.zeros((2, 3, 2)), np.ones((2, 3, 2)), np.ones((2, 3, 2))
     P[1, 2] = [np.nan, 0]
     assert _message(P, N, Q, N, 0.3) == (
-        "pair at index (np.int64(1), np.int64(2)): a point or normal has a non-finite "
+        "pair at index (1, 2): a point or normal has a non-finite "
         "coordinate")
     assert _message([0, 0], [1, 0], [np.inf, 0], [1, 0], 0.3) == (
         "the pair: a point or normal has a non-finite coordinate")

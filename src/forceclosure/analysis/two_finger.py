@@ -393,7 +393,7 @@ def _compiled_checked(p, n_p, q, n_q, shape, code) -> None:
     zero = (np2 <= 1e-24) | (nq2 <= 1e-24)
     bad = np.flatnonzero(non_finite | zero)
     i = int(bad[0]) if len(bad) else int(np.flatnonzero(code >= kernel.ZERO_NORMAL)[0])
-    index = np.unravel_index(i, shape) if len(shape) > 1 else i
+    index = tuple(int(k) for k in np.unravel_index(i, shape)) if len(shape) > 1 else i
     where = f"pair at index {index}" if shape else "the pair"
     what = ("a point or normal has a non-finite coordinate"
             if non_finite[i] or code[i] == kernel.NON_FINITE else "a normal is a zero vector")
