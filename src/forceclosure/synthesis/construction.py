@@ -187,7 +187,7 @@ def registered() -> tuple[Construction, ...]:
 def construction_for(dim: int, fingers: int, contact: str, name: str = "maximal",
                      method: str = "auto", curved: bool = False) -> Construction:
     """The construction for a hand on a ``dim``-D object: the table's entry, else the mesh
-    method on a polyhedron.
+    method on a polyhedron, regions grown around prototypes on a polygon.
 
     In the plane a soft finger acts as a hard one. ``method="mesh"`` asks for
     the mesh method, ``"faces"`` for a construction on faces; ``"auto"`` takes
@@ -209,6 +209,8 @@ def construction_for(dim: int, fingers: int, contact: str, name: str = "maximal"
                              f"seven frictionless fingers on faces, not {fingers} {contact}; "
                              "use method='mesh'")
         return _TABLE[(3, None, "any", "mesh")]
+    if entry is None and dim == 2 and name == "maximal":  # regions grown around prototypes
+        return _TABLE[(2, None, "any", "grown")]
     if entry is None:
         raise InputError(f"construction={name!r}: none for {fingers} {contact} fingers on a "
                          f"{'polygon' if dim == 2 else 'polyhedron'}")
