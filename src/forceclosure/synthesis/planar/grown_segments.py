@@ -40,11 +40,13 @@ a bad ``t_i``, together they make a bad grasp). Then:
   ``(t, s)``, so its least value over the box is at one of its four corners.
 
 So the regions are force-closure everywhere iff they are at every combination of segment
-ends (and fan ends): ``2^n`` (``4^n`` frictionless with a margin) grasps, each decided
-exactly: ``m`` wrenches in ``R^3`` positively span iff some pair is independent and, for
-every independent pair ``(w_j, w_k)``, the determinants ``det(w_j, w_k, w_l)`` take both
-signs (else ``+-w_j x w_k`` is an unresisted direction; conversely, with rank 3 the cone
-of unresisted directions is pointed, and an extreme ray of it is such a cross product).
+ends (and fan ends): ``2^n`` (``4^n`` frictionless with a margin) grasps. They are not
+listed one by one (``4^8`` is 65,536): the same swap says they all hold iff every
+direction ``a`` is held by some finger in each of its options (ends), and it is enough to
+look at the directions ``+-(w_p x w_q)`` over every two of the corner wrenches (a failing
+grasp of rank 3 leaves a pointed cone of unresisted directions whose extreme rays are such
+cross products; one of rank 2 fails along its plane's normal, another; rank 1 is looked for
+apart), ``a . w_l = det(w_p, w_q, w_l)``: :func:`corner_closure`.
 Determinants larger than a bound on their rounding keep the sign floating point gives;
 the rest are computed with ``fractions.Fraction``. The search is not complete: it covers
 the prototypes sampled (``complete: false``).
@@ -88,8 +90,6 @@ PER_TOP = 3
 #: Every zone condition holds with at least this margin, ``a_k . w >= ZONE_MARGIN`` (the
 #: wrenches are about 1 in the search's object-centred coordinates).
 ZONE_MARGIN = 1e-6
-#: Corner grasps decided in one floating-point block.
-BLOCK = 2048
 #: A determinant larger than this fraction of the sum of its terms' sizes has the sign
 #: floating point shows (thousands of times the worst rounding of its few products).
 SURE = 1e-12
@@ -119,44 +119,44 @@ def _wrench(point: list, force: list) -> list:
     return [force[0], force[1], point[0] * force[1] - point[1] * force[0]]
 
 
-def _spans_exactly(W: list[list[Fraction]]) -> bool:
-    """Theorem 1 in rationals for ``m`` wrenches in ``Q^3`` (see the module's docstring)."""
-    independent = False
-    for j, k in itertools.combinations(range(len(W)), 2):
-        a, b = W[j], W[k]
-        x = (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
-        if not any(x):
-            continue
-        independent = True
-        dets = [x[0] * w[0] + x[1] * w[1] + x[2] * w[2] for w in W]
-        if not (any(d > 0 for d in dets) and any(d < 0 for d in dets)):
-            return False
-    return independent
+def _cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
 
-def _block_verdicts(W: NDArray[np.float64]) -> NDArray[np.int8]:
-    """For ``(C, m, 3)`` wrench sets: 1 surely positively spanning, -1 surely not, 0 for
-    floating point to leave to rationals."""
-    J, K = np.triu_indices(W.shape[1], 1)
-    a, b = W[:, J], W[:, K]
-    x = np.cross(a, b)
-    u, v = [1, 2, 0], [2, 0, 1]
-    xb = np.abs(a[..., u] * b[..., v]) + np.abs(a[..., v] * b[..., u])
-    D = np.einsum("cpx,cmx->cpm", x, W)
-    B = np.einsum("cpx,cmx->cpm", xb, np.abs(W))
-    own = (np.arange(W.shape[1])[None] == J[:, None]) | (np.arange(W.shape[1])[None] == K[:, None])
-    sure = (np.abs(D) > SURE * B) | own[None]  # a pair's own two are exactly zero
-    pos = ((D > 0) & sure & ~own[None]).any(axis=2)
-    neg = ((D < 0) & sure & ~own[None]).any(axis=2)
-    crossing = (np.abs(x) > SURE * xb).any(axis=2)
-    fails = (crossing & sure.all(axis=2) & ~(pos & neg)).any(axis=1)
-    passes = (pos & neg).all(axis=1)
-    return np.where(fails, -1, np.where(passes, 1, 0)).astype(np.int8)
+def _verdicts(pos: NDArray[np.bool_], nonpos: NDArray[np.bool_], option: NDArray[np.int64],
+              finger: NDArray[np.int64], n_options: int, n_fingers: int
+              ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+    """For directions (rows) with each wrench's support surely positive (``pos``) or surely
+    not (``nonpos``): whether surely some finger supports the direction in every option
+    (``held``), and whether surely none does (``lost``)."""
+    rows = pos.shape[0]
+    opt_pos = np.zeros((rows, n_options), bool)
+    opt_non = np.ones((rows, n_options), bool)
+    np.logical_or.at(opt_pos.T, option, pos.T)
+    np.logical_and.at(opt_non.T, option, nonpos.T)
+    owner = np.zeros(n_options, np.int64)
+    owner[option] = finger
+    fin_pos = np.ones((rows, n_fingers), bool)
+    fin_non = np.zeros((rows, n_fingers), bool)
+    np.logical_and.at(fin_pos.T, owner, opt_pos.T)
+    np.logical_or.at(fin_non.T, owner, opt_non.T)
+    return fin_pos.any(axis=1), fin_non.all(axis=1)
 
 
 def corner_closure(options: list[list[list[list[Fraction]]]]) -> tuple[bool, int]:
     """Whether every grasp made of one option per finger positively spans ``R^3`` (each
-    option a list of exact wrenches), and how many were decided in rationals.
+    option a list of exact wrenches: a hard finger's cone generators at one segment end, a
+    frictionless finger's wrench at one end and one fan end), and how many directions were
+    decided in rationals.
+
+    Decided without listing the grasps: they all positively span iff every direction
+    ``a != 0`` is *held*, some finger having in every option a wrench with ``a . w > 0``
+    (if every finger had an option without, those options make a grasp that does not
+    resist ``a``). It is enough to look at the directions ``+-(w_p x w_q)`` for every two
+    wrenches: a grasp of rank 3 that fails leaves a pointed cone of unresisted
+    directions, whose extreme rays are such cross products, and one of rank 2 fails along
+    the normal of its plane, another; grasps of rank 1 (every wrench on one line) are
+    looked for apart.
 
     Examples
     --------
@@ -169,20 +169,60 @@ def corner_closure(options: list[list[list[list[Fraction]]]]) -> tuple[bool, int
     >>> corner_closure([[[e1]], [[e2]], [[e3]], last])[0]
     False
     """
-    floats = [[np.array([[float(v) for v in w] for w in opt]) for opt in finger]
-              for finger in options]
-    combos = itertools.product(*[range(len(f)) for f in options])
+    exact_w, finger, option = [], [], []
+    n_options = 0
+    for i, opts in enumerate(options):
+        for opt in opts:
+            for w in opt:
+                exact_w.append(w)
+                finger.append(i)
+                option.append(n_options)
+            n_options += 1
+    finger_a, option_a = np.array(finger), np.array(option)
+    if _collinear_grasp(options):
+        return False, 0
+    W = np.array([[float(v) for v in w] for w in exact_w])
+    m = len(W)
+    J, K = np.triu_indices(m, 1)
+    a, b = W[J], W[K]
+    u, v = [1, 2, 0], [2, 0, 1]
+    X = np.cross(a, b)
+    Xb = np.abs(a[:, u] * b[:, v]) + np.abs(a[:, v] * b[:, u])
+    D = X @ W.T  # (pairs, wrenches): det(w_p, w_q, w_l)
+    bound = Xb @ np.abs(W).T
+    own = (np.arange(m)[None] == J[:, None]) | (np.arange(m)[None] == K[:, None])
+    sure = (np.abs(D) > SURE * bound) | own  # a pair's own two are exactly zero
+    nonzero = (np.abs(X) > SURE * Xb).any(axis=1)
+    undecided = np.zeros(len(J), bool)
+    for sign in (1.0, -1.0):
+        held, lost = _verdicts(sure & (sign * D > 0), sure & ~(sign * D > 0), option_a,
+                               finger_a, n_options, len(options))
+        if (lost & nonzero).any():
+            return False, 0
+        undecided |= ~held
     exact = 0
-    while block := list(itertools.islice(combos, BLOCK)):
-        W = np.array([np.vstack([floats[i][o] for i, o in enumerate(c)]) for c in block])
-        verdict = _block_verdicts(W)
-        if (verdict < 0).any():
-            return False, exact
-        for c in np.flatnonzero(verdict == 0):
-            exact += 1
-            if not _spans_exactly([w for i, o in enumerate(block[c]) for w in options[i][o]]):
+    for k in np.flatnonzero(undecided):  # in rationals
+        exact += 1
+        x = _cross(exact_w[J[k]], exact_w[K[k]])
+        if not any(x):
+            continue
+        d = np.array([x[0] * w[0] + x[1] * w[1] + x[2] * w[2] for w in exact_w], dtype=object)
+        for sign in (1, -1):
+            held, _ = _verdicts(np.array([[sign * v > 0 for v in d]]),
+                                np.array([[not sign * v > 0 for v in d]]), option_a, finger_a,
+                                n_options, len(options))
+            if not held[0]:
                 return False, exact
     return True, exact
+
+
+def _collinear_grasp(options) -> bool:
+    """Whether one option per finger puts every wrench on one line (rank 1), exactly."""
+    for opt in options[0]:
+        line = opt[0]
+        if all(any(all(not any(_cross(line, w)) for w in o) for o in opts) for opts in options):
+            return True
+    return False
 
 
 @dataclass(frozen=True, eq=False)
@@ -226,13 +266,13 @@ class GrownRegions(Regions):
                     for t in seg]
             options.append([[_wrench(p, f) for f in opt] for p in ends for opt in fan])
         holds, exact = corner_closure(options)
-        count = math.prod(len(o) for o in options)
+        count = math.prod(len(o) for o in options)  # the grasps the check stands for
         if not holds:
             return Certificate(False, method, "a grasp at the segments' ends is not "
                                "force-closure")
         return Certificate(True, method, f"Theorem 1 holds at all {count} combinations of "
                            f"segment ends{' and fan ends' if self.mu == 0 and turn > 0 else ''}"
-                           f" ({exact} decided in rationals), hence everywhere: each "
+                           f" ({exact} directions decided in rationals), hence everywhere: each "
                            "finger's least support is at its segment's ends")
 
 
