@@ -183,3 +183,16 @@ def test_a_moved_copy_gets_the_same_regions_in_the_same_places():
     for a, b in zip(here, there, strict=True):
         assert a.edges == b.edges
         np.testing.assert_allclose(b.points - offset, a.points, atol=1e-6 * obj.size)
+
+
+def test_a_grown_segment_past_its_edge_is_not_certified():
+    import dataclasses
+
+    [r] = search(GROWN, bundled("square"), Hand(5, "frictionless", 0.0, samples=2000, top=1))
+    k = next(i for i, (u, v) in enumerate(r.segments)
+             if v < r.polygon.edges[r.edges[i]].length)
+    length = r.polygon.edges[r.edges[k]].length
+    segments = list(r.segments)
+    segments[k] = (segments[k][0], length * (1 + 1e-15))
+    cert = dataclasses.replace(r, segments=tuple(segments)).certify()
+    assert not cert.holds and f"not within edge {r.edges[k]}" in cert.detail

@@ -261,6 +261,9 @@ class GrownRegions(Regions):
         options = []
         for e_index, seg in zip(self.edges, self.segments, strict=True):
             e = polygon.edges[e_index]
+            if not 0 <= seg[0] <= seg[1] <= e.length:
+                return Certificate(False, method, f"the segment ({seg[0]:.17g}, {seg[1]:.17g}) "
+                                   f"is not within edge {e.index} (length {e.length:.17g})")
             fan = _forces(exact_inward(e), self.mu, turn)
             ends = [[p - c for p, c in zip(exact_point(e, t), centre, strict=True)]
                     for t in seg]
