@@ -90,6 +90,11 @@ PER_TOP = 3
 #: Every zone condition holds with at least this margin, ``a_k . w >= ZONE_MARGIN`` (the
 #: wrenches are about 1 in the search's object-centred coordinates).
 ZONE_MARGIN = 1e-6
+#: Rounds of widening the zones' segments, and bisection steps per end and round.
+ROUNDS, STEPS = 2, 8
+#: The widening keeps every determinant it relies on this fraction of its terms' sizes from
+#: zero (far more than their rounding), so that the exact proof holds where it stops.
+WIDEN = 1e-7
 #: A determinant larger than this fraction of the sum of its terms' sizes has the sign
 #: floating point shows (thousands of times the worst rounding of its few products).
 SURE = 1e-12
@@ -371,8 +376,85 @@ def grown_regions(polygon: Polygon, edges: tuple[int, ...], ts: tuple[float, ...
                                                                                 middle)
     if any(not v - u > 1e-9 * scale for u, v in segments):
         return None
+    segments = _widened(polygon, edges, segments, mu, turn)
     return GrownRegions(polygon, tuple(edges), tuple((u + 0.0, v + 0.0) for u, v in segments),
-                        "grown around a sampled prototype (search zones)", mu, hand.margin)
+                        "grown around a sampled prototype (search zones, widened)", mu,
+                        hand.margin)
+
+
+def _widened(polygon: Polygon, edges, segments: list[list[float]], mu: float, turn: float
+             ) -> list[list[float]]:
+    """The zones' segments widened, end by end (shortest segment first, :data:`ROUNDS`
+    rounds, bisection), as far as the corner condition holds in floating point with a
+    safety margin (:data:`WIDEN`); the proof decides the result exactly. Fingers on one
+    edge stay apart."""
+    lo_b, hi_b = polygon.bounds
+    ref, scale = 0.5 * lo_b + 0.5 * hi_b, polygon.size
+    forces = []
+    for e_index in edges:
+        e = polygon.edges[e_index]
+        fan = _forces([-float(e.normal[0]), -float(e.normal[1])], mu, turn)
+        forces.append([np.array([[float(v) for v in f] for f in opt]) for opt in fan])
+    finger_ids, option_ids = [], []  # as holds() stacks the wrenches
+    n_options = 0
+    for i, fs in enumerate(forces):
+        for _ in (0, 1):  # the two ends
+            for F in fs:
+                finger_ids += [i] * len(F)
+                option_ids += [n_options] * len(F)
+                n_options += 1
+    finger, option = np.array(finger_ids), np.array(option_ids)
+
+    def holds(segs) -> bool:
+        rows = []
+        for e_index, (u, v), fs in zip(edges, segs, forces, strict=True):
+            e = polygon.edges[e_index]
+            for t in (u, v):
+                arm = (e.start + t * e.direction - ref) / scale
+                for F in fs:
+                    rows.append(np.column_stack([F, arm[0] * F[:, 1] - arm[1] * F[:, 0]]))
+        W = np.vstack(rows)
+        J, K = np.triu_indices(len(W), 1)
+        a, b = W[J], W[K]
+        u_, v_ = [1, 2, 0], [2, 0, 1]
+        X = np.cross(a, b)
+        Xb = np.abs(a[:, u_] * b[:, v_]) + np.abs(a[:, v_] * b[:, u_])
+        D, bound = X @ W.T, Xb @ np.abs(W).T
+        keep = (np.abs(X) > WIDEN * Xb).any(axis=1)
+        for sign in (1.0, -1.0):
+            held, _ = _verdicts(sign * D[keep] > WIDEN * bound[keep],
+                                np.zeros(D[keep].shape, bool), option, finger, n_options,
+                                len(edges))
+            if not held.all():
+                return False
+        return True
+
+    segs = [list(x) for x in segments]
+    if not holds(segs):
+        return segments
+    for _ in range(ROUNDS):
+        for i in sorted(range(len(edges)), key=lambda k: segs[k][1] - segs[k][0]):
+            length = float(polygon.edges[edges[i]].length)
+            same = [j for j in range(len(edges)) if j != i and edges[j] == edges[i]]
+            room_lo = max([segs[j][1] for j in same if segs[j][1] <= segs[i][0]], default=0.0)
+            room_hi = min([segs[j][0] for j in same if segs[j][0] >= segs[i][1]],
+                          default=length)
+            for end, limit in ((0, room_lo), (1, room_hi)):
+                good, bad = segs[i][end], limit
+                trial = [list(x) for x in segs]
+                trial[i][end] = bad
+                if holds(trial):
+                    segs = trial
+                    continue
+                for _ in range(STEPS):
+                    middle = 0.5 * (good + bad)
+                    trial[i][end] = middle
+                    if holds(trial):
+                        good = middle
+                    else:
+                        bad = middle
+                segs[i][end] = good
+    return segs
 
 
 def _build(polygon: Polygon, site, hand: Hand) -> GrownRegions | None:
