@@ -78,8 +78,9 @@ def _l_shape():
 
 
 @pytest.mark.parametrize("name, fingers, contact, mu", [
-    ("square", 4, "hard", 0.4), ("l-shape", 4, "hard", 0.4),
-    ("square", 5, "frictionless", 0.0), ("l-shape", 5, "frictionless", 0.0),
+    ("square", 4, "hard", 0.4), pytest.param("l-shape", 4, "hard", 0.4, marks=pytest.mark.long),
+    ("l-shape", 5, "frictionless", 0.0),
+    pytest.param("square", 5, "frictionless", 0.0, marks=pytest.mark.long),
     pytest.param("star", 5, "frictionless", 0.0, marks=pytest.mark.long),
     pytest.param("triangle", 5, "frictionless", 0.0, marks=pytest.mark.long),
 ])
@@ -106,7 +107,7 @@ def test_five_frictionless_fingers_on_a_glyph_with_a_hole():
     _check_exactly(r, count=40)
 
 
-@pytest.mark.parametrize("fingers, mu, boxes", [(5, 0.0, 40), (4, 0.3, 12)])
+@pytest.mark.parametrize("fingers, mu, boxes", [(5, 0.0, 30), (4, 0.3, 10)])
 def test_the_corner_proof_holds_exactly_when_every_corner_combination_does(fingers, mu, boxes):
     """Random segments on the L (five frictionless or four hard fingers, some sharing an
     edge; no margin): the proof holds iff the exact test passes at every combination of
@@ -157,7 +158,7 @@ def test_the_cli_prints_certified_regions_for_five_frictionless_fingers(tmp_path
     path = tmp_path / "l.geojson"
     path.write_text(json.dumps({"type": "Polygon", "coordinates": [ring]}))
     argv = ["synthesize", str(path), "--fingers", "5", "--contact", "frictionless", "--top",
-            "2", "--samples", "3000"]
+            "2", "--samples", "1500"]
     assert main(argv) == 0
     out = capsys.readouterr().out
     assert "1. edge " in out and "2. edge " in out
@@ -168,16 +169,17 @@ def test_the_cli_prints_certified_regions_for_five_frictionless_fingers(tmp_path
     polygon = Polygon.from_points(ring[:-1])
     for g in record["grasps"]:
         assert g["certificate"]["holds"] is True and len(g["edges"]) == 5
-        r = GrownRegions(polygon, tuple(g["edges"]), tuple(map(tuple, g["segments"])), "cli",
-                         0.0, g["margin"])
-        _check_exactly(r, count=10)
+    g = record["grasps"][0]
+    r = GrownRegions(polygon, tuple(g["edges"]), tuple(map(tuple, g["segments"])), "cli", 0.0,
+                     g["margin"])
+    _check_exactly(r, count=10)
 
 
 def test_a_moved_copy_gets_the_same_regions_in_the_same_places():
     obj = _l_shape()
     offset = np.array([1e8, -1e8])
     moved = Polygon.from_points(obj.outer + offset)
-    hand = Hand(5, "frictionless", 0.0, samples=3000, top=2)
+    hand = Hand(5, "frictionless", 0.0, samples=1500, top=2)
     here, there = search(GROWN, obj, hand), search(GROWN, moved, hand)
     assert len(here) == len(there) == 2
     for a, b in zip(here, there, strict=True):

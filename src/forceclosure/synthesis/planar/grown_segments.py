@@ -91,7 +91,7 @@ PER_TOP = 3
 #: wrenches are about 1 in the search's object-centred coordinates).
 ZONE_MARGIN = 1e-6
 #: Rounds of widening the zones' segments, and bisection steps per end and round.
-ROUNDS, STEPS = 2, 8
+ROUNDS, STEPS = 1, 6
 #: The widening keeps every determinant it relies on this fraction of its terms' sizes from
 #: zero (far more than their rounding), so that the exact proof holds where it stops.
 WIDEN = 1e-7
