@@ -198,3 +198,15 @@ def test_a_grown_segment_past_its_edge_is_not_certified():
     segments[k] = (segments[k][0], length * (1 + 1e-15))
     cert = dataclasses.replace(r, segments=tuple(segments)).certify()
     assert not cert.holds and f"not within edge {r.edges[k]}" in cert.detail
+
+
+@pytest.mark.long
+def test_a_wide_margin_holds_for_every_direction_in_the_fan():
+    """Margin 0.2 rad on five frictionless fingers: smaller regions than at 1e-3, and every
+    drawn grasp force-closure exactly with each force turned by a random rational angle up
+    to 0.18 rad (the fan the proof covers)."""
+    obj = _l_shape()
+    small = synthesize(obj, 5, "frictionless", top=1, margin=1e-3, samples=3000).found
+    large = synthesize(obj, 5, "frictionless", top=1, margin=0.2, samples=3000).found
+    assert large and large[0].min_length < 0.99 * small[0].min_length
+    _check_exactly(large[0], count=40)
