@@ -210,3 +210,11 @@ def test_a_wide_margin_holds_for_every_direction_in_the_fan():
     large = synthesize(obj, 5, "frictionless", top=1, margin=0.2, samples=3000).found
     assert large and large[0].min_length < 0.99 * small[0].min_length
     _check_exactly(large[0], count=40)
+
+
+def test_three_frictionless_fingers_find_nothing_to_grow():
+    """The front door refuses them (above); the construction itself, asked directly, finds no
+    prototype to grow on the L either: three frictionless contacts never hold a polygon
+    (the plane needs four, Reuleaux)."""
+    found = search(GROWN, _l_shape(), Hand(3, "frictionless", 0.0, samples=2000, top=2))
+    assert list(found) == [] and found.undecided == 0
