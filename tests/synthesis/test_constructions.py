@@ -45,10 +45,11 @@ HANDS = {
     (3, 3, "hard"): Hand(3, "hard", 0.5, top=1),
     (3, 7, "frictionless"): Hand(7, "frictionless", 0.0, samples=5000, top=1),
     (3, None, "any"): Hand(3, "hard", 0.5, samples=3000, top=1),
+    (2, None, "any"): Hand(5, "frictionless", 0.0, samples=2000, top=1),
 }
 #: Constructions that sample prototypes or build slowly: every bundled object in the long
-#: profile, the cube in the default one.
-SLOW = {(3, 3, "hard"), (3, 7, "frictionless"), (3, None, "any")}
+#: profile, the cube (the square in the plane) in the default one.
+SLOW = {(3, 3, "hard"), (3, 7, "frictionless"), (3, None, "any"), (2, None, "any")}
 #: And single cases over two seconds: Nguyen's two-sided cones between the larger faces.
 SLOW_CASES = {((3, 2, "soft", "nguyen"), "holed-block"), ((3, 2, "soft", "nguyen"), "l-prism")}
 
@@ -62,7 +63,7 @@ def _cases():
     for c in constructions():
         names = POLYGONS if c.dim == 2 else POLYHEDRA
         for name in names:
-            slow = (((c.dim, c.fingers, c.contact) in SLOW and name != "cube")
+            slow = (((c.dim, c.fingers, c.contact) in SLOW and name not in ("cube", "square"))
                     or (c.key, name) in SLOW_CASES)
             yield pytest.param(c, name, id=f"{c.dim}d-{c.fingers}-{c.contact}-{c.name}-{name}",
                                marks=[pytest.mark.long] if slow else [])
@@ -77,7 +78,8 @@ def test_the_table_has_every_construction_of_the_paper():
             (2, 3, "hard", "maximal"), (2, 4, "frictionless", "maximal"),
             (2, 4, "frictionless", "nguyen"), (3, 2, "soft", "maximal"),
             (3, 2, "soft", "nguyen"), (3, 3, "hard", "maximal"),
-            (3, 7, "frictionless", "maximal"), (3, None, "any", "mesh")} <= keys
+            (3, 7, "frictionless", "maximal"), (3, None, "any", "mesh"),
+            (2, None, "any", "grown")} <= keys
     for c in constructions():
         assert c.paper and c.searched and c.method in ("edges", "faces", "mesh")
         assert (c.dim, c.fingers, c.contact) in HANDS, f"no test hand for {c.key}"

@@ -172,9 +172,9 @@ def test_synthesize_command(tmp_path, capsys):
     (["synthesize", "cube", "--fingers", "4", "--method", "faces"], "use --method mesh"),
     (["synthesize", "cube", "--fingers", "3", "--construction", "nguyen"],
      "for 2 soft fingers"),
-    (["synthesize", "square", "--fingers", "5"],
-     "on a polygon the constructions are for 2 hard, 3 hard, 4 frictionless or 4 hard "
-     "fingers"),
+    (["synthesize", "square", "--fingers", "9"], "at most 8 fingers"),
+    (["synthesize", "square", "--contact", "frictionless", "--fingers", "3"],
+     "at least 4 frictionless fingers"),
     (["synthesize", "square", "--contact", "frictionless", "--fingers", "2"],
      "the plane needs four"),
     (["synthesize", "square", "--mu", "-1"], "--mu must be a positive number"),

@@ -542,7 +542,7 @@ def _print_found(args: argparse.Namespace, obj, result) -> None:
                                    else f"; coordinates in units of {units}" if units else ""))
     if not found:
         more = f" (of {args.samples:,} random grasps: try --samples)" if \
-            result.method == "mesh" else ""
+            result.method == "mesh" or result.construction.name == "grown" else ""
         print(f"  no force-closure grasp found; searched {result.searched}{more}")
     elif result.undecided:
         print(f"  searched {result.searched}")
@@ -1220,7 +1220,8 @@ def _synthesis_options(p: argparse.ArgumentParser) -> None:
                         "sampled prototype grasps (any hand); auto: faces unless the object "
                         "is curved")
     p.add_argument("--samples", type=int, default=20_000,
-                   help="polyhedra: random grasps sampled for prototypes (default 20000)")
+                   help="random grasps sampled for prototypes (polyhedra, and hands on a "
+                        "polygon no paper construction serves; default 20000)")
     p.add_argument("--seed", type=int, default=0, help="random seed of the sampling")
     p.add_argument("--allow-open", action="store_true",
                    help="accept open or non-manifold meshes (scans, single-sided surfaces), "

@@ -118,7 +118,8 @@ about the line between them'
     return f"{n} {contact} fingers, the fewest that can hold a polyhedron: {why}"
 
 
-#: Most fingers of a hand synthesis serves in space (on polygons the table's hands: 2 or 4).
+#: Most fingers of a hand synthesis serves (on polygons beyond the paper's hands, and in
+#: space beyond them too, regions grown around sampled prototypes).
 #: The paper's hands are 2 soft, 3 hard and 7 frictionless; the mesh method takes any, its
 #: time growing steeply with them (measured on a shared 2-core machine, the cube with soft
 #: fingers and the default 20,000 samples, the whole command: 3 in 12 s, 4 in 20 s, 6 in
@@ -172,6 +173,17 @@ least 3 hard fingers (two cannot resist rotation about the line between them)
             raise InputError(f"fingers={fingers}, contact={hard!r}: on a polygon the "
                              f"constructions are for {_hands(hands)} fingers (the plane "
                              "needs four without friction)")
+        if not isinstance(fingers, int | np.integer) or isinstance(fingers, bool):
+            raise InputError(f"fingers must be a whole number, got {fingers!r}")
+        if fingers > MAX_FINGERS:
+            raise InputError(f"fingers={fingers}: at most {MAX_FINGERS} fingers a hand are "
+                             "synthesized (the time grows steeply with them)")
+        least = default_fingers(2, contact)
+        if fingers < least:
+            why = (" (the plane needs four without friction: Reuleaux, §5.4)" if frictionless
+                   else "")
+            raise InputError(f"fingers={fingers}, contact={contact!r}: a planar grasp needs at "
+                             f"least {least} {hard} fingers{why}")
         if construction == "nguyen" and (2, fingers, hard, "nguyen") not in {
                 c.key for c in table}:
             raise InputError(f"construction='nguyen': the paper's construction on a polygon "

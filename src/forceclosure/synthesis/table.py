@@ -5,8 +5,8 @@ Every way of building independent regions of contact is one
 table is the one list of them, read top to bottom, under ``(dimension, fingers,
 contact, name)`` (as MuJoCo MJX writes its collision table). ``fingers=None``
 and ``contact="any"`` are wildcards: such an entry serves every hand of its
-dimension that no entry names exactly — the mesh method in space (Roa & Suárez
-2009), beyond the paper's hands (Nguyen 1988, §5.2, §5.3, §5.5). A newcomer adds
+dimension that no entry names exactly — segments grown around sampled grasps on a
+polygon, the mesh method in space (Roa & Suárez 2009), beyond the paper's hands (Nguyen 1988, §5.2, §5.3, §5.5). A newcomer adds
 a construction by writing its module and one line here.
 
 Each entry names its module and the construction's name in it as text, so that
@@ -18,7 +18,7 @@ construction and no numpy; :func:`constructions` imports them.
 Examples
 --------
 >>> names()
-('maximal', 'nguyen', 'vertices', 'mesh')
+('maximal', 'nguyen', 'vertices', 'grown', 'mesh')
 >>> c = construction_for(2, 2, "hard")
 >>> c.name, c.paper, c.method
 ('maximal', '§5.1, Corollary 3', 'edges')
@@ -91,6 +91,8 @@ TABLE: tuple[Entry, ...] = (
     Entry(2, 4, "frictionless", "maximal", "planar.four_frictionless:MAXIMAL"),
     Entry(2, 4, "frictionless", "nguyen", "planar.four_frictionless:NGUYEN"),
     Entry(2, 4, "hard", "maximal", "planar.two_pairs:TWO_PAIRS"),
+    # any other hand on a polygon: segments grown around sampled prototypes
+    Entry(2, None, "any", "grown", "planar.grown_segments:GROWN"),
     # polyhedra, on faces (§5.2, §5.3, §5.5)
     Entry(3, 2, "soft", "maximal", "spatial.two_soft:MAXIMAL"),
     Entry(3, 2, "soft", "nguyen", "spatial.two_soft:NGUYEN"),

@@ -7,6 +7,8 @@
 * :mod:`.four_frictionless` — four frictionless fingers (§5.4);
 * :mod:`.two_pairs` — four hard fingers as two force-closure pairs;
 * :mod:`.vertex_grasps` — fingers on convex vertices;
+* :mod:`.grown_segments` — any other hand: segments grown around sampled prototypes, the
+  table's planar fallback;
 * :mod:`.edge_pair`, :mod:`.edge_sites` — the candidate edge tuples.
 
 Part of :mod:`forceclosure.synthesis` (it imports the analysis, objects,
