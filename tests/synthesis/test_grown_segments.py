@@ -17,8 +17,8 @@ from exact import positively_spans
 from forceclosure.app.cli import main
 from forceclosure.objects import Polygon, bundled, glyph
 from forceclosure.synthesis import Hand, search, synthesize
-from forceclosure.synthesis.construction import construction_for
 from forceclosure.synthesis.planar.grown_segments import GROWN, GrownRegions
+from forceclosure.synthesis.table import construction_for
 
 F = Fraction
 

@@ -17,7 +17,6 @@ import pytest
 from forceclosure.errors import InputError
 from forceclosure.objects import bundled
 from forceclosure.synthesis import Hand, search, synthesize
-from forceclosure.synthesis import table as table_module
 from forceclosure.synthesis.table import TABLE, construction_for, constructions, names
 
 #: A hand and object for each entry, and synthesize's settings.
@@ -33,6 +32,7 @@ REACH = {
     (3, 2, "soft", "nguyen"): ("cube", 2, "soft", 0.5, {}),
     (3, 3, "hard", "maximal"): ("cube", 3, "hard", 0.5, {}),
     (3, 7, "frictionless", "maximal"): ("cube", 7, "frictionless", 0.0, {}),
+    (2, None, "any", "grown"): ("square", 5, "frictionless", 0.0, {"samples": 500}),
     (3, None, "any", "mesh"): ("cube", 3, "hard", 0.5, {"samples": 500}),
 }
 
@@ -81,14 +81,16 @@ def test_synthesize_takes_a_construction_of_ones_own():
 
 @pytest.mark.parametrize("obj,fingers,contact,name,message", [
     ("square", 2, "hard", "bogus", "construction must be one of maximal, nguyen, vertices, "
-                                   "mesh (the table's names), got 'bogus'"),
-    ("cube", 3, "hard", "bogus", "construction must be one of maximal, nguyen, vertices, mesh"),
+                                   "grown, mesh (the table's names), got 'bogus'"),
+    ("cube", 3, "hard", "bogus", "construction must be one of maximal, nguyen, vertices, grown, "
+                                 "mesh"),
     ("cube", 3, "hard", "vertices", "construction='vertices': none for 3 hard fingers on a "
                                     "polyhedron; the table has maximal or mesh for them"),
     ("cube", 4, "hard", "vertices", "the table has mesh for them"),
     ("square", 3, "hard", "mesh", "construction='mesh': none for 3 hard fingers on a polygon; "
-                                  "the table has maximal for them"),
-    ("square", 4, "frictionless", "vertices", "the table has maximal or nguyen for them"),
+                                  "the table has maximal or grown for them"),
+    ("square", 4, "frictionless", "vertices", "the table has maximal, nguyen or grown for "
+                                              "them"),
 ])
 def test_a_name_the_table_has_not_for_the_hand_is_refused_listing_those_it_has(
         obj, fingers, contact, name, message):
@@ -117,18 +119,16 @@ def test_the_command_line_offers_the_table_and_refuses_others_in_one_line(capsys
     assert "the table has maximal or mesh for them" in err and len(err.splitlines()) == 1
 
 
-def test_a_wildcard_entry_serves_the_hands_no_entry_names(monkeypatch):
-    """``fingers=None, contact="any"`` in either dimension: the fallback is a table entry."""
-    exact = constructions()
-    anyhand = dataclasses.replace(construction_for(2, 2, "hard"), fingers=None, contact="any",
-                                  name="anyhand")
-    monkeypatch.setattr(table_module, "constructions", lambda: (*exact, anyhand))
-    assert construction_for(2, 5, "hard") is anyhand            # the default name falls back
-    assert construction_for(2, 5, "soft", "anyhand") is anyhand
-    assert construction_for(2, 2, "hard") is exact[0]           # a named hand keeps its own
-    assert construction_for(2, 2, "hard", "anyhand") is anyhand
+def test_a_wildcard_entry_serves_the_hands_no_entry_names():
+    """``fingers=None, contact="any"`` in either dimension: the fallback is a table entry
+    (the grown segments on a polygon, the mesh method in space)."""
+    grown = construction_for(2, 5, "hard")                      # the default name falls back
+    assert grown.key == (2, None, "any", "grown")
+    assert construction_for(2, 5, "soft", "grown") is grown
+    assert construction_for(2, 2, "hard").name == "maximal"     # a named hand keeps its own
+    assert construction_for(2, 2, "hard", "grown") is grown
     with pytest.raises(InputError, match="none for 5 hard fingers on a polygon; the table "
-                                         "has anyhand for them"):
+                                         "has grown for them"):
         construction_for(2, 5, "hard", "nguyen")
     assert construction_for(3, 5, "soft").name == "mesh"       # space: the mesh entry
 

@@ -6,8 +6,9 @@ table is the one list of them, read top to bottom, under ``(dimension, fingers,
 contact, name)`` (as MuJoCo MJX writes its collision table). ``fingers=None``
 and ``contact="any"`` are wildcards: such an entry serves every hand of its
 dimension that no entry names exactly — segments grown around sampled grasps on a
-polygon, the mesh method in space (Roa & Suárez 2009), beyond the paper's hands (Nguyen 1988, §5.2, §5.3, §5.5). A newcomer adds
-a construction by writing its module and one line here.
+polygon, the mesh method in space (Roa & Suárez 2009) — beyond the paper's hands
+(Nguyen 1988, §5.2, §5.3, §5.5). A newcomer adds a construction by writing its
+module and one line here.
 
 Each entry names its module and the construction's name in it as text, so that
 reading the table (the names ``forceclosure synthesize --help`` offers) loads no
@@ -142,8 +143,8 @@ def served(dim: int, fingers: int | None, contact: str) -> tuple[Construction, .
     --------
     >>> [c.name for c in served(3, 2, "soft")]
     ['maximal', 'nguyen', 'mesh']
-    >>> served(2, 7, "hard")
-    ()
+    >>> [c.name for c in served(2, 7, "hard")]
+    ['grown']
     """
     if dim == 2 and contact == "soft":
         contact = "hard"
