@@ -188,7 +188,7 @@ def test_built_in_hands_match_their_sources():
     g = gripper_named("graspnet")
     assert (g.finger_height, g.finger_thickness, g.palm_thickness) == (0.02, 0.01, 0.01)
     assert g.finger_length - g.depth == pytest.approx(0.02 + 0.02)  # palm 0.02 behind, depth 0.02
-    assert sorted(GRIPPERS) == ["graspnet", "panda"]
+    assert sorted(GRIPPERS) == ["graspnet", "panda", "robotiq-2f85"]
     assert make_gripper(width=0.1) == ParallelJaw(0.1)
 
 
