@@ -32,3 +32,15 @@ def test_gripper_benchmark_runs():
     assert "bunny.obj" in run.stdout and "GraspNet" in run.stdout
     assert "ferrari_canny_L1" in run.stdout and "closes every pair GraspNet's passes: True" \
         in run.stdout
+
+
+@pytest.mark.long
+def test_robust_benchmark_runs():
+    """The robust-labels benchmark on a few poses: both objects, CPU time and load printed."""
+    bench = Path(__file__).parents[1] / "benchmarks" / "bench_robust.py"
+    run = subprocess.run([sys.executable, str(bench), "--grasps", "10", "--samples", "4"],
+                         capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr[-2000:]
+    for text in ("duck_vhacd.urdf (panda", "bunny.obj", "per CPU-second", "load ",
+                 "pad_lever", "pair_codes"):
+        assert text in run.stdout

@@ -51,7 +51,14 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..kernels import announce_compiling
-from ..kernels.pads import minimum_at, pad_extremes, pad_lever, pad_nearest, pad_pressure
+from ..kernels.pads import (
+    line_pairs,
+    minimum_at,
+    pad_extremes,
+    pad_lever,
+    pad_nearest,
+    pad_pressure,
+)
 
 __all__ = ["COINCIDE_RTOL", "PadContacts", "line_candidates", "pad_contacts", "pad_reach"]
 
@@ -116,23 +123,14 @@ def line_candidates(mesh, origins: NDArray, directions: NDArray, radius: float |
     one per line) of each line (through ``origins[i]`` along the unit
     ``directions[i]``), by their bounding spheres about their centroids; a superset,
     never missing one."""
-    V, F = np.asarray(mesh.vertices), np.asarray(mesh.faces)
+    V, F = np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces)
     centroid = V[F].mean(axis=1)
     spread = np.sqrt(((V[F] - centroid[:, None]) ** 2).sum(axis=2).max(axis=1))
-    radius = np.broadcast_to(np.asarray(radius, dtype=float), (len(origins),))
-    lines, tris = [], []
-    step = max(1, (1 << 22) // max(1, len(F)))
-    for lo in range(0, len(origins), step):
-        d = centroid[None] - origins[lo:lo + step, None]  # (n, T, 3)
-        along = np.einsum("ntk,nk->nt", d, directions[lo:lo + step])
-        perp2 = np.einsum("ntk,ntk->nt", d, d) - along**2
-        reach = spread[None] + radius[lo:lo + step, None]
-        i, t = np.nonzero(perp2 <= reach**2)
-        lines.append(i + lo)
-        tris.append(t)
-    if not lines:
-        return np.zeros(0, np.int64), np.zeros(0, np.int64)
-    return np.concatenate(lines).astype(np.int64), np.concatenate(tris).astype(np.int64)
+    radius = np.ascontiguousarray(np.broadcast_to(np.asarray(radius, dtype=float),
+                                                  (len(origins),)))
+    announce_compiling(line_pairs)
+    return line_pairs(centroid, spread, np.ascontiguousarray(origins, dtype=float),
+                      np.ascontiguousarray(directions, dtype=float), radius)
 
 
 def pad_contacts(mesh, origin: NDArray, closing: NDArray, approach: NDArray, depth: NDArray,

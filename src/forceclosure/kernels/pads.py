@@ -19,7 +19,8 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-__all__ = ["minimum_at", "pad_extremes", "pad_lever", "pad_nearest", "pad_pressure"]
+__all__ = ["line_pairs", "minimum_at", "pad_extremes", "pad_lever", "pad_nearest",
+           "pad_pressure"]
 
 
 @nb.njit(cache=True, nogil=True)
@@ -34,6 +35,41 @@ def minimum_at(out, index, values):  # pragma: no cover - compiled
             for j in range(values.shape[1]):
                 if values[i, j] < out[index[i], j]:
                     out[index[i], j] = values[i, j]
+
+
+@nb.njit(cache=True, nogil=True)
+def _near(centroid, spread, origin, direction, radius, i, t):  # pragma: no cover
+    """Whether triangle ``t``'s bounding sphere (``centroid``, ``spread``) comes within
+    ``radius[i]`` of line ``i``."""
+    d0 = centroid[t, 0] - origin[i, 0]
+    d1 = centroid[t, 1] - origin[i, 1]
+    d2 = centroid[t, 2] - origin[i, 2]
+    along = d0 * direction[i, 0] + d1 * direction[i, 1] + d2 * direction[i, 2]
+    reach = spread[t] + radius[i]
+    return (d0 * d0 + d1 * d1 + d2 * d2) - along * along <= reach * reach
+
+
+@nb.njit(cache=True, nogil=True)
+def line_pairs(centroid, spread, origin, direction, radius):  # pragma: no cover - compiled
+    """``(line, triangle)`` pairs, by line then triangle, of the triangles whose bounding
+    spheres (``centroid``, ``spread``) come within ``radius[line]`` of each line (through
+    ``origin[line]`` along the unit ``direction[line]``): counted, then filled, with no
+    ``(lines, triangles)`` array in between."""
+    n, T = len(origin), len(centroid)
+    count = 0
+    for i in range(n):
+        for t in range(T):
+            if _near(centroid, spread, origin, direction, radius, i, t):
+                count += 1
+    line = np.empty(count, np.int64)
+    tri = np.empty(count, np.int64)
+    k = 0
+    for i in range(n):
+        for t in range(T):
+            if _near(centroid, spread, origin, direction, radius, i, t):
+                line[k], tri[k] = i, t
+                k += 1
+    return line, tri
 
 
 @nb.njit(cache=True, nogil=True)
@@ -117,53 +153,65 @@ def pad_extremes(V, F, pose_of, tri_of, origin, R, depth, length, h
     return value
 
 
+#: Rows of the scratch polygons: a triangle clipped by the pad's four sides and the pressed
+#: layer has at most 3 + 5 corners.
+CORNERS = 8
+
+
 @nb.njit(cache=True, nogil=True)
-def _clip(poly, count, axis, level, keep_below):  # pragma: no cover - compiled
+def _clip(poly, count, axis, level, keep_below, out):  # pragma: no cover - compiled
     """The convex polygon ``poly[:count]`` (3-D points) clipped to ``p[axis] <= level``
-    (``keep_below``) or ``>= level``: the new corners and their count."""
-    out = np.empty((count + 1, 3))
+    (``keep_below``) or ``>= level``, written to ``out`` (at least ``count + 1`` rows):
+    the new corners' count."""
     m = 0
     for k in range(count):
-        p, q = poly[k], poly[(k + 1) % count]
-        dp = (level - p[axis]) if keep_below else (p[axis] - level)
-        dq = (level - q[axis]) if keep_below else (q[axis] - level)
+        j = (k + 1) % count
+        dp = (level - poly[k, axis]) if keep_below else (poly[k, axis] - level)
+        dq = (level - poly[j, axis]) if keep_below else (poly[j, axis] - level)
         if dp >= 0:
-            out[m] = p
+            for c in range(3):
+                out[m, c] = poly[k, c]
             m += 1
         if (dp >= 0) != (dq >= 0):
             t = dp / (dp - dq)
-            out[m] = p + t * (q - p)
+            for c in range(3):
+                out[m, c] = poly[k, c] + t * (poly[j, c] - poly[k, c])
             m += 1
-    return out, m
+    return m
 
 
 @nb.njit(cache=True, nogil=True)
-def _pressed(V, F, p, t, origin, R, depth, length, h, level, jaw):  # pragma: no cover
+def _pressed(V, F, p, t, origin, R, depth, length, h, level, jaw, one, two
+             ):  # pragma: no cover - compiled
     """Triangle ``t`` in pose ``p``'s frame, clipped to the pad's rectangle and the pressed
-    layer: its corners and their count (0: none)."""
-    poly = np.empty((3, 3))
+    layer, in the scratch polygons ``one`` and ``two`` (:data:`CORNERS` rows each): the
+    polygon holding the corners and their count (0: none)."""
     for v in range(3):
         for k in range(3):
             acc = 0.0
             for j in range(3):
                 acc += R[p, k, j] * (V[F[t, v], j] - origin[p, j])
-            poly[v, k] = acc
+            one[v, k] = acc
     lev = level[p]
-    if (jaw == 0 and poly[0, 1] > lev and poly[1, 1] > lev and poly[2, 1] > lev) or (
-            jaw == 1 and poly[0, 1] < lev and poly[1, 1] < lev and poly[2, 1] < lev):
-        return poly, 0  # wholly beyond the pressed layer
+    if (jaw == 0 and one[0, 1] > lev and one[1, 1] > lev and one[2, 1] > lev) or (
+            jaw == 1 and one[0, 1] < lev and one[1, 1] < lev and one[2, 1] < lev):
+        return one, 0  # wholly beyond the pressed layer
     x1 = depth[p]
     x0 = x1 - length
-    cur, m = _clip(poly, 3, 0, x1, True)
-    if m:
-        cur, m = _clip(cur, m, 0, x0, False)
-    if m:
-        cur, m = _clip(cur, m, 2, 0.5 * h, True)
-    if m:
-        cur, m = _clip(cur, m, 2, -0.5 * h, False)
-    if m:
-        cur, m = _clip(cur, m, 1, level[p], jaw == 0)
-    return cur, m
+    m = _clip(one, 3, 0, x1, True, two)
+    if m == 0:
+        return two, 0
+    m = _clip(two, m, 0, x0, False, one)
+    if m == 0:
+        return one, 0
+    m = _clip(one, m, 2, 0.5 * h, True, two)
+    if m == 0:
+        return two, 0
+    m = _clip(two, m, 2, -0.5 * h, False, one)
+    if m == 0:
+        return one, 0
+    m = _clip(one, m, 1, lev, jaw == 0, two)
+    return two, m
 
 
 @nb.njit(cache=True, nogil=True)
@@ -174,9 +222,10 @@ def pad_pressure(V, F, pose_of, tri_of, origin, R, depth, length, h, level, jaw
     ``level[pose]``, over the pad's x-z area): its integral and its x and z moments."""
     n = len(pose_of)
     out = np.zeros((n, 3))
+    one, two = np.empty((CORNERS, 3)), np.empty((CORNERS, 3))
     for i in range(n):
         cur, m = _pressed(V, F, pose_of[i], tri_of[i], origin, R, depth, length, h, level,
-                          jaw)
+                          jaw, one, two)
         if m < 3:
             continue
         lev = level[pose_of[i]]
@@ -206,9 +255,11 @@ def pad_nearest(V, F, pose_of, tri_of, origin, R, depth, length, h, level, jaw, 
     n = len(pose_of)
     dist = np.full(n, np.inf)
     point = np.zeros((n, 3))
+    one, two = np.empty((CORNERS, 3)), np.empty((CORNERS, 3))
     for i in range(n):
         p = pose_of[i]
-        cur, m = _pressed(V, F, p, tri_of[i], origin, R, depth, length, h, level, jaw)
+        cur, m = _pressed(V, F, p, tri_of[i], origin, R, depth, length, h, level, jaw, one,
+                          two)
         if m == 0:
             continue
         cx, cz = centre[p, 0], centre[p, 1]
@@ -294,34 +345,50 @@ def pad_lever(V, F, pose_of, tri_of, origin, R, depth, length, h, level, jaw, co
     dep = np.empty((pieces, 3))
     nxt = np.empty((pieces, 3, 3))
     ndep = np.empty((pieces, 3))
+    one, two = np.empty((CORNERS, 3)), np.empty((CORNERS, 3))
+    # the four pieces of a triangle (corners a, b, c; midpoints ab, bc, ca as 3, 4, 5):
+    # (a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca)
+    split = np.array([[0, 3, 5], [3, 1, 4], [5, 4, 2], [3, 4, 5]])
+    six = np.empty((6, 3))
+    sixd = np.empty(6)
     for i in range(n):
         p = pose_of[i]
-        cur, m = _pressed(V, F, p, tri_of[i], origin, R, depth, length, h, level, jaw)
+        cur, m = _pressed(V, F, p, tri_of[i], origin, R, depth, length, h, level, jaw, one,
+                          two)
         if m < 3:
             continue
         lev = level[p]
         cx, cy, cz = contact[p, 0], contact[p, 1], contact[p, 2]
         nx, ny, nz = axis[p, 0], axis[p, 1], axis[p, 2]
         for f in range(1, m - 1):
-            tri[0, 0], tri[0, 1], tri[0, 2] = cur[0], cur[f], cur[f + 1]
+            for c in range(3):
+                tri[0, 0, c], tri[0, 1, c], tri[0, 2, c] = cur[0, c], cur[f, c], cur[f + 1, c]
             for v in range(3):
                 dep[0, v] = (lev - tri[0, v, 1]) if jaw == 0 else (tri[0, v, 1] - lev)
             count = 1
             for _ in range(splits):
                 made = 0
                 for t in range(count):
-                    a, b, c = tri[t, 0], tri[t, 1], tri[t, 2]
-                    da, db, dc = dep[t, 0], dep[t, 1], dep[t, 2]
-                    ab, bc, ca = 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a)
-                    dab, dbc, dca = 0.5 * (da + db), 0.5 * (db + dc), 0.5 * (dc + da)
-                    for q0, q1, q2, e0, e1, e2 in ((a, ab, ca, da, dab, dca),
-                                                   (ab, b, bc, dab, db, dbc),
-                                                   (ca, bc, c, dca, dbc, dc),
-                                                   (ab, bc, ca, dab, dbc, dca)):
-                        nxt[made, 0], nxt[made, 1], nxt[made, 2] = q0, q1, q2
-                        ndep[made, 0], ndep[made, 1], ndep[made, 2] = e0, e1, e2
+                    for c in range(3):
+                        six[0, c], six[1, c], six[2, c] = tri[t, 0, c], tri[t, 1, c], tri[t, 2, c]
+                        six[3, c] = 0.5 * (tri[t, 0, c] + tri[t, 1, c])
+                        six[4, c] = 0.5 * (tri[t, 1, c] + tri[t, 2, c])
+                        six[5, c] = 0.5 * (tri[t, 2, c] + tri[t, 0, c])
+                    sixd[0], sixd[1], sixd[2] = dep[t, 0], dep[t, 1], dep[t, 2]
+                    sixd[3] = 0.5 * (dep[t, 0] + dep[t, 1])
+                    sixd[4] = 0.5 * (dep[t, 1] + dep[t, 2])
+                    sixd[5] = 0.5 * (dep[t, 2] + dep[t, 0])
+                    for q in range(4):
+                        for v in range(3):
+                            for c in range(3):
+                                nxt[made, v, c] = six[split[q, v], c]
+                            ndep[made, v] = sixd[split[q, v]]
                         made += 1
-                tri[:made], dep[:made] = nxt[:made], ndep[:made]
+                for t in range(made):
+                    for v in range(3):
+                        for c in range(3):
+                            tri[t, v, c] = nxt[t, v, c]
+                        dep[t, v] = ndep[t, v]
                 count = made
             for t in range(count):
                 out[i] += _lever_part(tri[t, 0], tri[t, 1], tri[t, 2], dep[t, 0], dep[t, 1],
