@@ -10,9 +10,10 @@ the probability of closure; ``--epsilon`` adds the expected epsilon) in CPU time
 (``time.process_time``, every thread of the process) beside wall time and the load
 average, and its stages' CPU time per sample: the candidate triangles of each
 sample's closing line (``line_candidates``), the pads' first touch, pressure,
-nearest pressed point and torsional lever (``pad_contacts``'s kernels), and the
-verdicts (``pair_codes``). The machine these run on is shared: read the rate
-with the load beside it.
+nearest pressed point and torsional lever (``pad_contacts``, one compiled pass; its
+kernel-per-step path, where it runs, shows each kernel), and the verdicts
+(``pair_codes``). The machine these run on is shared: read the rate with the load
+beside it.
 """
 
 from __future__ import annotations

@@ -50,6 +50,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..errors import InputError
 from ..kernels import announce_compiling
 from ..kernels.pads import (
     line_pairs,
@@ -58,6 +59,7 @@ from ..kernels.pads import (
     pad_lever,
     pad_nearest,
     pad_pressure,
+    pad_touch,
 )
 
 __all__ = ["COINCIDE_RTOL", "PadContacts", "line_candidates", "pad_contacts", "pad_reach"]
@@ -135,7 +137,8 @@ def line_candidates(mesh, origins: NDArray, directions: NDArray, radius: float |
 
 def pad_contacts(mesh, origin: NDArray, closing: NDArray, approach: NDArray, depth: NDArray,
                  pad_length: float, pad_height: float, pose_of: NDArray, tri_of: NDArray,
-                 size: float, compliance: float = 0.0, levers: bool = True) -> PadContacts:
+                 size: float, compliance: float = 0.0, levers: bool = True, *,
+                 engine: str = "fused") -> PadContacts:
     """The contacts of the two pads of ``M`` jaw poses (module text).
 
     Parameters
@@ -158,6 +161,11 @@ def pad_contacts(mesh, origin: NDArray, closing: NDArray, approach: NDArray, dep
         How deep a pad presses past its first touch.
     levers : bool
         Compute the torsional levers (False: zeros; the contacts are the same).
+    engine : {"fused", "batched"}
+        "fused": one compiled pass over the poses (:func:`~forceclosure.kernels.pads.
+        pad_touch`; pairs given by pose, as :func:`line_candidates` gives them, else
+        "batched"); "batched": a kernel per step over all the pairs. The same results to
+        the bit.
 
     Examples
     --------
@@ -194,13 +202,24 @@ def pad_contacts(mesh, origin: NDArray, closing: NDArray, approach: NDArray, dep
                            np.zeros((m, 2)))
     depth = np.asarray(depth, dtype=float)
     args = (float(pad_length), float(pad_height))
+    press = max(float(compliance), TIE_RTOL * size)
+    pose_of, tri_of = np.asarray(pose_of, dtype=np.int64), np.asarray(tri_of, dtype=np.int64)
+    if engine not in ("fused", "batched"):
+        raise InputError(f"engine must be 'fused' or 'batched', got {engine!r}")
+    if engine == "fused" and np.all(pose_of[1:] >= pose_of[:-1]):  # pairs by pose
+        announce_compiling(pad_touch)
+        starts = np.searchsorted(pose_of, np.arange(m + 1))
+        contiguous = [np.ascontiguousarray(a, dtype=float) for a in (origin, closing, depth)]
+        return PadContacts(*pad_touch(V, F, np.ascontiguousarray(FN), starts, tri_of,
+                                      contiguous[0], np.ascontiguousarray(R), contiguous[1],
+                                      contiguous[2], *args, press, bool(levers), LEVER_SPLITS,
+                                      BLOCK))
     announce_compiling(pad_extremes, pad_pressure, pad_nearest, pad_lever, minimum_at)
     first = np.full((m, 2), np.inf)
     for lo in range(0, len(pose_of), BLOCK):
         pi, ti = pose_of[lo:lo + BLOCK], tri_of[lo:lo + BLOCK]
         minimum_at(first, pi, pad_extremes(V, F, pi, ti, origin, R, depth, *args))
     touched = np.isfinite(first).all(axis=1)
-    press = max(float(compliance), TIE_RTOL * size)
     lever = np.zeros((m, 2))
     facing = np.einsum("ij,ij->i", FN[tri_of], closing[pose_of])
     for jaw in (0, 1):
