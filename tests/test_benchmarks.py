@@ -42,5 +42,5 @@ def test_robust_benchmark_runs():
                          capture_output=True, text=True, timeout=600)
     assert run.returncode == 0, run.stderr[-2000:]
     for text in ("duck_vhacd.urdf (panda", "bunny.obj", "per CPU-second", "load ",
-                 "pad_lever", "pair_codes"):
+                 "pad_contacts", "pair_codes"):
         assert text in run.stdout
