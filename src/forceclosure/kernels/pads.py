@@ -75,15 +75,22 @@ def line_pairs(centroid, spread, origin, direction, radius):  # pragma: no cover
 @nb.njit(cache=True, nogil=True)
 def _extreme(V, F, p, t, origin, R, depth, length, h, P, cand):  # pragma: no cover
     """Pair ``(p, t)``'s lowest ``y`` and minus its highest under the pad (``inf``: the
-    triangle misses the pad); ``P`` (3, 3) and ``cand`` (19, 3) are scratch."""
+    triangle misses the pad); ``P`` (3, 3: the triangle in the pose's frame, left there)
+    and ``cand`` (19, 3) are scratch."""
     for v in range(3):
         for k in range(3):
             acc = 0.0
             for j in range(3):
                 acc += R[p, k, j] * (V[F[t, v], j] - origin[p, j])
             P[v, k] = acc
-    a1 = depth[p]
-    a0 = depth[p] - length
+    return _extreme_of(P, depth[p], length, h, cand)
+
+
+@nb.njit(cache=True, nogil=True)
+def _extreme_of(P, x1, length, h, cand):  # pragma: no cover - compiled
+    """:func:`_extreme` of the triangle ``P`` in the pose's frame, its tips at ``x1``."""
+    a1 = x1
+    a0 = x1 - length
     z0, z1 = -0.5 * h, 0.5 * h
     lo, hi = np.inf, np.inf
     if ((P[0, 0] < a0 and P[1, 0] < a0 and P[2, 0] < a0)
@@ -197,11 +204,17 @@ def _pressed(V, F, p, t, origin, R, depth, length, h, level, jaw, one, two
             for j in range(3):
                 acc += R[p, k, j] * (V[F[t, v], j] - origin[p, j])
             one[v, k] = acc
-    lev = level[p]
+    return _clipped(one, two, depth[p], length, h, level[p], jaw)
+
+
+@nb.njit(cache=True, nogil=True)
+def _clipped(one, two, x1, length, h, lev, jaw):  # pragma: no cover - compiled
+    """The triangle ``one[:3]`` (in the pose's frame) clipped to the pad's rectangle (its
+    tips at ``x1``) and the pressed layer at ``lev``, in ``one`` and ``two``: the polygon
+    holding the corners and their count (0: none)."""
     if (jaw == 0 and one[0, 1] > lev and one[1, 1] > lev and one[2, 1] > lev) or (
             jaw == 1 and one[0, 1] < lev and one[1, 1] < lev and one[2, 1] < lev):
         return one, 0  # wholly beyond the pressed layer
-    x1 = depth[p]
     x0 = x1 - length
     m = _clip(one, 3, 0, x1, True, two)
     if m == 0:
@@ -442,20 +455,12 @@ def pad_touch(V, F, FN, starts, tri_of, origin, R, closing, depth, length, h, pr
     triangles = np.full((m, 2), -1, np.int64)
     lever = np.zeros((m, 2))
     first = np.full((m, 2), np.inf)
-    P = np.empty((3, 3))
     cand = np.empty((19, 3))
     most = 0
     for p in range(m):
         most = max(most, starts[p + 1] - starts[p])
-        for k in range(starts[p], starts[p + 1]):
-            lo, hi = _extreme(V, F, p, tri_of[k], origin, R, depth, length, h, P, cand)
-            if lo < first[p, 0]:
-                first[p, 0] = lo
-            if hi < first[p, 1]:
-                first[p, 1] = hi
+    local = np.empty((most, 3, 3))  # the pose's triangles in its frame
     touched = np.empty(m, np.bool_)
-    for p in range(m):
-        touched[p] = np.isfinite(first[p, 0]) and np.isfinite(first[p, 1])
     one, two = np.empty((CORNERS, 3)), np.empty((CORNERS, 3))
     poly = np.empty((most, CORNERS, 3))
     count = np.empty(most, np.int64)
@@ -467,13 +472,20 @@ def pad_touch(V, F, FN, starts, tri_of, origin, R, closing, depth, length, h, pr
     ltri, ldep = np.empty((pieces, 3, 3)), np.empty((pieces, 3))
     lnxt, lndep = np.empty((pieces, 3, 3)), np.empty((pieces, 3))
     six, sixd = np.empty((6, 3)), np.empty(6)
-    level = np.empty(m)
-    for jaw in range(2):
-        sign = 1.0 if jaw == 0 else -1.0
-        for p in range(m):
-            level[p] = ((first[p, jaw] + press) if touched[p] else 0.0) * sign
-        j = 0  # the pair's place among the pairs facing this pad (the batches' blocks)
-        for p in range(m):
+    place = np.zeros(2, np.int64)  # per pad, the pairs facing it so far (the batches' blocks)
+    lc, la = np.empty(3), np.empty(3)  # the contact and its normal in the pose's frame
+    for p in range(m):
+        for k in range(starts[p], starts[p + 1]):
+            lo, hi = _extreme(V, F, p, tri_of[k], origin, R, depth, length, h,
+                              local[k - starts[p]], cand)
+            if lo < first[p, 0]:
+                first[p, 0] = lo
+            if hi < first[p, 1]:
+                first[p, 1] = hi
+        touched[p] = np.isfinite(first[p, 0]) and np.isfinite(first[p, 1])
+        for jaw in range(2):
+            lev = ((first[p, jaw] + press) if touched[p] else 0.0) * (1.0 if jaw == 0 else -1.0)
+            j = place[jaw]
             q = 0
             for k in range(starts[p], starts[p + 1]):
                 t = tri_of[k]
@@ -481,14 +493,17 @@ def pad_touch(V, F, FN, starts, tri_of, origin, R, closing, depth, length, h, pr
                     + FN[t, 2] * closing[p, 2]
                 if (jaw == 0 and not facing < 0) or (jaw == 1 and not facing > 0):
                     continue
-                cur, c = _pressed(V, F, p, t, origin, R, depth, length, h, level, jaw, one,
-                                  two)
+                for r in range(3):
+                    for u in range(3):
+                        one[r, u] = local[k - starts[p], r, u]
+                cur, c = _clipped(one, two, depth[p], length, h, lev, jaw)
                 for r in range(c):
-                    for s in range(3):
-                        poly[q, r, s] = cur[r, s]
+                    for u in range(3):
+                        poly[q, r, u] = cur[r, u]
                 count[q], tri[q], at[q] = c, t, j
                 q += 1
                 j += 1
+            place[jaw] = j
             # the pressure's integral and moments, summed block by block
             w0 = w1 = w2 = 0.0
             s0 = s1 = s2 = 0.0
@@ -501,7 +516,7 @@ def pad_touch(V, F, FN, starts, tri_of, origin, R, closing, depth, length, h, pr
                     s0 = s1 = s2 = 0.0
                     now = b
                 if count[i] >= 3:
-                    a0, a1, a2 = _pressure_of(poly[i], count[i], level[p], jaw)
+                    a0, a1, a2 = _pressure_of(poly[i], count[i], lev, jaw)
                     s0, s1, s2 = s0 + a0, s1 + a1, s2 + a2
             if now >= 0:
                 w0, w1, w2 = w0 + s0, w1 + s1, w2 + s2
@@ -534,8 +549,6 @@ def pad_touch(V, F, FN, starts, tri_of, origin, R, closing, depth, length, h, pr
                 triangles[p, jaw] = tri[win]
             if not levers:
                 continue
-            lc = np.empty(3)
-            la = np.empty(3)
             for s in range(3):  # in NumPy's einsum's order (0 + 2) + 1, to the bit
                 lc[s] = (R[p, s, 0] * (points[p, jaw, 0] - origin[p, 0])
                          + R[p, s, 2] * (points[p, jaw, 2] - origin[p, 2])) \
@@ -552,7 +565,7 @@ def pad_touch(V, F, FN, starts, tri_of, origin, R, closing, depth, length, h, pr
                     part = 0.0
                     now = b
                 if count[i] >= 3:
-                    part += _lever_of(poly[i], count[i], level[p], jaw, lc[0], lc[1], lc[2],
+                    part += _lever_of(poly[i], count[i], lev, jaw, lc[0], lc[1], lc[2],
                                       la[0], la[1], la[2], splits, ltri, ldep, lnxt, lndep,
                                       six, sixd)
             if now >= 0:
