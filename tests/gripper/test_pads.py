@@ -19,6 +19,7 @@ import pybullet_data
 import pytest
 import trimesh
 
+from forceclosure.errors import InputError
 from forceclosure.gripper.grippers import GRIPPERS, gripper_named, make_gripper
 from forceclosure.gripper.jaw import ParallelJaw, rectangle_mean_radius
 from forceclosure.gripper.labels import grasp_labels
@@ -188,7 +189,7 @@ def test_built_in_hands_match_their_sources():
     g = gripper_named("graspnet")
     assert (g.finger_height, g.finger_thickness, g.palm_thickness) == (0.02, 0.01, 0.01)
     assert g.finger_length - g.depth == pytest.approx(0.02 + 0.02)  # palm 0.02 behind, depth 0.02
-    assert sorted(GRIPPERS) == ["graspnet", "panda"]
+    assert sorted(GRIPPERS) == ["graspnet", "panda", "robotiq-2f85"]
     assert make_gripper(width=0.1) == ParallelJaw(0.1)
 
 
@@ -217,3 +218,41 @@ def test_contacts_on_a_convex_decomposition_are_on_its_outer_surface(duck):
         piece.apply_scale(0.05)
         inside = trimesh.proximity.signed_distance(piece, points)  # positive inside
         assert inside.max() < 1e-9
+
+
+def test_the_fused_pass_is_the_batched_kernels_to_the_bit(duck):
+    """pad_contacts' one compiled pass over the poses against its kernel-per-step path, on
+    the duck's labelled poses perturbed as robust_labels perturbs them (a fixed seed): the
+    same contacts, first touches, levers and verdicts, bit for bit."""
+    from forceclosure.analysis.two_finger import pair_codes
+    from forceclosure.gripper.pads import pad_reach
+
+    obj, labels = duck
+    mesh = obj.to_trimesh()
+    hand = gripper_named("panda")
+    rng = np.random.default_rng(7)
+    k = 40
+    origin = np.repeat(labels.center, k, axis=0) + 0.002 * rng.standard_normal(
+        (len(labels) * k, 3))
+    closing = np.repeat(labels.closing_axis, k, axis=0) + 0.05 * rng.standard_normal(
+        (len(origin), 3))
+    closing /= np.linalg.norm(closing, axis=1)[:, None]
+    approach = np.repeat(labels.approach_axis, k, axis=0)
+    approach -= np.einsum("ij,ij->i", approach, closing)[:, None] * closing
+    approach /= np.linalg.norm(approach, axis=1)[:, None]
+    depth = np.repeat(labels.depth, k)
+    line, tri = line_candidates(mesh, origin, closing,
+                                pad_reach(depth, hand.pad_length, hand.pad_height))
+    run = [pad_contacts(mesh, origin, closing, approach, depth, hand.pad_length,
+                        hand.pad_height, line, tri, obj.size, hand.pad_compliance, engine=e)
+           for e in ("fused", "batched")]
+    for name in ("points", "normals", "triangles", "touched", "first", "lever"):
+        assert np.array_equal(getattr(run[0], name), getattr(run[1], name)), name
+    held = run[0].holds(hand.width_max, obj.size)
+    assert held.mean() > 0.5
+    codes = [pair_codes(r.points[held], r.normals[held], 0.5, "soft", 0.5 * r.lever[held])
+             for r in run]
+    assert np.array_equal(*codes) and 0 < (codes[0] == 2).mean() < 1
+    with pytest.raises(InputError, match="engine"):
+        pad_contacts(mesh, origin[:1], closing[:1], approach[:1], depth[:1], 0.01, 0.01,
+                     line[:1] * 0, tri[:1], obj.size, engine="gpu")

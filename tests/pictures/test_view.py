@@ -370,3 +370,51 @@ def test_chromium_unpacks_the_page_and_draws_the_object(tmp_path):
     drawn = _object_pixels(_screenshot(shown, tmp_path / "shown.png"))
     assert drawn > 0.015, "the page draws no object"
     assert _object_pixels(_screenshot(hidden, tmp_path / "hidden.png")) < drawn / 3
+
+
+@pytest.mark.long  # 2,000 poses labelled on the duck: about 15 s
+def test_grasps_page_of_the_duck_reads_right(tmp_path, capsys):
+    """``grasps duck_vhacd.urdf --gripper panda --count 2000 --html``: the page's figure
+    (parsed from the HTML) is small, one trace of outlines per label named with the counts
+    computed here from the saved labels, the best pose highlighted (the contacts' line on its
+    contacts, its caption in the title), and the duck upright: the camera holds +y up, the
+    side the duck's largest flat area (its base) faces away from."""
+    duck = str(Path(pybullet_data.getDataPath()) / "duck_vhacd.urdf")
+    page, out = tmp_path / "duck.html", tmp_path / "duck.npz"
+    assert main(["grasps", duck, "--gripper", "panda", "--mu", "0.5", "--count", "2000",
+                 "--seed", "1", "--html", str(page), "--out", str(out)]) == 0
+    capsys.readouterr()
+    size = page.stat().st_size
+    # plotly.js packed (about 1.96 MB, :mod:`forceclosure.pictures.page`) and a figure of
+    # at most 150 kB: a page drawing every pose or the whole mesh would pass that
+    assert size < len(_packed()) + 150_000
+    data, layout = _page_figure(page)
+    labels = np.load(out, allow_pickle=False)
+    code, hit, eps = labels["code"], labels["collides"], labels["epsilon"]
+    category = np.where((code == 2) & ~hit, 0, np.where(code == 2, 1,
+                                                        np.where(code == 1, 2, 3)))
+    order = sorted(range(len(code)), key=lambda i: (category[i], -np.nan_to_num(eps[i]), i))
+    best = order[:10]
+    words = ["closure and clear", "closure, hand collides", "marginal", "none"]
+    total = np.bincount(category, minlength=4)
+    shown = np.bincount(category[best], minlength=4)
+    named = [t["name"] for t in data if t["type"] == "scatter3d"
+             and t.get("showlegend") is not False and t.get("name") != "contacts"]
+    assert named == [f"{words[k]}: {shown[k]:,} drawn of {total[k]:,}" for k in range(4)
+                     if shown[k]]
+    assert total[0] >= 100  # the search finds clear closed poses on the duck
+    # every label's outlines are one trace: as many line traces as legend entries
+    lines = [t for t in data if t["type"] == "scatter3d" and t.get("mode") == "lines"]
+    assert len(lines) == len(named)
+    # the best pose highlighted: the contacts' line on its contacts, its rank in the title
+    (contacts,) = [t for t in data if t.get("name") == "contacts"]
+    drawn = np.column_stack([np.asarray(contacts[c], float) for c in "xyz"])
+    assert np.allclose(drawn, labels["points"][best[0]], atol=1e-6)
+    assert "grasp 1. closure, clear" in layout["title"]["text"]
+    # upright: the duck's base (the largest flat area) faces -y, and the camera holds +y up
+    mesh = load_object(duck).to_trimesh()
+    flat = {(axis, sign): float(mesh.area_faces[mesh.face_normals[:, axis] * sign > 0.95].sum())
+            for axis in range(3) for sign in (1, -1)}
+    assert max(flat, key=flat.get) == (1, -1)
+    camera = layout["scene"]["camera"]
+    assert [camera["up"][k] for k in "xyz"] == [0, 1, 0]

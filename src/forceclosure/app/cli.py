@@ -617,7 +617,7 @@ def _dataset_job(args: argparse.Namespace):
                              f"--gripper {args.gripper}")
         if args.gripper == "parallel-jaw" and args.width is None:
             raise InputError("--gripper parallel-jaw needs --width (or name a built-in hand: "
-                             "--gripper panda or graspnet)")
+                             "--gripper panda, robotiq-2f85 or graspnet)")
         if args.mu is None:
             raise InputError(f"--gripper {args.gripper} needs --mu")
         if args.contact == "frictionless":
@@ -883,7 +883,7 @@ def _gripper_of(args: argparse.Namespace):
     name = args.gripper or GENERIC
     if name == GENERIC and args.width is None:
         raise InputError("--width: give the gripper's opening, or a built-in hand with "
-                         "--gripper (panda, graspnet)")
+                         "--gripper (panda, robotiq-2f85, graspnet)")
     if name != GENERIC and args.width is not None:
         raise InputError(f"--width: --gripper {name} has its own opening; drop --width")
     try:
@@ -1345,7 +1345,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "every mesh and label them (verdict, least friction, epsilon, "
                         "collision): an .npz per object and grasps.parquet; needs --mu, and "
                         "--width for the generic 'parallel-jaw' (built-ins 'panda', "
-                        "'graspnet', or a hand's .urdf: metres)")
+                        "'robotiq-2f85', 'graspnet', or a hand's .urdf: metres)")
     t.add_argument("--width", type=float, default=None,
                    help="with --gripper parallel-jaw: the widest opening (object units)")
     t.add_argument("--count", type=int, default=None,
@@ -1379,9 +1379,11 @@ def build_parser() -> argparse.ArgumentParser:
     _outside_meshes_option(g)
     g.add_argument("--gripper", metavar="NAME|FILE.urdf",
                    help="the hand: a built-in with its real sizes ('panda': Franka Emika's, "
-                        "'graspnet': GraspNet-1Billion's model; metres), a hand's URDF file "
-                        "(two fingers on prismatic joints, measured from their geometry; a "
-                        "robot's URDF with its hand works too), or 'parallel-jaw' (the "
+                        "'robotiq-2f85': Robotiq's 2F-85, as the parallel jaw its "
+                        "fingertips act as, 'graspnet': GraspNet-1Billion's model; metres), "
+                        "a hand's URDF file (two fingers on prismatic joints, measured from "
+                        "their geometry; a robot's URDF with its hand works too), or "
+                        "'parallel-jaw' (the "
                         "default), a generic hand sized from --width")
     g.add_argument("--gripper-links", metavar="PALM[,FINGER1,FINGER2]",
                    help="with --gripper FILE.urdf: the hand's root link (its frame is the "

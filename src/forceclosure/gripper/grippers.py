@@ -29,6 +29,29 @@ axis):
     (GraspNet's depths reach 0.04 past the grasp point), pressing 1 mm (an
     assumption; GraspNet's labels take point contacts).
 
+``robotiq-2f85``
+    The Robotiq 2F-85 Adaptive Gripper. Its fingers move on a four-bar
+    linkage, not a slide: at the fingertips it acts as a parallel jaw (the pads
+    stay parallel) whose pads advance up to 0.014 along the approach axis as they
+    close; it is modelled as that parallel jaw at its full opening. Sources: the
+    stroke, 85 mm, from Robotiq's 2F-85 & 2F-140 Instruction Manual (section
+    6.1, Specifications; also ``gripper_max_force 235`` N and speeds 0.02–0.15
+    m/s in Robotiq's own ROS description, ``robotiq/ros``,
+    ``robotiq_2f_85_macro.urdf.xacro``); the rest from Robotiq's description as
+    ROS-Industrial ships it (``robotiq_2f_85_gripper_visualization``,
+    ``robotiq_arg2f_85_model_macro.xacro``: the pad a 0.022 × 0.00635 × 0.0375
+    box; the linkage's joints; its collision meshes, measured here at full
+    opening): the pads 0.086 apart at full opening (the stroke, 0.085, is the
+    opening used), each pad 0.0375 long along the approach axis and 0.022 across;
+    the fingertips 0.1491 in front of the gripper's mounting face (its base
+    link's origin, without Robotiq's coupling); everything between the pads
+    deeper than 0.0969 from that face is the linkage or the body (the palm
+    here), the fingers reaching 0.0522 past it, 0.0312 thick outside the opening
+    and 0.034 high (the linkage at the palm's front; 0.027 past 0.1); the body
+    and linkage 0.0996 deep, 0.1484 wide (the knuckles outside, ±0.0742) and
+    0.075 high. The pads' 1 mm press is an assumption (rubber pads), as for
+    the Panda.
+
 A built-in's boxes enclose the real hand's parts (never smaller), so a pose
 called clear of the object is clear for the real hand.
 
@@ -61,6 +84,11 @@ GRIPPERS: dict[str, ParallelJaw] = {
     "graspnet": ParallelJaw(
         0.1, name="graspnet", finger_length=0.06, finger_thickness=0.01, finger_height=0.02,
         depth=0.02, palm_thickness=0.01, palm_width=0.12, palm_height=0.02, pad_length=0.04,
+        pad_compliance=0.001),
+    "robotiq-2f85": ParallelJaw(
+        0.085, name="robotiq-2f85", finger_length=0.0522, finger_thickness=0.0312,
+        finger_height=0.034, depth=0.01875, pad_length=0.0375, pad_height=0.022,
+        palm_thickness=0.0996, palm_width=0.1484, palm_height=0.075, tip_offset=0.1491,
         pad_compliance=0.001),
 }
 

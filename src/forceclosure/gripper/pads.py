@@ -50,8 +50,17 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..errors import InputError
 from ..kernels import announce_compiling
-from ..kernels.pads import minimum_at, pad_extremes, pad_lever, pad_nearest, pad_pressure
+from ..kernels.pads import (
+    line_pairs,
+    minimum_at,
+    pad_extremes,
+    pad_lever,
+    pad_nearest,
+    pad_pressure,
+    pad_touch,
+)
 
 __all__ = ["COINCIDE_RTOL", "PadContacts", "line_candidates", "pad_contacts", "pad_reach"]
 
@@ -116,28 +125,20 @@ def line_candidates(mesh, origins: NDArray, directions: NDArray, radius: float |
     one per line) of each line (through ``origins[i]`` along the unit
     ``directions[i]``), by their bounding spheres about their centroids; a superset,
     never missing one."""
-    V, F = np.asarray(mesh.vertices), np.asarray(mesh.faces)
+    V, F = np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces)
     centroid = V[F].mean(axis=1)
     spread = np.sqrt(((V[F] - centroid[:, None]) ** 2).sum(axis=2).max(axis=1))
-    radius = np.broadcast_to(np.asarray(radius, dtype=float), (len(origins),))
-    lines, tris = [], []
-    step = max(1, (1 << 22) // max(1, len(F)))
-    for lo in range(0, len(origins), step):
-        d = centroid[None] - origins[lo:lo + step, None]  # (n, T, 3)
-        along = np.einsum("ntk,nk->nt", d, directions[lo:lo + step])
-        perp2 = np.einsum("ntk,ntk->nt", d, d) - along**2
-        reach = spread[None] + radius[lo:lo + step, None]
-        i, t = np.nonzero(perp2 <= reach**2)
-        lines.append(i + lo)
-        tris.append(t)
-    if not lines:
-        return np.zeros(0, np.int64), np.zeros(0, np.int64)
-    return np.concatenate(lines).astype(np.int64), np.concatenate(tris).astype(np.int64)
+    radius = np.ascontiguousarray(np.broadcast_to(np.asarray(radius, dtype=float),
+                                                  (len(origins),)))
+    announce_compiling(line_pairs)
+    return line_pairs(centroid, spread, np.ascontiguousarray(origins, dtype=float),
+                      np.ascontiguousarray(directions, dtype=float), radius)
 
 
 def pad_contacts(mesh, origin: NDArray, closing: NDArray, approach: NDArray, depth: NDArray,
                  pad_length: float, pad_height: float, pose_of: NDArray, tri_of: NDArray,
-                 size: float, compliance: float = 0.0, levers: bool = True) -> PadContacts:
+                 size: float, compliance: float = 0.0, levers: bool = True, *,
+                 engine: str = "fused") -> PadContacts:
     """The contacts of the two pads of ``M`` jaw poses (module text).
 
     Parameters
@@ -160,6 +161,11 @@ def pad_contacts(mesh, origin: NDArray, closing: NDArray, approach: NDArray, dep
         How deep a pad presses past its first touch.
     levers : bool
         Compute the torsional levers (False: zeros; the contacts are the same).
+    engine : {"fused", "batched"}
+        "fused": one compiled pass over the poses (:func:`~forceclosure.kernels.pads.
+        pad_touch`; pairs given by pose, as :func:`line_candidates` gives them, else
+        "batched"); "batched": a kernel per step over all the pairs. The same results to
+        the bit.
 
     Examples
     --------
@@ -196,13 +202,24 @@ def pad_contacts(mesh, origin: NDArray, closing: NDArray, approach: NDArray, dep
                            np.zeros((m, 2)))
     depth = np.asarray(depth, dtype=float)
     args = (float(pad_length), float(pad_height))
+    press = max(float(compliance), TIE_RTOL * size)
+    pose_of, tri_of = np.asarray(pose_of, dtype=np.int64), np.asarray(tri_of, dtype=np.int64)
+    if engine not in ("fused", "batched"):
+        raise InputError(f"engine must be 'fused' or 'batched', got {engine!r}")
+    if engine == "fused" and np.all(pose_of[1:] >= pose_of[:-1]):  # pairs by pose
+        announce_compiling(pad_touch)
+        starts = np.searchsorted(pose_of, np.arange(m + 1))
+        contiguous = [np.ascontiguousarray(a, dtype=float) for a in (origin, closing, depth)]
+        return PadContacts(*pad_touch(V, F, np.ascontiguousarray(FN), starts, tri_of,
+                                      contiguous[0], np.ascontiguousarray(R), contiguous[1],
+                                      contiguous[2], *args, press, bool(levers), LEVER_SPLITS,
+                                      BLOCK))
     announce_compiling(pad_extremes, pad_pressure, pad_nearest, pad_lever, minimum_at)
     first = np.full((m, 2), np.inf)
     for lo in range(0, len(pose_of), BLOCK):
         pi, ti = pose_of[lo:lo + BLOCK], tri_of[lo:lo + BLOCK]
         minimum_at(first, pi, pad_extremes(V, F, pi, ti, origin, R, depth, *args))
     touched = np.isfinite(first).all(axis=1)
-    press = max(float(compliance), TIE_RTOL * size)
     lever = np.zeros((m, 2))
     facing = np.einsum("ij,ij->i", FN[tri_of], closing[pose_of])
     for jaw in (0, 1):

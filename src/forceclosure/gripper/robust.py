@@ -209,10 +209,11 @@ def _turn(v: NDArray, e1: NDArray, e2: NDArray, a1: NDArray, a2: NDArray) -> NDA
 PAIRS = 1 << 23
 
 
-def _pads_closed(poly, mesh, gripper: ParallelJaw, origin, closing, approach, depth):
+def _pads_closed(poly, mesh, gripper: ParallelJaw, origin, closing, approach, depth,
+                 levers: bool = True):
     """The pads' contacts (:func:`~forceclosure.gripper.pads.pad_contacts`) at the perturbed
-    poses, their torsional levers, and whether they hold the object within the opening;
-    in blocks of at most :data:`PAIRS` (pose, triangle) pairs."""
+    poses, their torsional levers (zeros unless ``levers``), and whether they hold the
+    object within the opening; in blocks of at most :data:`PAIRS` (pose, triangle) pairs."""
     from .pads import line_candidates, pad_contacts, pad_reach
 
     m = len(origin)
@@ -228,7 +229,7 @@ def _pads_closed(poly, mesh, gripper: ParallelJaw, origin, closing, approach, de
         pc = pad_contacts(mesh, origin[start:stop], closing[start:stop],
                           approach[start:stop], depth[start:stop], gripper.pad_length,
                           gripper.pad_height, line_of[sl] - start, tri_of[sl], poly.size,
-                          gripper.pad_compliance)
+                          gripper.pad_compliance, levers)
         held[start:stop] = pc.holds(gripper.width_max, poly.size)
         points[start:stop], normals[start:stop] = pc.points, pc.normals
         lever[start:stop] = pc.lever
@@ -350,8 +351,10 @@ def robust_labels(obj: Any, poses: Any, gripper: ParallelJaw, mu: float, *,
         turned = a - np.einsum("ij,ij->i", a, axes)[:, None] * axes
         turned /= np.linalg.norm(turned, axis=1)[:, None]
         friction = np.maximum(0.0, mu + noise.mu_sigma * z_mu)
-        points, normals, lever, held = _pads_closed(poly, mesh, gripper, centres + shift,
-                                                    axes, turned, np.repeat(depth[part], s))
+        # the pads' levers bound soft pads' torsion unless the hand gives its own radius
+        points, normals, lever, held = _pads_closed(
+            poly, mesh, gripper, centres + shift, axes, turned, np.repeat(depth[part], s),
+            levers=contact == "soft" and gripper.pad_radius is None)
         ok = np.flatnonzero(held)
         P, N = points[ok], normals[ok]
         if noise.normal_sigma > 0 and len(ok):
