@@ -24,6 +24,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..objects.polygon import Polygon
+from ..objects.polyhedron import Polyhedron
 from .construction import Construction, Hand, Undecided
 from .frame import Frame
 from .regions import RegionSet, tie_rounded
@@ -126,8 +127,8 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
     when the bound falls to zero); each site built, and ranked by the one rule
     (the module's docstring). Region sets are proved in rank order, as they
     are needed (a proof can cost more than the construction), except with
-    ``enough``, which counts proved region sets as they are built. On a polygon
-    the steps run in object-centred, scaled coordinates
+    ``enough``, which counts proved region sets as they are built. On a polygon or
+    polyhedron the steps run in object-centred, scaled coordinates
     (:class:`~forceclosure.synthesis.frame.Frame`), and the region sets are mapped
     back and proved on ``obj`` as given.
 
@@ -148,9 +149,9 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
     top = hand.top
     if not isinstance(top, int | np.integer) or isinstance(top, bool) or top < 1:
         raise InputError(f"top must be a positive integer, got {top!r}")
-    # on a polygon, every step but the proofs runs in object-centred, scaled coordinates
-    # (frame.py); the regions are mapped back and proved on the polygon as given
-    frame = Frame.of(obj) if isinstance(obj, Polygon) else None
+    # on a polygon or polyhedron, every step but the proofs runs in object-centred, scaled
+    # coordinates (frame.py); the regions are mapped back and proved on the object as given
+    frame = Frame.of(obj) if isinstance(obj, Polygon | Polyhedron) else None
     where = obj if frame is None else frame.local(obj)
     sites = candidate_sites(construction, where, hand)
     # sizes closer than the object's coordinates resolve (relative to its size: 6e-8 at 1e8
