@@ -26,6 +26,15 @@ Examples
 >>> frame = Frame.of(far)
 >>> frame.scale, frame.local(far).outer.tolist()
 (4.0, [[-0.25, -0.25], [0.25, -0.25], [0.25, 0.25], [-0.25, 0.25]])
+
+A polyhedron keeps its faces (indices, normals), moved and scaled:
+
+>>> from forceclosure.objects import Polyhedron, bundled
+>>> cube = bundled("cube")
+>>> moved = Polyhedron.from_arrays(cube.vertices + 1e8, cube.triangles)
+>>> local = Frame.of(moved).local(moved)
+>>> local.bounds.tolist(), local.faces[0].normal.tolist() == moved.faces[0].normal.tolist()
+([[-0.25, -0.25, -0.25], [0.25, 0.25, 0.25]], True)
 """
 
 from __future__ import annotations
