@@ -53,7 +53,7 @@ def test_records_and_table_say_complete_and_undecided(tmp_path, capsys, monkeypa
     assert len(records[far]["grasps"]) < 3  # grasps were dropped, and it says so
 
     table = pd.read_parquet(out / "results.parquet").set_index("name")
-    assert list(table.columns[-2:]) == ["complete", "undecided"]
+    assert list(table.columns[-3:]) == ["complete", "undecided", "units"]  # units: appended
     assert bool(table.loc["near", "complete"]) and table.loc["near", "undecided"] == 0
     assert not table.loc["far", "complete"]
     assert table.loc["far", "undecided"] == records[far]["undecided"]
@@ -67,9 +67,9 @@ def test_older_records_read_with_the_columns_empty():
     """A record written before these keys: its row has them null, the other columns as
     before and in their places."""
     names = [name for name, _ in COLUMNS]
-    assert names.index("labels_file") == len(names) - 3  # appended after the last column
+    assert names.index("labels_file") == len(names) - 4  # appended after the last column
     old = {"name": "x", "path": "/x", "status": "done", "error": None, "fingers": 2,
            "grasps": [], "kind": "polygon"}
     row = row_of(old)
-    assert row["complete"] is None and row["undecided"] is None
+    assert row["complete"] is None and row["undecided"] is None and row["units"] is None
     assert row["grasps"] == 0 and row["fingers"] == 2

@@ -458,11 +458,13 @@ def deadline(seconds: float | None) -> Iterator[None]:
 
 
 def _describe(obj) -> dict[str, Any]:
+    # units: the file's own (an SVG's mm, a GeoJSON's "units"), None where it states none
+    # (every mesh): the lengths and areas of the record are in them
     if obj.dim == 2:
         return {"kind": "polygon", "size": obj.size, "edges": len(obj.edges),
-                "triangles": 0}
+                "triangles": 0, "units": obj.units}
     return {"kind": "polyhedron", "size": obj.size, "faces": len(obj.faces),
-            "triangles": len(obj.triangles)}
+            "triangles": len(obj.triangles), "units": getattr(obj, "units", None)}
 
 
 def _synthesize(obj, job: Job) -> dict[str, Any]:
@@ -787,7 +789,10 @@ COLUMNS = (("name", "string"), ("path", "string"), ("status", "string"), ("error
            # synthesis, added later (appended, so that every column keeps its place): whether
            # the search is complete, and how many sites it left undecided (null in records
            # written before)
-           ("complete", "bool"), ("undecided", "int64"))
+           ("complete", "bool"), ("undecided", "int64"),
+           # the object's units (an SVG's "mm", a GeoJSON's own), null where the file states
+           # none (meshes) and in records written before this column
+           ("units", "string"))
 
 
 def row_of(record: dict[str, Any]) -> dict[str, Any]:

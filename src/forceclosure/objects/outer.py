@@ -19,6 +19,12 @@ surface** is kept:
   surface is dropped too, and said so: cutting it would need the union, and
   kept whole it would let a region reach into the solid.
 
+All of it is computed in object-centred, scaled coordinates
+(:class:`~forceclosure.geometry.placement.Placement`): the union of a decomposition moved
+by 1e8 or scaled by 1e-3 is the union at the origin, moved and scaled (manifold3d's own
+tolerances and the winding numbers would otherwise see a different object), and the union's
+new vertices are mapped back to the coordinates given.
+
 Each change is said in a warning.
 
 Examples
@@ -42,6 +48,7 @@ from numpy.typing import NDArray
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
+from ..geometry.placement import Placement
 from .orient import boundary_loops, edge_table, shell_labels, winding_numbers
 
 __all__ = ["outer_surface"]
@@ -113,11 +120,12 @@ def outer_surface(V: NDArray, T: NDArray, labels: NDArray, closed: NDArray,
     n_shells = int(labels.max()) + 1
     if n_shells < 2:
         return V, T, []
+    given = V
+    placement = Placement.of(V[np.unique(T)], size)
+    V = placement.to_local_points(V)  # everything below in object-centred, scaled coordinates
+    size = size / placement.scale
     A, B, C = V[T[:, 0]], V[T[:, 1]], V[T[:, 2]]
-    centre = (V.min(axis=0) + V.max(axis=0)) / 2  # far from the origin products would cancel
-    volume = np.bincount(labels, np.einsum("ij,ij->i", A - centre, np.cross(B - centre,
-                                                                            C - centre)) / 6,
-                         n_shells)
+    volume = np.bincount(labels, np.einsum("ij,ij->i", A, np.cross(B, C)) / 6, n_shells)
     lo = np.full((n_shells, 3), np.inf)
     hi = np.full((n_shells, 3), -np.inf)
     np.minimum.at(lo, labels, np.minimum(np.minimum(A, B), C))
@@ -208,11 +216,11 @@ def outer_surface(V: NDArray, T: NDArray, labels: NDArray, closed: NDArray,
         notes.append(f"dropped {crossing} triangles of open or non-manifold shells that cross "
                      "into a closed shell (no union with an open shell cuts them)")
     if keep.all():
-        return V, T, notes
-    vertices, triangles = [V], [T[keep]]
+        return given, T, notes
+    vertices, triangles = [given], [T[keep]]
     offset = len(V)
     for Vu, Tu in parts:
-        vertices.append(Vu)
+        vertices.append(placement.to_user_points(Vu))
         triangles.append(Tu + offset)
         offset += len(Vu)
     Vn, Tn = np.vstack(vertices), np.vstack(triangles)

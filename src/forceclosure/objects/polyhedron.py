@@ -166,6 +166,25 @@ class PlanarFace:
         return self._vertices[self.loops[0]]
 
 
+def _rounding_hint(vertices: ArrayLike) -> str:
+    """Where the doubles at the object's coordinates are more than :data:`FLAT_RTOL` of its
+    size apart (so that rounding may have made a defect): how far apart, in words; else
+    ``""``."""
+    try:
+        V = np.asarray(vertices, dtype=float)
+        far = float(np.abs(V).max())
+        size = float(np.linalg.norm(np.ptp(V, axis=0)))
+    except (TypeError, ValueError):
+        return ""
+    if not (np.isfinite(far) and np.isfinite(size)):
+        return ""
+    spacing = float(np.spacing(far))
+    if not spacing > FLAT_RTOL * size:
+        return ""
+    within = f", {spacing / size:.2g} of the object's size" if size > 0 else ""
+    return f"coordinates near {far:.3g} are {spacing:.3g} apart{within}: move it nearer the origin"
+
+
 def _point(p: NDArray) -> str:
     return "(" + ", ".join(f"{x:.6g}" for x in p) + ")"
 
@@ -262,7 +281,27 @@ class Polyhedron:
         >>> tet = Polyhedron.from_arrays(v, t, name="tetrahedron")
         >>> len(tet.faces), round(tet.volume, 6)
         (4, 0.166667)
+
+        A defect that rounding may have made (vertices of a small object far from the origin
+        fallen onto the same doubles) is refused with the doubles' spacing there:
+
+        >>> Polyhedron.from_arrays(np.add(v, 1e16), t)
+        Traceback (most recent call last):
+        ...
+        forceclosure.errors.InputError: polyhedron: all vertices coincide (coordinates near \
+1e+16 are 2 apart: move it nearer the origin)
         """
+        try:
+            return cls._from_arrays(vertices, triangles, name, allow_open, spread)
+        except InputError as e:
+            hint = _rounding_hint(vertices)
+            if not hint:
+                raise
+            raise InputError(f"{e} ({hint})") from None
+
+    @classmethod
+    def _from_arrays(cls, vertices: ArrayLike, triangles: ArrayLike, name: str,
+                     allow_open: bool, spread: float) -> Polyhedron:
         warnings: list[str] = []
         defects: list[str] = []
         try:

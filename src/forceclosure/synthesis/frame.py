@@ -1,6 +1,7 @@
 """Object-centred, scaled coordinates: where the searches on polygons compute.
 
-A polygon far from the origin (1e8) or very small or large (1e-4, 1e3) is searched in a
+The rule is :class:`~forceclosure.geometry.placement.Placement`'s (polyhedra follow it too). A
+polygon far from the origin (1e8) or very small or large (1e-4, 1e3) is searched in a
 copy centred on its bounding box and divided by a power of two near its size, so that the
 constructions' tolerances and linear programs see an object about 1 across at the origin,
 wherever and however large the user's is. Its edges keep their indices and their unit
@@ -11,6 +12,13 @@ polygon, at the floats that are printed and returned; where those round off a pr
 regions are cut a little (:data:`~forceclosure.synthesis.regions.TRIMS`), and a site whose
 regions cannot be proved at all is reported undecided.
 
+A polyhedron is searched the same way: its faces keep their indices, unit normals and in-plane
+axes (the user's floats), their origins and vertices are moved and scaled; a region set's
+patches are mapped back (plane coordinates times the scale, then onto the user's face), points
+such as a prototype grasp or an apex moved back, search zones given the user's reference point
+and length scale (the same wrenches), and each region set is proved again on the polyhedron as
+given, its patches cut towards their centres by the same trims where the printed floats need it.
+
 Examples
 --------
 >>> from forceclosure.objects import Polygon
@@ -18,31 +26,45 @@ Examples
 >>> frame = Frame.of(far)
 >>> frame.scale, frame.local(far).outer.tolist()
 (4.0, [[-0.25, -0.25], [0.25, -0.25], [0.25, 0.25], [-0.25, 0.25]])
+
+A polyhedron keeps its faces (indices, normals), moved and scaled:
+
+>>> from forceclosure.objects import Polyhedron, bundled
+>>> cube = bundled("cube")
+>>> moved = Polyhedron.from_arrays(cube.vertices + 1e8, cube.triangles)
+>>> local = Frame.of(moved).local(moved)
+>>> local.bounds.tolist(), local.faces[0].normal.tolist() == moved.faces[0].normal.tolist()
+([[-0.25, -0.25, -0.25], [0.25, 0.25, 0.25]], True)
 """
 
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
+from ..geometry.placement import Placement
 from ..objects.polygon import Edge, Polygon
+from ..objects.polyhedron import Polyhedron
 from .construction import Undecided
 from .regions import TRIMS, RegionSet
+from .spatial.patches import FacePatch, SpatialRegions
 
 __all__ = ["Frame"]
 
 #: Region set fields that are points in the object's coordinates (moved back, scaled).
 _POINTS = ("apex", "centre")
+#: The same on polyhedra: arrays of points (a prototype grasp's contacts, a cone's apex).
+_POINTS_3D = ("apex", "prototype")
 
 
 @dataclass(frozen=True)
-class Frame:
-    """The map from the user's coordinates to the search's: ``local = (x - centre) / scale``.
+class Frame(Placement):
+    """The map from the user's coordinates to the search's: ``local = (x - centre) / scale``
+    (:class:`~forceclosure.geometry.placement.Placement`), with a polygon's edges and region
+    sets mapped by it.
 
     Attributes
     ----------
@@ -53,19 +75,19 @@ class Frame:
         map back exactly: times the scale).
     """
 
-    centre: NDArray[np.float64]
-    scale: float
-
     @classmethod
-    def of(cls, polygon: Polygon) -> Frame:
-        """The frame of ``polygon``: its bounding box's centre, a power of two near its size."""
-        lo, hi = polygon.bounds
-        centre = 0.5 * lo + 0.5 * hi
-        return cls(centre, math.ldexp(1.0, round(math.log2(polygon.size))))
+    def of(cls, obj: Polygon | Polyhedron) -> Frame:  # type: ignore[override]
+        """The frame of a polygon or polyhedron: its bounding box's centre, a power of two
+        near its size."""
+        return super().of(obj.bounds, obj.size)
 
-    def local(self, polygon: Polygon) -> Polygon:
+    def local(self, polygon: Polygon | Polyhedron) -> Polygon | Polyhedron:
         """``polygon`` in this frame: the same edges (indices, sources, unit normals), moved
-        and scaled; no new validation (a move and a scale keep the polygon valid)."""
+        and scaled; no new validation (a move and a scale keep the polygon valid). A
+        polyhedron keeps its triangles and faces (indices, normals, axes, loops), its
+        vertices and face origins moved and scaled."""
+        if isinstance(polygon, Polyhedron):
+            return self._local_polyhedron(polygon)
         def to(x):
             out = (np.asarray(x, float) - self.centre) / self.scale
             out.setflags(write=False)
@@ -83,6 +105,8 @@ class Frame:
         but a region set (``None``, an Undecided) is returned as it is."""
         if not (isinstance(regions, RegionSet) and dataclasses.is_dataclass(regions)):
             return regions
+        if isinstance(regions, SpatialRegions):
+            return self._spatial_to_user(regions, polygon)
         names = {f.name for f in dataclasses.fields(regions)}
         fixed: dict[str, Any] = {"polygon": polygon}
         for name in _POINTS:
@@ -112,5 +136,49 @@ class Frame:
                 return mapped
             if not pieces:
                 break
+        return Undecided("regions found in object-centred coordinates could not be proved "
+                         "at the floats of the coordinates given")
+
+    def _local_polyhedron(self, polyhedron: Polyhedron) -> Polyhedron:
+        V = self.to_local_points(polyhedron.vertices)
+        V.setflags(write=False)
+        area = self.scale * self.scale
+
+        def origin(face):
+            out = self.to_local_points(face.origin)
+            out.setflags(write=False)
+            return out
+
+        faces = tuple(dataclasses.replace(f, origin=origin(f), area=f.area / area, _vertices=V)
+                      for f in polyhedron.faces)
+        return dataclasses.replace(polyhedron, vertices=V, faces=faces)
+
+    def _spatial_to_user(self, regions: SpatialRegions, polyhedron: Polyhedron) -> Any:
+        names = {f.name for f in dataclasses.fields(regions)}
+        fixed: dict[str, Any] = {"polyhedron": polyhedron}
+        for name in _POINTS_3D:
+            point = getattr(regions, name, None)
+            if name in names and point is not None:
+                fixed[name] = self.to_user_points(point)
+                fixed[name].setflags(write=False)
+        zones = getattr(regions, "zones", None)
+        if "zones" in names and zones is not None:  # the same wrenches, about the same point
+            fixed["zones"] = dataclasses.replace(
+                zones, reference=self.to_user_points(zones.reference),
+                length_scale=zones.length_scale * self.scale)
+        faces = polyhedron.faces
+        for trim in TRIMS:
+            patches = []
+            for region in regions.regions:
+                mapped = []
+                for p in region:
+                    middle = p.uv.mean(axis=0)
+                    uv = (middle + (1 - 2 * trim) * (p.uv - middle)) * self.scale + 0.0
+                    mapped.append(FacePatch(p.face, uv, faces[p.face].to_world(uv)))
+                patches.append(tuple(mapped))
+            fixed["regions"] = tuple(patches)
+            moved = dataclasses.replace(regions, **fixed)
+            if moved.certify().holds:
+                return moved
         return Undecided("regions found in object-centred coordinates could not be proved "
                          "at the floats of the coordinates given")

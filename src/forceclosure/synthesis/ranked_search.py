@@ -20,12 +20,14 @@ from __future__ import annotations
 
 import bisect
 import dataclasses
+import math
 from typing import Any
 
 import numpy as np
 
 from ..errors import InputError
 from ..objects.polygon import Polygon
+from ..objects.polyhedron import Polyhedron
 from .construction import Construction, Hand, Undecided
 from .frame import Frame
 from .regions import RegionSet, tie_rounded
@@ -43,12 +45,20 @@ def _by_size(b: tuple[float, int, Any]) -> tuple[float, int]:
     return -b[0], b[1]
 
 
+def _tied_floor(size: float, slack: float, areas: bool) -> float:
+    """The least size that ties with ``size``: within :data:`TIE` of it, and within
+    ``slack`` (times the square root of ``size`` for areas over size²: rounding by a length
+    changes an area by that length times the region's extent)."""
+    return size * (1 - TIE) - (slack * math.sqrt(max(size, 0.0)) if areas else slack)
+
+
 def ranked(built: list[tuple[float, int, Any]], slack: float = 0.0, limit: int | None = None,
-           presorted: bool = False) -> list[tuple[float, int, Any]]:
+           presorted: bool = False, areas: bool = False) -> list[tuple[float, int, Any]]:
     """``(size, site, item)`` triples in rank order: by decreasing size, where every size
     within :data:`TIE` (relative) plus ``slack`` of the largest of its run ties with it, and
     ties go by site. ``limit``: the first that many only (the runs past them are not
-    looked at); ``presorted``: ``built`` is already by decreasing size, then site.
+    looked at); ``presorted``: ``built`` is already by decreasing size, then site;
+    ``areas``: the sizes are areas over size² (:func:`_tied_floor`).
 
     Examples
     --------
@@ -60,7 +70,7 @@ def ranked(built: list[tuple[float, int, Any]], slack: float = 0.0, limit: int |
     start = 0
     while start < len(rest) and (limit is None or len(out) < limit):
         end = start + 1
-        while end < len(rest) and rest[end][0] >= rest[start][0] * (1 - TIE) - slack:
+        while end < len(rest) and rest[end][0] >= _tied_floor(rest[start][0], slack, areas):
             end += 1
         out += sorted(rest[start:end], key=lambda b: b[1])
         start = end
@@ -129,8 +139,8 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
     when the bound falls to zero); each site built, and ranked by the one rule
     (the module's docstring). Region sets are proved in rank order, as they
     are needed (a proof can cost more than the construction), except with
-    ``enough``, which counts proved region sets as they are built. On a polygon
-    the steps run in object-centred, scaled coordinates
+    ``enough``, which counts proved region sets as they are built. On a polygon or
+    polyhedron the steps run in object-centred, scaled coordinates
     (:class:`~forceclosure.synthesis.frame.Frame`), and the region sets are mapped
     back and proved on ``obj`` as given.
 
@@ -152,15 +162,16 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
     hand = dataclasses.replace(hand, memo={})  # this search's own memory, for its steps
     if not isinstance(top, int | np.integer) or isinstance(top, bool) or top < 1:
         raise InputError(f"top must be a positive integer, got {top!r}")
-    # on a polygon, every step but the proofs runs in object-centred, scaled coordinates
-    # (frame.py); the regions are mapped back and proved on the polygon as given
-    frame = Frame.of(obj) if isinstance(obj, Polygon) else None
+    # on a polygon or polyhedron, every step but the proofs runs in object-centred, scaled
+    # coordinates (frame.py); the regions are mapped back and proved on the object as given
+    frame = Frame.of(obj) if isinstance(obj, Polygon | Polyhedron) else None
     where = obj if frame is None else frame.local(obj)
     sites = candidate_sites(construction, where, hand)
     # sizes closer than the object's coordinates resolve (relative to its size: 6e-8 at 1e8
     # on an object 2 across) are ties too: a far-away copy is rounded by that much
     slack = 8 * float(np.spacing(np.abs(obj.bounds).max())) / obj.size \
         if hasattr(obj, "bounds") else 0.0
+    areas = getattr(obj, "dim", 2) == 3
     bound = None
     if construction.bound is not None and len(sites):
         bound = np.array([tie_rounded(b) for b in construction.bound(where, sites, hand)])
@@ -178,13 +189,13 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
         # the top ranked are whole runs of ties and the lowest sites of one more, so the
         # smallest of them is at most the top-th largest size: a size that ties with that
         # is not beaten, found without ranking (a run of thousands of ties stays linear)
-        if len(built) < top or size >= built[top - 1][0] * (1 - TIE) - slack:
+        if len(built) < top or size >= _tied_floor(built[top - 1][0], slack, areas):
             return False
         while len(built) >= top:
-            first = ranked(built, slack, limit=top, presorted=True)
+            first = ranked(built, slack, limit=top, presorted=True, areas=areas)
             failed = [b for b in first if not b[2].certify().holds]
             if not failed:
-                return size < min(b[0] for b in first) * (1 - TIE) - slack
+                return size < _tied_floor(min(b[0] for b in first), slack, areas)
             for b in failed:
                 failed_proof(b[1])
             built[:] = [b for b in built if all(b is not f for f in failed)]
@@ -208,7 +219,7 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
             continue
         bisect.insort(built, (float(regions.relative_min_size), int(k), regions), key=_by_size)
     proved: list[RegionSet] = []
-    for _, k, regions in ranked(built, slack, presorted=True):
+    for _, k, regions in ranked(built, slack, presorted=True, areas=areas):
         if len(proved) == top:
             break
         if regions.certify().holds:

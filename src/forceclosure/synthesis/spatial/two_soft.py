@@ -47,6 +47,7 @@ from ...geometry.cones import counter_overlap, counter_overlap_angle, friction_f
 from ...geometry.rings import signed_area
 from ...objects.polyhedron import PlanarFace, Polyhedron
 from ..construction import Construction, Hand
+from ..ranked_search import TIE
 from ..regions import MARGIN, Certificate, narrowed, proved_once
 from .patches import FacePatch, SpatialRegions, convex_pieces
 
@@ -244,7 +245,25 @@ def _maximal(f1: PlanarFace, f2: PlanarFace, ring1: NDArray, ring2: NDArray,
                   + [(0, None)] * 2, method="highs")
     if res.status != 0 or res.x[6] <= 1e-9 * size:
         return None
-    x = res.x
+    # the largest radius is one number, its centres often a family (parallel faces): of those,
+    # the ones nearest (L1) the pieces' middles, so that a moved copy gets its regions in the
+    # same places, not wherever its rounding tips the solver; variables x (7) and d (4),
+    # |x_c - middle| <= d
+    middles = [*ring1.mean(axis=0), *ring2.mean(axis=0)]
+    A = np.hstack([np.array(rows), np.zeros((len(rows), 4))])
+    pick = np.zeros((4, 11))
+    pick[[0, 1, 2, 3], [0, 1, 3, 4]] = 1.0
+    pick[:, 7:] = -np.eye(4)
+    flip = pick.copy()
+    flip[:, :7] *= -1
+    floor = np.zeros(11)
+    floor[6] = -1.0  # t >= r (1 - 1e-9)
+    A = np.vstack([A, pick, flip, floor])
+    b = np.concatenate([rhs, middles, -np.array(middles), [-res.x[6] * (1 - 1e-9)]])
+    second = linprog(np.r_[np.zeros(7), np.ones(4)], A_ub=A, b_ub=b,
+                     bounds=[(None, None)] * 2 + [(0, None)] + [(None, None)] * 2
+                     + [(0, None)] * 2 + [(0, None)] * 4, method="highs")
+    x = second.x if second.status == 0 else res.x
     r = x[6]  # both regions at the common radius: the smaller one bounds the tolerance
     return r, x[0:2] + r * Q, x[3:5] + r * Q
 
@@ -351,7 +370,9 @@ def soft_pair_regions(polyhedron: Polyhedron, face1: int, face2: int, mu: float,
     for ring1, ring2 in itertools.product(convex_pieces(f1), convex_pieces(f2)):
         found = (_maximal(f1, f2, ring1, ring2, facets, cone.axis, size, sides)
                  if construction == "maximal" else _nguyen(f1, f2, ring1, ring2, cone))
-        if found is not None and (best is None or found[0] > best[0]):
+        # a later pair of pieces must beat the best by more than a tie (ranked_search.TIE):
+        # pieces of equal regions (an L's two arms) keep the first, wherever the object stands
+        if found is not None and (best is None or found[0] > best[0] * (1 + TIE)):
             best = found
     if best is None:
         return None
