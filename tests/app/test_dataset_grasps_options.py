@@ -7,6 +7,7 @@ fingerprint): the dataset's saved labels must be exactly those.
 """
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -34,10 +35,13 @@ def _labels(out: Path, name: str) -> GraspLabels:
 
 
 def test_options_are_recorded_and_honoured(tmp_path, capsys):
+    import plotly.offline
+
     out, exports = tmp_path / "out", tmp_path / "gn"
-    pictures = tmp_path / "pictures"
+    pictures, pages = tmp_path / "pictures", tmp_path / "pages"
     argv = ["dataset", *OBJECTS, "--out", str(out), *BASE, *OPTIONS,
-            "--export", "graspnet", str(exports), "--plot", str(pictures), "--plot-top", "2"]
+            "--export", "graspnet", str(exports), "--plot", str(pictures), "--plot-top", "2",
+            "--html", str(pages)]
     assert main(argv) == 0
     err = capsys.readouterr().err
     assert "export graspnet: 2 files" in err and "export plot: 2 files" in err
@@ -47,7 +51,7 @@ def test_options_are_recorded_and_honoured(tmp_path, capsys):
     assert job["support_plane"] is True
     assert job["robust"]["samples"] == 3 and job["robust"]["pose_sigma"] == 0.03  # 1 % of 3
     assert job["exports"] == [["graspnet", str(exports)]]
-    assert (job["plot"], job["plot_top"], job["html"]) == (str(pictures), 2, None)
+    assert (job["plot"], job["plot_top"], job["html"]) == (str(pictures), 2, str(pages))
     stamp_job = GripperJob(width=3.0, mu=0.5, count=6)  # the fingerprint does not depend on them
     for name in OBJECTS:
         saved = _labels(out, name)
@@ -71,12 +75,26 @@ def test_options_are_recorded_and_honoured(tmp_path, capsys):
         assert np.allclose(npy[:, 1], saved.width)  # GraspNet's column 1: the width
         png = pictures / (Path(record_name(Path(name))).stem + ".png")
         assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    # the pages: one per object, each under 1 MB, all loading the one plotly.min.js beside
+    # them, the installed plotly's
+    stems = sorted(Path(record_name(Path(name))).stem for name in OBJECTS)
+    assert sorted(p.name for p in pages.iterdir()) == [*(s + ".html" for s in stems),
+                                                       "plotly.min.js"]
+    for stem in stems:
+        page = (pages / (stem + ".html")).read_text(encoding="utf-8")
+        assert len(page.encode("utf-8")) < 1_000_000
+        assert re.findall(r"<script src=\"([^\"]*)\"", page) == ["plotly.min.js"]
+        assert "fc-plotly" not in page  # nothing of plotly.js inlined
+    shared = pages / "plotly.min.js"
+    assert shared.read_text(encoding="utf-8") == plotly.offline.get_plotlyjs()
     # a resumed run must ask for the same options: another tilt is another job
     other = [("0" if a == "0.3" else a) for a in argv]  # --tilt 0
     assert other != argv and main(other) == 2
     assert "tilt 0.3 there, 0.0 here" in capsys.readouterr().err
+    shared.unlink()  # the pages kept from the run before need it: written again
     assert main(argv) == 0  # the same options: resumed, nothing redone
     assert "2 skipped" in capsys.readouterr().out
+    assert shared.read_text(encoding="utf-8") == plotly.offline.get_plotlyjs()
 
 
 def test_a_job_file_from_before_the_options_still_resumes(tmp_path):

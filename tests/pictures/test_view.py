@@ -4,6 +4,7 @@ in headless Chromium, that the object is really drawn."""
 from __future__ import annotations
 
 import gzip
+import json
 import os
 import shutil
 import subprocess
@@ -18,10 +19,10 @@ import trimesh
 
 from forceclosure import ParallelJaw, load_object
 from forceclosure.app.cli import main
-from forceclosure.errors import InputError
+from forceclosure.errors import InputError, OutputError
 from forceclosure.gripper.labels import grasp_labels
 from forceclosure.objects import bundled
-from forceclosure.pictures.page import _packed, small_page
+from forceclosure.pictures.page import PLOTLY_JS, _packed, small_page, write_plotly_js
 from forceclosure.pictures.view import (
     PAGE_TRIANGLES,
     grasps_figure,
@@ -418,3 +419,92 @@ def test_grasps_page_of_the_duck_reads_right(tmp_path, capsys):
     assert max(flat, key=flat.get) == (1, -1)
     camera = layout["scene"]["camera"]
     assert [camera["up"][k] for k in "xyz"] == [0, 1, 0]
+
+
+# -- pages sharing one plotly.js beside them (issue 24: pages under 1 MB) ------------------
+
+def _installed_plotly_js() -> bytes:
+    import plotly.offline
+
+    return plotly.offline.get_plotlyjs().encode("utf-8")
+
+
+def test_a_shared_page_loads_plotly_js_beside_it_and_draws_the_same_figure(tmp_path):
+    """The shared page names plotly.min.js in one ``<script src>``, inlines nothing of
+    plotly.js, and hands ``Plotly.newPlot`` the very traces and layout of the self-contained
+    page; names that are no relative file are refused in one line."""
+    labels = grasp_labels("cube", ParallelJaw(3.0), 0.3, 4, least_friction=False)
+    fig = grasps_figure("cube", labels, top=2)
+    whole, shared = tmp_path / "whole.html", tmp_path / "shared.html"
+    whole.write_text(small_page(fig, "cube"), encoding="utf-8")
+    shared.write_text(small_page(fig, "cube", plotly_js=PLOTLY_JS), encoding="utf-8")
+    text = shared.read_text(encoding="utf-8")
+    assert text.count("<script src=") == 1 and '<script src="plotly.min.js"></script>' in text
+    assert "fc-plotly" not in text and "DecompressionStream" not in text
+    assert shared.stat().st_size < 100_000 < 1_000_000 < whole.stat().st_size
+    # the figure, read back from both pages, is the same
+    (data_w, layout_w), (data_s, layout_s) = _page_figure(whole), _page_figure(shared)
+    assert repr(data_w) == repr(data_s) and repr(layout_w) == repr(layout_s)
+    assert "<script src=" not in whole.read_text(encoding="utf-8")  # the default: one file
+    for bad in ("/tmp/plotly.min.js", "https://cdn.plot.ly/plotly.min.js", "", "C:plotly.js",
+                "js\\plotly.min.js", "js/"):
+        with pytest.raises(InputError, match="relative to the page"):
+            small_page(fig, plotly_js=bad)
+
+
+def test_plotly_js_is_written_once_and_is_the_installed_plotlys(tmp_path):
+    installed = _installed_plotly_js()
+    path = write_plotly_js(tmp_path)
+    assert path == tmp_path / PLOTLY_JS and path.read_bytes() == installed
+    before = path.stat()
+    assert write_plotly_js(tmp_path) == path  # the same content: left as it is
+    after = path.stat()
+    assert (after.st_ino, after.st_mtime_ns) == (before.st_ino, before.st_mtime_ns)
+    path.write_bytes(installed[:-1] + b" ")  # another plotly.js of the same size: replaced
+    write_plotly_js(tmp_path)
+    assert path.read_bytes() == installed
+    assert sorted(p.name for p in tmp_path.iterdir()) == [PLOTLY_JS]  # no temporary left
+    with pytest.raises(OutputError, match="cannot write"):
+        write_plotly_js(tmp_path / "missing")
+
+
+def test_cli_grasps_html_shared(tmp_path, capsys):
+    """``grasps --html P --html-shared``: a page under 1 MB and plotly.min.js beside it,
+    the installed plotly's; without the flag one self-contained page and nothing beside it;
+    the flag alone is refused in one line."""
+    shared, whole = tmp_path / "shared", tmp_path / "whole"
+    shared.mkdir()
+    whole.mkdir()
+    base = ["grasps", "cube", "--width", "3", "--mu", "0.5", "--count", "4", "--seed", "1"]
+    assert main([*base, "--html", str(shared / "cube.html"), "--html-shared", "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["html_plotly_js"] == str(shared / PLOTLY_JS)
+    assert sorted(p.name for p in shared.iterdir()) == ["cube.html", PLOTLY_JS]
+    assert (shared / PLOTLY_JS).read_bytes() == _installed_plotly_js()
+    page = (shared / "cube.html").read_text(encoding="utf-8")
+    assert '<script src="plotly.min.js"></script>' in page and len(page) < 1_000_000
+    assert main([*base, "--html", str(whole / "cube.html")]) == 0
+    assert "loads" not in capsys.readouterr().out
+    assert [p.name for p in whole.iterdir()] == ["cube.html"]
+    assert (whole / "cube.html").stat().st_size > len(_packed())
+    assert main([*base, "--html-shared"]) == 2
+    err = capsys.readouterr().err
+    assert "--html-shared" in err and err.count("\n") == 1
+
+
+@pytest.mark.long  # two browser runs, about 4 s of wall time each: in the long profile
+@pytest.mark.skipif(CHROMIUM is None and not os.environ.get("FORCECLOSURE_REQUIRE_BROWSER"),
+                    reason="Debian's chromium is not installed (.ci/run installs it)")
+def test_chromium_draws_a_shared_page(tmp_path):
+    """A ``shared_js`` page opened from file:// in a real browser loads plotly.min.js beside
+    it and draws the cube; the same page with plotly.min.js gone draws nothing (the check can
+    fail)."""
+    assert CHROMIUM is not None, "FORCECLOSURE_REQUIRE_BROWSER is set but chromium is missing"
+    labels = grasp_labels("cube", ParallelJaw(3.0), 0.3, 4, least_friction=False)
+    page = tmp_path / "cube.html"
+    write_grasps_html("cube", labels, page, top=2, shared_js=True)
+    assert page.stat().st_size < 1_000_000
+    drawn = _object_pixels(_screenshot(page, tmp_path / "shown.png"))
+    assert drawn > 0.015, "the shared page draws no object"
+    (tmp_path / PLOTLY_JS).unlink()
+    assert _object_pixels(_screenshot(page, tmp_path / "gone.png")) < drawn / 3

@@ -943,6 +943,8 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     gripper = _gripper_of(args)
     if robust is not None and robust["pose_sigma"] is None:
         robust["pose_sigma"] = 0.01 * gripper.width_max
+    if args.html_shared and not args.html:
+        raise InputError("--html-shared is a way to write the --html page: give --html too")
     if args.html:
         from ..io.atomic import check_output
 
@@ -953,6 +955,14 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
         if args.html in [args.out, args.plot, *(path for _, path in args.export)]:
             raise InputError("--html, --export, --out and --plot: each needs its own file")
         check_output(args.html, inputs=[args.object])
+        if args.html_shared:
+            from ..pictures.page import PLOTLY_JS
+
+            beside = _shared_js(args.html)
+            if beside in [args.out, args.plot, *(path for _, path in args.export)]:
+                raise InputError(f"--html-shared writes {PLOTLY_JS} beside the page: --out, "
+                                 "--plot and --export need other files")
+            check_output(beside, inputs=[args.object])
     if args.out:
         from ..io.atomic import check_output
 
@@ -1020,7 +1030,8 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     if args.html:
         from ..pictures.view import write_grasps_html
 
-        write_grasps_html(obj, labels, args.html, top=args.plot_top, gripper=gripper, up=up)
+        write_grasps_html(obj, labels, args.html, top=args.plot_top, gripper=gripper, up=up,
+                          shared_js=args.html_shared)
     counts = labels.counts()
     mu_star = (float(np.median(labels.least_friction))
                if len(labels) and not args.no_least_friction else math.nan)
@@ -1035,6 +1046,7 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
                **_collision_summary(labels),
                "exports": [{"kind": kind, "file": path} for kind, path in args.export],
                "plot": args.plot, "html": args.html,
+               "html_plotly_js": _shared_js(args.html) if args.html_shared else None,
                "approaches": labels.meta["approaches"], "depths": labels.meta["depths"],
                "hand_poses_tried": labels.meta["tried"],
                "support_plane": None if support is None else support.to_dict(),
@@ -1114,8 +1126,16 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
         print(f"  picture of the {min(args.plot_top, len(labels))} best: {printable(args.plot)}")
     if args.html:
         print(f"  interactive view of the {min(args.plot_top, len(labels))} best: "
-              f"{printable(args.html)}")
+              f"{printable(args.html)}"
+              + (f" (loads {printable(_shared_js(args.html))})" if args.html_shared else ""))
     return 0
+
+
+def _shared_js(page: str) -> str:
+    """The plotly.js file a ``--html-shared`` page loads: beside it."""
+    from ..pictures.page import PLOTLY_JS
+
+    return os.path.join(os.path.dirname(page), PLOTLY_JS)
 
 
 def _check_exports(args: argparse.Namespace) -> None:
@@ -1468,6 +1488,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="save an interactive view (.html, self-contained, works offline, "
                         "about 2 MB) of the object and its best jaw poses, coloured by "
                         "label, one highlighted at a time")
+    g.add_argument("--html-shared", action="store_true",
+                   help="with --html: write plotly.js once beside the page (plotly.min.js, "
+                        "4.8 MB) and a small page that loads it (its figure only, tens of kB; "
+                        "keep the two together), for folders of many pages")
     # grasp-matrix metrics, the task wrench, skipping epsilon (issue 17; docs/gripper.md)
     g.add_argument("--metrics", action="store_true",
                    help="also the grasp-matrix metrics of every grasp: smallest and largest "

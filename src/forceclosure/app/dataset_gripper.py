@@ -625,8 +625,10 @@ def write_pictures(out: str | Path, records: Iterable[dict[str, Any]], job: Grip
                    keep: bool = True) -> dict[str, Any]:
     """Each done record's ``job.plot_top`` best poses as ``job.plot/<stem>.png`` and
     ``job.html/<stem>.html`` (those ``grasps --plot`` and ``--html`` draw; a file at least as
-    new as its labels file is kept, unless ``keep`` is False). Returns the files per kind and
-    the objects that could not be drawn, also added to ``out/exports.json``."""
+    new as its labels file is kept, unless ``keep`` is False). The pages share one
+    ``job.html/plotly.min.js`` (``grasps --html-shared``'s: each page its figure only).
+    Returns the files per kind and the objects that could not be drawn, also added to
+    ``out/exports.json``."""
     import json
 
     from ..gripper.labels import GraspLabels
@@ -642,6 +644,10 @@ def write_pictures(out: str | Path, records: Iterable[dict[str, Any]], job: Grip
     gripper = job.gripper()
     done = sorted((r for r in records if r.get("status") == "done"
                    and isinstance(r.get("labels_file"), str)), key=lambda r: r["labels_file"])
+    if job.html and done:  # the pages kept from a run before load it too
+        from ..pictures.page import write_plotly_js
+
+        write_plotly_js(Path(job.html))
     for record in done:
         labels_file = out / "objects" / Path(record["labels_file"]).name
         targets = [(k, folder / (labels_file.stem + (".png" if k == "plot" else ".html")))
@@ -668,7 +674,7 @@ def write_pictures(out: str | Path, records: Iterable[dict[str, Any]], job: Grip
                     from ..pictures.view import write_grasps_html
 
                     write_grasps_html(obj, labels, target, top=job.plot_top, gripper=gripper,
-                                      up=up)
+                                      up=up, shared_js=True)
                 report["files"][kind] += 1
         except (InputError, OSError) as e:
             report["errors"].append(f"pictures of {labels_file.stem}: "

@@ -96,7 +96,8 @@ def add_grasps_options(parser: Any) -> None:
                         "FOLDER/<object>.png (grasps --plot's), after every run")
     p.add_argument("--html", metavar="FOLDER",
                    help="with --gripper: also an interactive view of each object's best jaw "
-                        "poses, FOLDER/<object>.html (grasps --html's)")
+                        "poses, FOLDER/<object>.html (grasps --html-shared's: each page small, "
+                        "all loading one FOLDER/plotly.min.js; keep them together)")
     p.add_argument("--plot-top", type=int, metavar="K",
                    help="how many of the best poses the pictures and pages draw (default 10)")
 

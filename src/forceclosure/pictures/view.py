@@ -1,7 +1,8 @@
 """Interactive views: independent regions in a web page that works offline.
 
-:func:`write_html` saves one self-contained HTML file (plotly.js's 3-D bundle
-embedded, compressed, :mod:`forceclosure.pictures.page`; nothing is fetched) that a
+:func:`write_html` saves one self-contained HTML file (plotly.js embedded,
+compressed, :mod:`forceclosure.pictures.page`; nothing is fetched; or, with
+``shared_js``, a small page loading ``plotly.min.js`` written beside it) that a
 browser can turn, zoom and hover: the object, each finger's region of contact in its
 own colour, and at every region the cone of forces its finger can push with (the
 friction cone, drawn on the finger's side of the surface; a frictionless finger's single
@@ -329,8 +330,8 @@ def planar_figure(found: Sequence[RegionSet], title: str | None = None) -> go.Fi
 
 
 def write_html(found: Sequence[RegionSet], path: str | Path, title: str | None = None, *,
-               up: str = "z") -> Path:
-    """Save region sets as one self-contained, offline HTML page.
+               up: str = "z", shared_js: bool = False) -> Path:
+    """Save region sets as one offline HTML page, self-contained unless ``shared_js``.
 
     Chooses by the data, the dimension of the object the regions are on
     (``found[0].object.dim``), as :func:`forceclosure.pictures.plot.plot_found`.
@@ -342,11 +343,15 @@ def write_html(found: Sequence[RegionSet], path: str | Path, title: str | None =
         polygon, vertex grasps among them anywhere (:func:`planar_figure`),
         best first.
     path : str or Path
-        Where to write the page, atomically (plotly.js's 3-D bundle is inlined,
-        compressed: :func:`forceclosure.pictures.page.small_page`, about 750 kB).
+        Where to write the page, atomically (plotly.js is inlined, compressed:
+        :func:`forceclosure.pictures.page.small_page`, about 2 MB).
     title : str, optional
     up : {"x", "y", "z"}
         The axis held upright on a polyhedron (:func:`forceclosure.pictures.plot.upright_axis`).
+    shared_js : bool
+        Write the installed plotly's plotly.js beside the page as ``plotly.min.js`` (once:
+        :func:`forceclosure.pictures.page.write_plotly_js`) and a small page that loads it
+        (its figure only, tens of kB); the two must stay together.
 
     Returns
     -------
@@ -369,9 +374,8 @@ def write_html(found: Sequence[RegionSet], path: str | Path, title: str | None =
     fig = (spatial_figure(found, title, up=up) if obj.dim == 3
            else planar_figure(found, title))
     from ..io.atomic import atomic_write
-    from .page import small_page
 
-    page = small_page(fig, title=fig.layout.title.text or obj.name)
+    page = _page(fig, fig.layout.title.text or obj.name, path, shared_js)
     try:
         with atomic_write(str(path)) as f:
             f.write(page.encode("utf-8"))
@@ -523,6 +527,17 @@ def grasps_figure(obj, labels, top: int = 10, gripper=None, title: str | None = 
     return fig
 
 
+def _page(fig, title: str, path: Path, shared_js: bool) -> str:
+    """The page's HTML: self-contained, or (``shared_js``) loading ``plotly.min.js``, written
+    beside ``path`` first, so that no page names a file that is not there."""
+    from .page import PLOTLY_JS, small_page, write_plotly_js
+
+    if not shared_js:
+        return small_page(fig, title=title)
+    write_plotly_js(Path(path).parent)
+    return small_page(fig, title=title, plotly_js=PLOTLY_JS)
+
+
 def check_html_path(path: str | Path) -> None:
     """Refuse a page file that is not ``.html`` (or ``.htm``), before any work."""
     if Path(path).suffix.lower() not in (".html", ".htm"):
@@ -530,12 +545,17 @@ def check_html_path(path: str | Path) -> None:
 
 
 def write_grasps_html(obj, labels, path: str | Path, top: int = 10, gripper=None,
-                      title: str | None = None, *, up: str = "z") -> list[int]:
+                      title: str | None = None, *, up: str = "z",
+                      shared_js: bool = False) -> list[int]:
     """Save the object and its ``top`` best labelled jaw poses (:func:`grasps_figure`) as one
     self-contained, offline HTML page (:func:`forceclosure.pictures.page.small_page`:
     plotly.js inlined, compressed; about 2 MB), atomically, with ``up``
     upright (:func:`forceclosure.pictures.plot.upright_axis`). Returns the indices of the
     poses drawn.
+
+    With ``shared_js``, the installed plotly's plotly.js is written beside the page as
+    ``plotly.min.js`` (once: :func:`forceclosure.pictures.page.write_plotly_js`) and the page
+    loads it: a page of the figure only (tens of kB), for folders of many pages.
 
     Examples
     --------
@@ -549,11 +569,10 @@ def write_grasps_html(obj, labels, path: str | Path, top: int = 10, gripper=None
     """
     from ..io.atomic import atomic_write
     from .grasp_plot import best_grasps
-    from .page import small_page
 
     check_html_path(path)
     fig = grasps_figure(obj, labels, top, gripper, title, up=up)
-    page = small_page(fig, title=fig.layout.title.text or "grasps")
+    page = _page(fig, fig.layout.title.text or "grasps", Path(path), shared_js)
     with atomic_write(str(path)) as f:
         f.write(page.encode("utf-8"))
     return best_grasps(labels, top).tolist()
