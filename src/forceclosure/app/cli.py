@@ -1233,7 +1233,8 @@ def _synthesis_options(p: argparse.ArgumentParser) -> None:
                    help="a name in the table of constructions (forceclosure constructions): "
                         "maximal regions (an exact LP), the paper's two-sided cone "
                         "constructions (nguyen: §5.1, §5.2, §5.4), a soft finger on a vertex "
-                        "(vertices: polygons), regions grown on the mesh (mesh: polyhedra)")
+                        "(vertices: polygons), segments grown around sampled grasps (grown: "
+                        "polygons, any hand), regions grown on the mesh (mesh: polyhedra)")
     p.add_argument("--method", choices=("auto", "faces", "mesh"), default="auto",
                    help="polyhedra: the paper's constructions on faces (two soft, three hard, "
                         "seven frictionless fingers), or regions grown over a mesh around "

@@ -23,7 +23,7 @@ from ..objects import Polygon, Polyhedron
 from .construction import Construction, Hand
 from .ranked_search import search
 from .regions import MARGIN, RegionSet, check_margin, narrowed
-from .table import DEFAULT, construction_for, constructions, names, served
+from .table import DEFAULT, construction_for, constructions, names
 
 __all__ = ["CONTACTS", "MAX_FINGERS", "RESOLUTION", "SIZES", "Synthesis", "check_hand",
            "check_resolution", "default_fingers", "default_fingers_reason", "synthesize"]
@@ -118,8 +118,8 @@ about the line between them'
     return f"{n} {contact} fingers, the fewest that can hold a polyhedron: {why}"
 
 
-#: Most fingers of a hand synthesis serves (on polygons beyond the paper's hands, and in
-#: space beyond them too, regions grown around sampled prototypes).
+#: Most fingers of a hand synthesis serves (beyond the paper's hands: segments grown around
+#: sampled prototypes on polygons, the mesh method in space).
 #: The paper's hands are 2 soft, 3 hard and 7 frictionless; the mesh method takes any, its
 #: time growing steeply with them (measured on a shared 2-core machine, the cube with soft
 #: fingers and the default 20,000 samples, the whole command: 3 in 12 s, 4 in 20 s, 6 in
@@ -167,12 +167,6 @@ least 3 hard fingers (two cannot resist rotation about the line between them)
     table = constructions()
     if dim == 2:
         hard = "frictionless" if frictionless else "hard"  # a soft finger acts as a hard one
-        if not served(2, fingers, hard):
-            hands = sorted({(c.fingers, c.contact) for c in table if c.dim == 2
-                            and c.fingers is not None})
-            raise InputError(f"fingers={fingers}, contact={hard!r}: on a polygon the "
-                             f"constructions are for {_hands(hands)} fingers (the plane "
-                             "needs four without friction)")
         if not isinstance(fingers, int | np.integer) or isinstance(fingers, bool):
             raise InputError(f"fingers must be a whole number, got {fingers!r}")
         if fingers > MAX_FINGERS:

@@ -35,9 +35,11 @@ a bad ``t_i``, together they make a bad grasp). Then:
   slope ``a_3 cross(d, f)`` (``cross(d, f+-) = cross(d, -n)``: the tangent parts are
   parallel to the edge ``d``), so ``h_i`` is affine and positive on the segment iff at its
   two ends;
-* a frictionless finger pushes along any direction ``f(s)`` of the fan within the margin
-  of its normal, every one of which must work: ``a . (f(s), p(t) x f(s))`` is bilinear in
-  ``(t, s)``, so its least value over the box is at one of its four corners.
+* a frictionless finger pushes along any direction of the fan within the margin of its
+  normal, every one of which must work; the fan's directions are those of
+  ``f(s) = (1 - s) f- + s f+`` for ``s`` in ``[0, 1]`` (its two ends, a force's size does
+  not matter), so ``a . (f(s), p(t) x f(s))`` is bilinear in ``(t, s)`` and its least
+  value over the box is at one of its four corners.
 
 So the regions are force-closure everywhere iff they are at every combination of segment
 ends (and fan ends): ``2^n`` (``4^n`` frictionless with a margin) grasps. They are not
@@ -116,7 +118,9 @@ def _forces(inward: list, mu: float, turn: float) -> list[list[list]]:
         return [[[m + s * c * p for m, p in zip(inward, q, strict=True)] for s in (1, -1)]]
     if turn <= 0:
         return [[list(inward)]]
-    cos, sin = Fraction(math.cos(turn)), Fraction(math.sin(turn))
+    # rounded outward, so the rational fan is at least as wide as ``turn``
+    cos = Fraction(math.nextafter(math.cos(turn), 0.0))
+    sin = Fraction(math.nextafter(math.sin(turn), math.inf))
     return [[[cos * m + s * sin * p for m, p in zip(inward, q, strict=True)]] for s in (1, -1)]
 
 
@@ -196,7 +200,8 @@ def corner_closure(options: list[list[list[list[Fraction]]]]) -> tuple[bool, int
     D = X @ W.T  # (pairs, wrenches): det(w_p, w_q, w_l)
     bound = Xb @ np.abs(W).T
     own = (np.arange(m)[None] == J[:, None]) | (np.arange(m)[None] == K[:, None])
-    sure = (np.abs(D) > SURE * bound) | own  # a pair's own two are exactly zero
+    D[own] = 0.0  # a pair's own two are exactly zero (floats give them a sign of rounding)
+    sure = (np.abs(D) > SURE * bound) | own
     nonzero = (np.abs(X) > SURE * Xb).any(axis=1)
     undecided = np.zeros(len(J), bool)
     for sign in (1.0, -1.0):
