@@ -246,6 +246,29 @@ def test_killed_run_resumes(reference, tmp_path):
     assert len(_records(out)) == 12
 
 
+def test_a_time_limit_inside_compiled_code_is_a_timeout(monkeypatch):
+    """The limit landing inside a numba dispatcher's own C code comes out as CPython's
+    ``SystemError: ... returned a result with an exception set``, caused by the
+    ObjectTimeout (seen on the pool with the compiled pad kernels): the record says
+    'timeout', as for the limit anywhere else, not 'internal error'."""
+    from forceclosure.app import dataset
+
+    def compiled_call(obj, job):
+        try:
+            raise ObjectTimeout
+        except ObjectTimeout as limit:
+            raise SystemError("CPUDispatcher(<function line_pairs>) returned a result with "
+                              "an exception set") from limit
+
+    monkeypatch.setattr(dataset, "_synthesize", compiled_call)
+    record = process_object("cube", Job(mu=0.5, top=1, timeout=60))
+    assert record["status"] == "timeout" and "time limit of 60 s" in record["error"]
+    monkeypatch.setattr(dataset, "_synthesize", lambda obj, job: 1 / 0)
+    record = process_object("cube", Job(mu=0.5, top=1, timeout=60))
+    assert record["status"] == "failed" and "internal error: ZeroDivisionError" in \
+        record["error"]
+
+
 def test_time_limit(tmp_path):
     """Over the limit: recorded as 'timeout', in the main thread (signal) and in another
     thread (as on a Dask worker); the run goes on. No clock decides the test: the work timed

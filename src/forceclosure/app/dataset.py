@@ -457,6 +457,19 @@ def deadline(seconds: float | None) -> Iterator[None]:
         ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(ident), None)
 
 
+def _timed_out(error: BaseException) -> bool:
+    """Whether ``error`` is the time limit, or carries it: a limit landing inside a call
+    into compiled code (a numba kernel's dispatcher) comes out of it as ``SystemError: ...
+    returned a result with an exception set``, the :class:`ObjectTimeout` its cause."""
+    seen: set[int] = set()
+    while error is not None and id(error) not in seen:
+        if isinstance(error, ObjectTimeout):
+            return True
+        seen.add(id(error))
+        error = error.__cause__ or error.__context__
+    return False
+
+
 def _describe(obj) -> dict[str, Any]:
     # units: the file's own (an SVG's mm, a GeoJSON's "units"), None where it states none
     # (every mesh): the lengths and areas of the record are in them
@@ -634,15 +647,16 @@ def process_object(path: str | Path, job: Job) -> dict[str, Any]:
                               else _analyze(obj, path, job))
     except InputError as e:
         record.update(status="failed", error=str(e))
-    except ObjectTimeout:
-        record.update(status="timeout", error=f"{path.name}: over the time limit of "
-                                              f"{job.timeout:g} s")
     except MemoryError:
         record.update(status="failed", error=f"{path.name}: out of memory")
-    except Exception as e:  # an internal error: one line, and the run goes on
-        first = str(e).splitlines()[0] if str(e) else ""
-        record.update(status="failed", error=f"{path.name}: internal error: "
-                                             f"{type(e).__name__}: {first}")
+    except (ObjectTimeout, Exception) as e:
+        if _timed_out(e):
+            record.update(status="timeout", error=f"{path.name}: over the time limit of "
+                                                  f"{job.timeout:g} s")
+        else:  # an internal error: one line, and the run goes on
+            first = str(e).splitlines()[0] if str(e) else ""
+            record.update(status="failed", error=f"{path.name}: internal error: "
+                                                 f"{type(e).__name__}: {first}")
     record["seconds"] = time.perf_counter() - start
     return record
 
