@@ -561,10 +561,11 @@ def primitive_wrenches(points: NDArray[np.float64], normals: NDArray[np.float64]
     wrenches = np.concatenate([forces, moments], axis=-1)  # (N, g, D)
     if model == "soft":
         tors = None if torsion is None else np.asarray(torsion, dtype=float)
-        coupled = tors is not None and not np.all(np.isnan(tors))
-        if d == 2 and coupled:
-            # A planar soft finger: a hard finger over the segment p ± torsion t.
+        gamma = None  # the coupled torsion, (N, 1, 1), when any grasp has one
+        if tors is not None and not np.all(np.isnan(tors)):
             gamma = np.nan_to_num(tors)[:, None, None]
+        if d == 2 and gamma is not None:
+            # A planar soft finger: a hard finger over the segment p ± torsion t.
             tangent = np.stack([-normals[:, 1], normals[:, 0]], axis=-1)[:, None, :]
             shifted = [
                 np.concatenate([forces, _cross(np.broadcast_to(arm + s * gamma * tangent,
@@ -573,8 +574,7 @@ def primitive_wrenches(points: NDArray[np.float64], normals: NDArray[np.float64]
                 for s in (1.0, -1.0)
             ]
             wrenches = np.concatenate(shifted, axis=1)
-        elif d == 3 and coupled:
-            gamma = np.nan_to_num(tors)[:, None, None]
+        elif d == 3 and gamma is not None:
             spin = np.broadcast_to(gamma * normals[:, None, :] / lever, forces.shape)
             twist = np.concatenate([np.zeros_like(forces), spin], axis=-1)
             wrenches = np.concatenate([wrenches + twist, wrenches - twist], axis=1)
@@ -613,10 +613,10 @@ def half_space_wrenches(point: NDArray[np.float64], normal: NDArray[np.float64],
         tangents = [t1[0], t2[0]]
     forces = np.array([-normal] + [s * t for t in tangents for s in (1.0, -1.0)])
     arm = point - reference
-    coupled = model == "soft" and torsion is not None
-    if d == 2 and coupled:
+    gamma = torsion if model == "soft" else None  # the coupled torsion, if any
+    if d == 2 and gamma is not None:
         tangent = tangents[0]
-        arms = [arm + torsion * tangent, arm - torsion * tangent]
+        arms = [arm + gamma * tangent, arm - gamma * tangent]
     else:
         arms = [arm]
     columns = []
@@ -624,8 +624,8 @@ def half_space_wrenches(point: NDArray[np.float64], normal: NDArray[np.float64],
         moments = _cross(np.broadcast_to(a, forces.shape), forces) / scale
         columns.append(np.concatenate([forces, moments], axis=1))
     W = np.concatenate(columns, axis=0)
-    if d == 3 and coupled:
-        spin = np.concatenate([np.zeros(3), torsion * normal / scale])
+    if d == 3 and gamma is not None:
+        spin = np.concatenate([np.zeros(3), gamma * normal / scale])
         W = np.concatenate([W[:1] + spin, W[:1] - spin, W[1:]], axis=0)
     elif d == 3 and model == "soft":
         W = np.concatenate([W, [np.concatenate([np.zeros(3), normal]),

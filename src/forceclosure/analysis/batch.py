@@ -15,6 +15,7 @@ is faster still.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -41,7 +42,7 @@ __all__ = ["CHUNK", "BatchAnalysis", "Engine", "analyze_batch", "epsilon_batch",
 
 def epsilon_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
                   model: str | Sequence[str] = "hard", torsion: ArrayLike | None = None,
-                  norm: str = "L1", edges: int = 8, tol: float = TOLERANCE,
+                  norm: Literal["L1", "Linf"] = "L1", edges: int = 8, tol: float = TOLERANCE,
                   engine: Engine = "compiled",
                   progress: Callable[[int], object] | None = None,
                   orientation: Orientation = "grasp") -> NDArray[np.float64]:
@@ -97,9 +98,9 @@ def epsilon_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
     n, k, d = grasps.points.shape
     out = np.zeros(n)
     reference = engine == "reference" or norm == "Linf"
-    if reference:
+    if reference or n == 0:
         todo = np.arange(n)
-    elif n:
+    else:
         from ..kernels import announce_compiling, kernel_array, pool_for, theorem1
         from ..kernels.quality import epsilon_kernel
 
@@ -119,8 +120,6 @@ def epsilon_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
             if progress is not None:
                 progress(part.stop - part.start)
         todo = np.flatnonzero(deferred | extreme)
-    else:
-        todo = ()
     for g in todo:
         out[g] = epsilon(grasps.contacts(g), norm, edges=cone.edges, tol=tol,
                          orientation=orientation).value

@@ -27,12 +27,21 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Literal
+from typing import Literal, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..contacts import MAX_CONTACTS, MAX_COORDINATE, MODELS, Cone, Contact, fixed_cone, unit_rows
+from ..contacts import (
+    MAX_CONTACTS,
+    MAX_COORDINATE,
+    MODELS,
+    Cone,
+    Contact,
+    Model,
+    fixed_cone,
+    unit_rows,
+)
 from ..errors import InputError
 from ..verdicts import VerdictCode, verdict_words
 from .closure import (
@@ -102,9 +111,9 @@ class _Grasps:
     normals: NDArray[np.float64]
     mu: NDArray[np.float64]
     torsion: NDArray[np.float64]
-    models: list[str]
+    models: list[Model]
 
-    def contacts(self, g: int, mu: float | None = None) -> list[Contact]:
+    def contacts(self, g: int | np.integer, mu: float | None = None) -> list[Contact]:
         """Grasp ``g`` as contacts for the reference path (with all friction ``mu``, if given)."""
         return [Contact(self.points[g, i][None], self.normals[g, i][None], self.models[i],
                         float(np.nan_to_num(self.mu[g, i] if mu is None else mu)),
@@ -173,7 +182,8 @@ def _validate(points: ArrayLike, normals: ArrayLike, mu: ArrayLike,
     if len(models) != k or any(m not in MODELS for m in models):
         raise InputError(f"model must be one of {', '.join(MODELS)}, or a list of {k} of them")
     grasps = _Grasps(P, unit, _per_contact(mu, (n, k), "mu"),
-                     _per_contact(torsion, (n, k), "torsion"), models)
+                     _per_contact(torsion, (n, k), "torsion"),
+                     cast(list[Model], models))  # each one of MODELS, checked above
     if not np.all(np.isnan(grasps.torsion)):
         _check_torsion(grasps)
     return grasps

@@ -273,6 +273,7 @@ def vector_closure(W: ArrayLike, tol: float = TOLERANCE,
     pairs = (np.zeros(W.shape[1], bool) if two_sided is None
              else np.asarray(two_sided, bool))[keep]
     m = U.shape[1]
+    t: NDArray[np.float64]
     if m == 0:
         t = np.zeros(d)
         t[0] = 1.0
@@ -282,7 +283,7 @@ def vector_closure(W: ArrayLike, tol: float = TOLERANCE,
     rank = int(np.sum(sv > max(d, m) * np.finfo(float).eps * sv[0]))
     ratio = float(sv[d - 1] / sv[0]) if m >= d else 0.0
     if m == d and rank == d:  # the counting fact, answered before any LP
-        t = np.linalg.solve(U.T, np.ones(d))  # every vector does work 1 on t
+        t = np.linalg.solve(U.T, np.ones(d)).astype(float)  # every vector does work 1 on t
         t /= np.max(np.abs(t))
         return VectorClosure(Verdict.NONE, rank, ratio, None, None, t, float(np.min(U.T @ t)),
                              f"only {m} vectors; at least {d + 1} are needed")
@@ -298,7 +299,7 @@ def vector_closure(W: ArrayLike, tol: float = TOLERANCE,
     s, lam = _balance(U)
     margin = None if s is None else m * s
 
-    if ratio > tol and margin is not None and margin > tol:
+    if ratio > tol and margin is not None and lam is not None and margin > tol:
         lam_c = _certify(U, lam)
         if lam_c is not None:
             weights = np.zeros(W.shape[1])
@@ -348,6 +349,7 @@ def _modulo_lineality(W: NDArray[np.float64], U: NDArray[np.float64],
                             np.full(R.shape[1], 1.0 / max(R.shape[1], 1)), None, -1.0, "")
     if sub.verdict is Verdict.CLOSURE:
         w_r = sub.weights
+        assert w_r is not None  # a closure carries its weights
         c = np.linalg.lstsq(P, -(R @ w_r), rcond=None)[0]
         w_p = c + max(0.0, -float(c.min())) + 1.0 / P.shape[1]
         lam = np.zeros(U.shape[1])
@@ -794,6 +796,7 @@ def _analysis(contacts: list[Contact], cone: str | Cone, tol: float,
         fd = tc = True
         d = contacts[0].dim
         forces = np.zeros((len(contacts), d))
+        assert vc.weights is not None  # a closure carries its weights
         np.add.at(forces, ws.contact_index, (ws.wrenches[:d] * vc.weights).T)
     else:
         fd = force_direction_closure(ws.wrenches, tol)
@@ -861,19 +864,19 @@ def _compiled(contacts: list[Contact], cone: str | Cone, tol: float,
         return None  # a first answer now, by the reference path, not after compiling
     N = np.concatenate([c.normals for c in contacts])
     exact = fixed is None
-    edges, fit = (8, 0) if exact else (fixed.edges, int(fixed.fit == "circumscribed"))
+    edges, fit = (8, 0) if fixed is None else (fixed.edges, int(fixed.fit == "circumscribed"))
     friction = np.array([[c.mu for c in contacts],
                          [math.nan if c.torsion is None else c.torsion for c in contacts]])
     model = np.array([_MODEL_CODE[c.model] for c in contacts])
-    code, rank, margin = np.empty(1, np.int8), np.empty(1, np.int64), np.empty(1)
+    codes, ranks, margins = np.empty(1, np.int8), np.empty(1, np.int64), np.empty(1)
     kernel.closure_serial(P[None], N[None], friction[:1], friction[1:], model, edges, fit, exact,
                           float(tol),
                           kernel.columns_per_grasp(len(contacts), P.shape[1],
                                                    256 if exact else edges),
-                          code, rank, margin, np.empty((1, 3 if P.shape[1] == 2 else 6)))
-    code, rank, margin = int(code[0]), rank[0], margin[0]
+                          codes, ranks, margins, np.empty((1, 3 if P.shape[1] == 2 else 6)))
+    code, margin = int(codes[0]), float(margins[0])
     if code == kernel.DEFER:
         return None
-    return (Verdict.of_code(code), int(rank), None if math.isnan(margin) else float(margin))
+    return (Verdict.of_code(code), int(ranks[0]), None if math.isnan(margin) else margin)
 
 

@@ -181,7 +181,7 @@ def grasp_metrics(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
     ref, scale = _frame(P)
     G = grasp_matrix(P, N, grasps.models)
     if n:
-        sv = np.linalg.svd(G, compute_uv=False)
+        sv = np.linalg.svd(G, compute_uv=False).astype(float, copy=False)
         smin = sv[:, -1] if G.shape[2] >= G.shape[1] else np.zeros(n)
         smax = sv[:, 0]
     else:
@@ -190,6 +190,7 @@ def grasp_metrics(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
         iso = np.where(smax > 0, smin / np.where(smax > 0, smax, 1.0), 0.0)
     volume = np.zeros(n)
     if n:
+        tangents: list[tuple[NDArray[np.float64], NDArray[np.float64]] | None]
         tangents = [None] * P.shape[1]
         if P.shape[2] == 3:  # the pyramids oriented by each grasp, as epsilon's
             frames = np.empty((n, P.shape[1], 2, 3))

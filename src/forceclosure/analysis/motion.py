@@ -91,8 +91,10 @@ class Motion:
         """
         either = " in either direction" if self.both_ways else ""
         if self.kind == "translation":
+            assert self.direction is not None  # a translation has a direction, no point
             # a negligible rotation (up to TOLERANCE) tilts the direction by as little
             return f"translation{either} along {_fmt(self.direction, TOLERANCE)}"
+        assert self.point is not None  # a rotation or screw has a point on its axis
         if self.direction is None:  # planar rotation
             sense = "counter-clockwise " if self.twist[0] > 0 else "clockwise "
             if self.both_ways:

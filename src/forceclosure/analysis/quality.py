@@ -147,8 +147,8 @@ def epsilon(contacts: Sequence[Contact], norm: Literal["L1", "Linf"] = "L1", *, 
                              f"{LINF_MAX_POINTS}); use fewer cone edges or the L1 norm")
         points = np.zeros((1, W.shape[0]))
         for i in range(len(contacts)):
-            own = np.vstack([np.zeros(W.shape[0]), W[:, ws.contact_index == i].T])
-            points = (points[:, None, :] + own[None, :, :]).reshape(-1, W.shape[0])
+            options = np.vstack([np.zeros(W.shape[0]), W[:, ws.contact_index == i].T])
+            points = (points[:, None, :] + options[None, :, :]).reshape(-1, W.shape[0])
             if len(points) > 4 * W.shape[0] and i < len(contacts) - 1:
                 with contextlib.suppress(QhullError, ValueError):
                     points = points[ConvexHull(points).vertices]

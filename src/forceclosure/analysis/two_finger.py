@@ -75,10 +75,11 @@ class PairClosure(VerdictCodes):
     code: NDArray[np.int8]
     least_friction: NDArray[np.float64]
     _pairs: tuple[NDArray[np.float64], ...] = field(repr=False)
+    #: ``_pairs`` as given, to be conditioned on use (the angles)
+    _raw: bool = field(default=False, repr=False)
 
     def _conditioned_pairs(self) -> tuple[NDArray[np.float64], ...]:
-        pairs = self._pairs
-        return _conditioned(*pairs[:4]) if len(pairs) > 4 else pairs
+        return _conditioned(*self._pairs) if self._raw else self._pairs
 
     @property
     def angle_p(self) -> NDArray[np.float64]:
@@ -165,12 +166,11 @@ def two_finger_closure(p: ArrayLike, n_p: ArrayLike, q: ArrayLike, n_q: ArrayLik
         _check_coordinates(p, q)
         p, n_p, q, n_q = _conditioned(p, n_p, q, n_q)
         code, least = _reference(p, n_p, q, n_q, mu_p, mu_q, model, tol)
-        pairs = (p, n_p, q, n_q)
     else:
         code, least = _compiled(p, n_p, q, n_q, mu_p, mu_q, model, tol, shape)
-        pairs = (p, n_p, q, n_q, None)  # conditioned on use (the angles)
     return PairClosure(np.asarray(code, dtype=np.int8).reshape(shape),
-                       np.asarray(least, dtype=float).reshape(shape), pairs)
+                       np.asarray(least, dtype=float).reshape(shape), (p, n_p, q, n_q),
+                       _raw=engine != "reference")
 
 
 def _check_coordinates(p, q) -> None:
@@ -182,7 +182,8 @@ def _check_coordinates(p, q) -> None:
                                  "large to compute with")
 
 
-def _conditioned(p, n_p, q, n_q):
+def _conditioned(p: NDArray[np.float64], n_p: NDArray[np.float64], q: NDArray[np.float64],
+                 n_q: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
     """Unit normals (without overflow), and pairs with coordinates beyond ``2**64`` divided by
     a power of two (exact; the verdict does not depend on units). Zero, tiny and non-finite
     values are left for the checks that name them."""
@@ -328,8 +329,8 @@ def pair_least_friction(p: NDArray[np.float64], n_p: NDArray[np.float64],
     one = np.ones(1)
     run = kernel.pair_verdict_serial if len(p) < SERIAL_BELOW else kernel.pair_verdict_kernel
     announce_compiling(run)
-    run(*(kernel_array(a) for a in (p, n_p, q, n_q)), one, one, 0.0, False, MAX_COORDINATE,
-        code, least)
+    run(kernel_array(p), kernel_array(n_p), kernel_array(q), kernel_array(n_q), one, one, 0.0,
+        False, MAX_COORDINATE, code, least)
     return least
 
 

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Self
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -47,7 +48,7 @@ class Placement:
     scale: float
 
     @classmethod
-    def of(cls, points: ArrayLike, size: float | None = None) -> Placement:
+    def of(cls, points: ArrayLike, size: float | None = None) -> Self:
         """The placement of an object with these points (or its bounding box's two corners);
         ``size`` defaults to the bounding box's diagonal."""
         pts = np.asarray(points, dtype=float)

@@ -38,12 +38,12 @@ POLYGONS: dict[str, tuple[str, Callable[[], Polygon]]] = {
         [[-2, -2], [2, -2], [2, 2], [-2, 2]], [[[-1, -1], [-1, 1], [1, 1], [1, -1]]],
         name="frame")),
     "wrench-head": ("open-ended spanner head, like the paper's Fig. 1", lambda:
-                    Polygon.from_points([[0, 0], [4, 0], [4, 0.8], [2.6, 1.2], [2.6, 2.2],
-                                         [4, 2.6], [4, 3.4], [0, 3.4], [-1.2, 1.7]],
+                    Polygon.from_points([(0, 0), (4, 0), (4, 0.8), (2.6, 1.2), (2.6, 2.2),
+                                         (4, 2.6), (4, 3.4), (0, 3.4), (-1.2, 1.7)],
                                         name="wrench-head")),
     "bracket": ("T-shaped bracket, like the paper's Fig. 1", lambda: Polygon.from_points(
-        [[-2, 0], [2, 0], [2, 0.6], [0.5, 0.6], [0.5, 2.5], [-0.5, 2.5], [-0.5, 0.6],
-         [-2, 0.6]], name="bracket")),
+        [(-2, 0), (2, 0), (2, 0.6), (0.5, 0.6), (0.5, 2.5), (-0.5, 2.5), (-0.5, 0.6),
+         (-2, 0.6)], name="bracket")),
 }
 
 
@@ -119,7 +119,7 @@ def glyph(text: str, family: str = "DejaVu Sans", size: float = 10.0) -> Polygon
 
     path = TextPath((0, 0), text, size=size, prop=FontProperties(family=family))
     geometry = shapely.Polygon()
-    for ring in path.to_polygons():
+    for ring in map(np.asarray, path.to_polygons()):
         if len(ring) >= 4:
             geometry = geometry.symmetric_difference(shapely.Polygon(ring))
     parts = [g for g in getattr(geometry, "geoms", [geometry]) if g.area > 0]

@@ -263,7 +263,8 @@ class Polygon:
             oriented.append(ring if ccw == (i == 0) else ring[::-1].copy())
         # input edge numbering follows the input order of each ring
         offsets = np.cumsum([0] + [len(r) for r in rings])
-        edges, kept = [], []
+        edges: list[Edge] = []
+        kept: list[NDArray[np.float64]] = []
         for i, (ring, original) in enumerate(zip(oriented, rings, strict=True)):
             flipped = ring is not original
             n = len(ring)

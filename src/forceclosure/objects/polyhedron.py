@@ -209,8 +209,12 @@ def _unique_rows(key: NDArray[np.int64]) -> tuple[NDArray[np.int64], NDArray[np.
     return first, inverse
 
 
-def _merge_vertices(vertices: NDArray, triangles: NDArray, size: float,
-                    warnings: list[str]) -> tuple[NDArray, NDArray]:
+def _merge_vertices(vertices: NDArray[np.float64], triangles: NDArray[np.int64], size: float,
+                    warnings: list[str],
+                    ) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.intp]]:
+    """Vertices rounding to one point of the grid of step ``MERGE_RTOL * size`` merged and
+    unused ones dropped: the kept vertices, the triangles renumbered (those with a repeated
+    vertex dropped), and the input index of each kept triangle."""
     # from the bounding box's corner, so that far-away coordinates cannot overflow the key
     key = np.round((vertices - vertices.min(axis=0)) / (MERGE_RTOL * size)).astype(np.int64)
     first, inverse = _unique_rows(key)

@@ -380,8 +380,8 @@ def _arc(seg: se.Arc, transform: NDArray[np.float64], tol: float | None,
         sweep = -sweep
     cos_sin = np.linalg.solve(np.column_stack([u, v]), s0 - c)
     t0 = math.atan2(cos_sin[1], cos_sin[0])
-    for t, p in ((t0, s0), (t0 + sweep, s1)):
-        if np.linalg.norm(c + u * math.cos(t) + v * math.sin(t) - p) > 1e-6 * scale:
+    for angle, p in ((t0, s0), (t0 + sweep, s1)):
+        if np.linalg.norm(c + u * math.cos(angle) + v * math.sin(angle) - p) > 1e-6 * scale:
             raise InputError(f"{where}: cannot read an arc exactly (its ends are off its "
                              "ellipse)")
     uu, vv, cc = linear @ u, linear @ v, linear @ c + shift
@@ -466,10 +466,10 @@ class _Drawn:
                 if not np.allclose(np.diff(ctrl, 2, axis=0), 0):
                     curved = max(curved or 0.0, turn)
             elif isinstance(seg, se.Arc):
-                points, turn = _arc(seg, transform, tol, where)
+                points, arc_turn = _arc(seg, transform, tol, where)
                 current.append(points)
-                if turn is not None:
-                    curved = max(curved or 0.0, turn)
+                if arc_turn is not None:
+                    curved = max(curved or 0.0, arc_turn)
             else:
                 raise InputError(f"{where}: unknown path segment {type(seg).__name__}")
         finish(False)
@@ -746,10 +746,14 @@ def polygon_from_svg(text: str, name: str = "polygon", part: str | None = None,
             raise InputError(f"{name}: no element with id '{part}'; the ids there are: "
                              + (listed or "none"))
         drawn = picked
-    candidates, refused = [], []
+    candidates: list[tuple[_Drawn, _Candidate]] = []
+    refused: list[tuple[_Drawn, str]] = []  # with the reason
     for shape in drawn:
         found = _candidate(shape, name, tolerance)
-        (candidates if isinstance(found, _Candidate) else refused).append((shape, found))
+        if isinstance(found, _Candidate):
+            candidates.append((shape, found))
+        else:
+            refused.append((shape, found))
     if not candidates:
         if refused:
             shape, why = refused[0]

@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import builtins  # builtins.object in annotations inside classes with an `object` property
 import functools
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import Literal, SupportsInt, overload
 
 import numpy as np
 from numpy.typing import NDArray
@@ -119,17 +122,26 @@ def face_middle(A_ub: NDArray, b_ub: NDArray, bounds: list, x: NDArray, z_index:
     return 0.5 * (ends[0] + ends[1])
 
 
-def check_edges(polygon: Polygon, edges, count: int) -> tuple[int, ...]:
+@overload
+def check_edges(polygon: Polygon, edges: Iterable[SupportsInt],
+                count: Literal[2]) -> tuple[int, int]: ...
+@overload
+def check_edges(polygon: Polygon, edges: Iterable[SupportsInt],
+                count: Literal[3]) -> tuple[int, int, int]: ...
+@overload
+def check_edges(polygon: Polygon, edges: Iterable[SupportsInt],
+                count: Literal[4]) -> tuple[int, int, int, int]: ...
+def check_edges(polygon: Polygon, edges: Iterable[SupportsInt], count: int) -> tuple[int, ...]:
     """``count`` different edge indices of ``polygon``, or one InputError line saying why."""
-    edges = tuple(int(e) for e in edges)
-    if len(edges) != count or len(set(edges)) != count:
+    ids = tuple(int(e) for e in edges)
+    if len(ids) != count or len(set(ids)) != count:
         raise InputError(f"{_COUNT[count]} fingers need {_COUNT[count]} different edges, "
-                         f"got {edges}")
-    for e in edges:
+                         f"got {ids}")
+    for e in ids:
         if not 0 <= e < len(polygon.edges):
             raise InputError(f"{polygon.name}: no edge {e}; edges are numbered 0 to "
                              f"{len(polygon.edges) - 1}")
-    return edges
+    return ids
 
 
 def exact_inward(edge: Edge) -> list[Fraction]:
@@ -258,7 +270,7 @@ class RegionSet:
     def certify(self) -> Certificate:  # pragma: no cover - every subclass defines it
         raise NotImplementedError
 
-    def _common(self) -> dict[str, object]:
+    def _common(self) -> dict[str, builtins.object]:
         """The keys every region set's JSON record has (``to_dict`` adds its own)."""
         cert = self.certify()
         return {"kinds": list(self.kinds), "sizes": list(self.sizes), "min_size": self.min_size,
@@ -336,7 +348,7 @@ class Regions(RegionSet):
                 rays += [(a, a + ray), (b, b + ray)]
         return np.array(rays)
 
-    def to_dict(self) -> dict[str, object]:
+    def to_dict(self) -> dict[str, builtins.object]:
         """The JSON record: edges, segments, points, lengths, construction, certificate, and
         the keys every region set has (``sizes``, ``min_size``, ``relative_min_size``)."""
         return {"edges": list(self.edges), "segments": [list(s) for s in self.segments],

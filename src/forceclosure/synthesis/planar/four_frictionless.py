@@ -196,7 +196,8 @@ class FrictionlessRegions(Regions):
 
 
 
-def _check(polygon: Polygon, edges, margin: float) -> tuple[int, ...]:
+def _check(polygon: Polygon, edges: tuple[int, int, int, int],
+           margin: float) -> tuple[int, int, int, int]:
     check_margin(margin)
     return check_edges(polygon, edges, 4)
 

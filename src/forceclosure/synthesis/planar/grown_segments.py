@@ -149,7 +149,7 @@ def _verdicts(pos: NDArray[np.bool_], nonpos: NDArray[np.bool_], option: NDArray
     fin_non = np.zeros((rows, n_fingers), bool)
     np.logical_and.at(fin_pos.T, owner, opt_pos.T)
     np.logical_or.at(fin_non.T, owner, opt_non.T)
-    return fin_pos.any(axis=1), fin_non.all(axis=1)
+    return np.any(fin_pos, axis=1), np.all(fin_non, axis=1)
 
 
 def corner_closure(options: list[list[list[list[Fraction]]]]) -> tuple[bool, int]:
@@ -307,7 +307,8 @@ def prototypes(polygon: Polygon, hand: Hand) -> list[tuple[tuple[int, ...], tupl
     res = analyze_batch(P, normal[edge], mu=0.0 if frictionless else narrowed(hand.mu, turn),
                         model="frictionless" if frictionless else "hard")
     margin = np.where(res.force_closure, res.margin, -np.inf)
-    out, seen = [], set()
+    out: list[tuple[tuple[int, ...], tuple[float, ...]]] = []
+    seen: set[tuple[int, ...]] = set()
     for g in np.argsort(-margin, kind="stable"):
         if not np.isfinite(margin[g]) or len(out) == PER_TOP * hand.top:
             break
@@ -338,8 +339,8 @@ def grown_regions(polygon: Polygon, edges: tuple[int, ...], ts: tuple[float, ...
         e = polygon.edges[e_index]
         inward = [-float(e.normal[0]), -float(e.normal[1])]
         for opt in _forces(inward, mu, turn):
-            for f in opt:
-                f = np.array([float(v) for v in f])
+            for exact_force in opt:
+                f = np.array([float(v) for v in exact_force])
                 s, d = e.start - ref, e.direction
                 rows.append((i, np.array([f[0], f[1], (s[0] * f[1] - s[1] * f[0]) / scale]),
                              np.array([0.0, 0.0, (d[0] * f[1] - d[1] * f[0]) / scale]), t))

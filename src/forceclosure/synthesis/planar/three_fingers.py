@@ -121,7 +121,7 @@ def _cross(a, b):
 
 def _spans_whatever_the_choice(cones) -> bool:
     """(b): one direction from each cone, any choice, positively spans the plane."""
-    signs = set()
+    signs: set[bool] = set()
     for a, b, c in itertools.product(*cones):
         crosses = (_cross(a, b), _cross(b, c), _cross(c, a))
         if any(x == 0 for x in crosses):
@@ -169,24 +169,24 @@ class ThreeFingerRegions(Regions):
         (b) on the sectors' extreme directions. A pair plus a free finger: the pair's
         corner check (Corollary 3) and the third segment inside its edge."""
         if self.pair is not None:
-            return self._certify_pair()
+            return self._certify_pair(self.pair)
         return self._certify_centre()
 
-    def _certify_pair(self) -> Certificate:
+    def _certify_pair(self, pair: tuple[int, int]) -> Certificate:
         method = "Corollary 3 on a pair (exact rationals), plus a finger"
-        a, b = (self.edges.index(k) for k in self.pair)
+        a, b = (self.edges.index(k) for k in pair)
         (c,) = {0, 1, 2} - {a, b}
         u, v = self.segments[c]
         free = self.polygon.edges[self.edges[c]]
         if not 0 <= u <= v <= free.length:
             return Certificate(False, method, f"the segment on edge {free.index} leaves it")
-        two = IndependentRegions(self.polygon, self.pair, (self.segments[a], self.segments[b]),
+        two = IndependentRegions(self.polygon, pair, (self.segments[a], self.segments[b]),
                                  self.construction, (self.mu, self.mu),
                                  spreading=self.spreading).certify()
         if not two.holds:
-            return Certificate(False, method, f"edges {self.pair}: {two.detail}")
+            return Certificate(False, method, f"edges {pair}: {two.detail}")
         return Certificate(True, method,
-                           f"edges {self.pair[0]} and {self.pair[1]}: {two.detail}; the finger "
+                           f"edges {pair[0]} and {pair[1]}: {two.detail}; the finger "
                            f"on edge {free.index} only adds wrenches, and wrenches that "
                            "positively span the wrench space still do with more (Theorem 1)")
 
@@ -203,7 +203,8 @@ class ThreeFingerRegions(Regions):
                                             self.segments, self.signs, strict=True)):
             cone = _extremes(_generators([[-x for x in exact_inward(e)]],
                                          F(narrowed(self.mu, self.polygon.spread))))
-            sector = cone
+            assert cone is not None  # one normal's friction cone is narrower than a half-plane
+            sector = list(cone)
             if self.sectors is not None:
                 sector = [[F(x) for x in d] for d in self.sectors[k]]
                 if not (_cross(sector[0], sector[1]) > 0
@@ -248,8 +249,9 @@ class ThreeFingerRegions(Regions):
         """The JSON record (see :meth:`Regions.to_dict`), with ``centre`` (null for a pair
         plus a free finger) and ``mu``; ``pair`` and ``spreading`` for a pair plus a free
         finger, ``signs`` and ``sectors`` for regions around a prototype."""
-        record = {**super().to_dict(), "mu": self.mu,
-                  "centre": None if self.centre is None else list(self.centre)}
+        record: dict[str, object] = {
+            **super().to_dict(), "mu": self.mu,
+            "centre": None if self.centre is None else list(self.centre)}
         if self.pair is not None:
             record.update(pair=list(self.pair), spreading=self.spreading)
         if self.sectors is not None:
@@ -295,14 +297,14 @@ def _centre(polygon: Polygon, edges: tuple[int, ...], mu: float, sectors, signs,
         return None
     x = face_middle(np.array(rows), np.array(rhs), bounds, res.x, 5)
     X, Y, *u, z = (float(v) for v in x)
-    kept = (tuple((tuple(map(float, lo)), tuple(map(float, hi))) for lo, hi in sectors)
-            if keep else None)
+    kept = (tuple(((float(lo[0]), float(lo[1])), (float(hi[0]), float(hi[1])))
+                  for lo, hi in sectors) if keep else None)
     for trim in TRIMS:  # should rounding have cut a corner, trim and check again
         segments = tuple((max(ui, 0.0) + trim * z + 0.0, min(ui + z, e.length) - trim * z)
                          for ui, e in zip(u, es, strict=True))
         regions = ThreeFingerRegions(polygon, edges, segments, construction,
                                      (X + 0.0, Y + 0.0), float(mu), kept,
-                                     tuple(int(s) for s in signs))
+                                     (int(signs[0]), int(signs[1]), int(signs[2])))
         if regions.certify().holds:
             return regions
     return None
@@ -437,7 +439,7 @@ def _with_free_finger(polygon: Polygon, edges: tuple[int, ...], mu: float,
                                  f"force-closure pair (Corollary 3{how}) on edges "
                                  f"{pair.edges[0]} and {pair.edges[1]}, plus a finger anywhere "
                                  f"on edge {free}", None, float(mu), None, (1, 1, 1),
-                                 tuple(pair.edges), pair.spreading)
+                                 (pair.edges[0], pair.edges[1]), pair.spreading)
     return regions if regions.certify().holds else None
 
 
@@ -454,8 +456,8 @@ def _best_of(polygon: Polygon, edges: tuple[int, ...], mu: float, shrunk: float,
     for a, b in itertools.combinations(sorted(edges), 2):
         if (a, b) in pairs:
             found.append(_with_free_finger(polygon, edges, mu, pairs[a, b]))
-    found = [r for r in found if r is not None]
-    return max(found, key=lambda r: tie_rounded(r.min_length), default=None)
+    made = [r for r in found if r is not None]
+    return max(made, key=lambda r: tie_rounded(r.min_length), default=None)
 
 
 def three_finger_regions(polygon: Polygon, edges: tuple[int, int, int], mu: float,
@@ -497,7 +499,8 @@ def _shortest_edge(polygon: Polygon, sites: NDArray, hand: Hand) -> NDArray[np.f
 
 
 def _build(polygon: Polygon, site: NDArray, hand: Hand) -> ThreeFingerRegions | None:
-    return three_finger_regions(polygon, tuple(int(e) for e in site), hand.mu, hand.margin)
+    i, j, k = (int(e) for e in site)
+    return three_finger_regions(polygon, (i, j, k), hand.mu, hand.margin)
 
 
 THREE_FINGERS = Construction(

@@ -458,8 +458,10 @@ def _build_maximal(polygon: Polygon, site: NDArray, hand: Hand,
     solved = hand.memo.get(_SOLVED)
     row = (np.flatnonzero((solved[2] == site).all(axis=1))
            if solved is not None and solved[0] is polygon and solved[1] == mu else ())
-    z, u1, u2 = ((a[row[:1]] for a in solved[3:]) if len(row) else
-                 _solve(polygon, site[None], mu))
+    if solved is not None and len(row):
+        z, u1, u2 = (a[row[:1]] for a in solved[3:])
+    else:
+        z, u1, u2 = _solve(polygon, site[None], mu)
     i, j, way = (int(x) for x in site)
     return _certified(polygon, i, j, z[0], u1[0], u2[0], (hand.mu, hand.mu), bool(way))
 

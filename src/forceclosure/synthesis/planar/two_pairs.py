@@ -107,12 +107,12 @@ def _build(polygon: Polygon, edges: tuple[int, ...], mu: float,
         second = maximal_regions(polygon, edges[r], edges[s], mu, margin=margin)
         if not (isinstance(first, IndependentRegions) and isinstance(second, IndependentRegions)):
             continue  # an undecided pair is left out: this construction is not complete
-        where = {}
+        where: dict[int, tuple[float, float]] = {}
         for pair in (first, second):
             where.update(zip(pair.edges, pair.segments, strict=True))
         regions = PairedRegions(polygon, tuple(edges), tuple(where[e] for e in edges),
                                 "two force-closure pairs (maximal)", float(mu),
-                                (first.edges, second.edges),
+                                ((edges[p], edges[q]), (edges[r], edges[s])),
                                 (first.spreading, second.spreading))
         # a later pairing only when larger beyond rounding: ties go by pairing order
         if regions.certify().holds and (best is None or regions.min_length

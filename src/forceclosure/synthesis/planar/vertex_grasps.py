@@ -156,6 +156,7 @@ class VertexGrasp(RegionSet):
         kind, k = self.other
         if kind == "edge":
             e = self.polygon.edges[k]
+            assert self.segment is not None  # the region on an edge is a segment
             ends = [rounded(e.point(t), size) for t in self.segment]
             where = f"edge {k} from {ends[0]} to {ends[1]} ({self.min_length:.4g} long)"
         else:
@@ -177,6 +178,7 @@ class VertexGrasp(RegionSet):
         if kind == "edge":
             cone_q = cone([k])
             e = edges[k]
+            assert self.segment is not None  # the region on an edge is a segment
             ends = [exact_point(e, t) for t in self.segment]
         else:
             cone_q = cone(self.corners[1])

@@ -12,6 +12,7 @@ analysed with exact friction cones by the general analysis (§3).
 
 from __future__ import annotations
 
+import builtins  # builtins.object in annotations inside classes with an `object` property
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -236,7 +237,7 @@ class SpatialRegions(RegionSet):
                 normals[rows, k] = self.polyhedron.faces[patch.face].normal
         return points, normals
 
-    def to_dict(self) -> dict[str, object]:
+    def to_dict(self) -> dict[str, builtins.object]:
         """The JSON record: each finger's faces and patches, areas, construction, certificate."""
         size = self.polyhedron.size
         return {"faces": [sorted(set(f)) for f in self.faces],
@@ -247,12 +248,12 @@ class SpatialRegions(RegionSet):
 
 
 def _faces_text(faces: tuple[int, ...]) -> str:
-    faces = sorted(set(faces))
-    if len(faces) == 1:
-        return f"face {faces[0]}"
-    if len(faces) <= 6:
-        return f"faces {', '.join(map(str, faces))}"
-    return f"{len(faces)} faces ({faces[0]} to {faces[-1]})"
+    ids = sorted(set(faces))
+    if len(ids) == 1:
+        return f"face {ids[0]}"
+    if len(ids) <= 6:
+        return f"faces {', '.join(map(str, ids))}"
+    return f"{len(ids)} faces ({ids[0]} to {ids[-1]})"
 
 
 def sampling_check(regions: SpatialRegions, samples: int = 2000, seed: int = 0,

@@ -128,7 +128,8 @@ def _minor_signs(regions: tuple[NDArray, ...], normals: NDArray, turn: NDArray,
         d = np.linalg.det(M)
         unsure = np.abs(d) <= FILTER * np.prod(np.linalg.norm(M, axis=1), axis=1)
         for t in np.flatnonzero(unsure):
-            d[t] = float(np.sign(_det_exact(M[t])))
+            exact = _det_exact(M[t])
+            d[t] = float((exact > 0) - (exact < 0))
         return np.sign(d) * (-1) ** i
     # Moving the origin and scaling the torques multiply every minor by one positive number:
     # bound in centred, unit-size coordinates, where Hadamard's bound is not swamped by far
@@ -286,6 +287,7 @@ def seven_frictionless_regions(polyhedron: Polyhedron, prototype: Prototype | Ar
     r = zone_regions(polyhedron, prototype, "frictionless", 0.0, grow=False,
                      construction="search zones on faces, minors certified (§5.5)",
                      result=SevenRegions)
+    assert isinstance(r, SevenRegions)
     faces = [polyhedron.faces[region[0].face] for region in r.regions]
     patches = [_fewer_corners(region[0], face, MAX_CORNERS)
                for region, face in zip(r.regions, faces, strict=True)]

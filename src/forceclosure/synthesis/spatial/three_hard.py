@@ -179,9 +179,11 @@ def three_hard_regions(polyhedron: Polyhedron, faces: tuple[int, int, int], mu: 
 
 def _around(polyhedron: Polyhedron, prototype: Prototype, mu: float,
             margin: float) -> ThreeHardRegions:
-    return zone_regions(polyhedron, prototype, "hard", mu, grow=False,
-                        construction="search zones on faces (§5.3)", margin=margin,
-                        result=ThreeHardRegions)
+    regions = zone_regions(polyhedron, prototype, "hard", mu, grow=False,
+                           construction="search zones on faces (§5.3)", margin=margin,
+                           result=ThreeHardRegions)
+    assert isinstance(regions, ThreeHardRegions)
+    return regions
 
 
 #: The faces the search combines (the largest), and the grasps sampled on each triple for its

@@ -33,8 +33,10 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import Literal, SupportsInt, overload
 
 import numpy as np
 import shapely
@@ -190,16 +192,22 @@ def _on_face(patch: FacePatch, face: PlanarFace) -> bool:
     return bool(plane and np.all(inside))
 
 
-def _check_faces(poly: Polyhedron, faces: tuple[int, ...], count: int) -> tuple[int, ...]:
+@overload
+def _check_faces(poly: Polyhedron, faces: Iterable[SupportsInt],
+                 count: Literal[2]) -> tuple[int, int]: ...
+@overload
+def _check_faces(poly: Polyhedron, faces: Iterable[SupportsInt],
+                 count: Literal[3]) -> tuple[int, int, int]: ...
+def _check_faces(poly: Polyhedron, faces: Iterable[SupportsInt], count: int) -> tuple[int, ...]:
     names = {2: "two", 3: "three", 7: "seven"}
-    faces = tuple(int(f) for f in faces)
-    if len(faces) != count:
-        raise InputError(f"{names.get(count, count)} fingers need {count} faces, got {faces}")
-    for f in faces:
+    ids = tuple(int(f) for f in faces)
+    if len(ids) != count:
+        raise InputError(f"{names.get(count, count)} fingers need {count} faces, got {ids}")
+    for f in ids:
         if not 0 <= f < len(poly.faces):
             raise InputError(f"{poly.name}: no face {f}; faces are numbered 0 to "
                              f"{len(poly.faces) - 1}")
-    return faces
+    return ids
 
 
 def _check_mu(mu: float, margin: float) -> None:
@@ -256,9 +264,9 @@ def _maximal(f1: PlanarFace, f2: PlanarFace, ring1: NDArray, ring2: NDArray,
     pick[:, 7:] = -np.eye(4)
     flip = pick.copy()
     flip[:, :7] *= -1
-    floor = np.zeros(11)
-    floor[6] = -1.0  # t >= r (1 - 1e-9)
-    A = np.vstack([A, pick, flip, floor])
+    least = np.zeros(11)
+    least[6] = -1.0  # t >= r (1 - 1e-9)
+    A = np.vstack([A, pick, flip, least])
     b = np.concatenate([rhs, middles, -np.array(middles), [-res.x[6] * (1 - 1e-9)]])
     second = linprog(np.r_[np.zeros(7), np.ones(4)], A_ub=A, b_ub=b,
                      bounds=[(None, None)] * 2 + [(0, None)] + [(None, None)] * 2
@@ -377,7 +385,7 @@ def soft_pair_regions(polyhedron: Polyhedron, face1: int, face2: int, mu: float,
     if best is None:
         return None
     patches = ((FacePatch.on(f1, best[1]),), (FacePatch.on(f2, best[2]),))
-    apex = best[3] if construction == "nguyen" else None
+    apex = best[3] if len(best) == 4 else None  # Nguyen's construction gives its apex
     regions = SoftPairRegions(polyhedron, "soft", float(mu), patches, construction, apex)
     return regions if not certified or regions.certify().holds else None
 

@@ -27,16 +27,18 @@ from __future__ import annotations
 
 import math
 from collections import deque
+from collections.abc import Iterable
 from dataclasses import dataclass
 from fractions import Fraction
 from functools import cached_property
+from typing import SupportsInt, cast
 
 import numpy as np
 import shapely
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import ConvexHull, QhullError
 
-from ...contacts import Cone, primitive_wrenches
+from ...contacts import Cone, Model, primitive_wrenches
 from ...errors import InputError
 from ...geometry.clip import clip
 from ...geometry.cones import pyramid_radius
@@ -126,7 +128,8 @@ class SearchZones:
 
     def owned(self, finger: int) -> list[int]:
         """The hull vertices (wrench indices) whose zones ``finger`` must reach."""
-        return [k for k in np.flatnonzero(self.finger == finger) if len(self.at_vertex[k])]
+        return [k for k in np.flatnonzero(self.finger == finger).tolist()
+                if len(self.at_vertex[k])]
 
     def owned_facets(self, finger: int) -> tuple[list[int], NDArray[np.float64],
                                                  NDArray[np.int64]]:
@@ -146,7 +149,8 @@ def _generators(points: NDArray, normals: NDArray, model: str, mu: float, edges:
                 reference: NDArray, scale: float) -> NDArray[np.float64]:
     """``(k, g, 6)`` generating wrenches of ``k`` contacts, inscribed pyramids."""
     k = len(points)
-    W = primitive_wrenches(points, normals, model, np.full(k, mu), None,
+    W = primitive_wrenches(points, normals, cast(Model, model),  # the callers check it
+                           np.full(k, mu), None,
                            np.broadcast_to(reference, (k, 3)), np.full(k, scale),
                            Cone(edges, "inscribed"))
     return np.transpose(W, (0, 2, 1))
@@ -312,6 +316,8 @@ def _hull_checks(z: SearchZones) -> str | None:
 
 def _zone_certificate(r: ZoneRegions) -> Certificate:
     z = r.zones
+    if z is None:
+        return Certificate(False, "search zones", "no search zones")
     problem = _hull_checks(z)
     if problem:
         return Certificate(False, "search zones", problem)
@@ -325,9 +331,9 @@ def _zone_certificate(r: ZoneRegions) -> Certificate:
                                f"face {turned.index}'s triangles turn by {turned.spread:.3g} "
                                f"rad, more than the margin of {r.margin:g}")
     model, mu, every = finger_generators(r.model, r.mu, r.margin, r.edges)
-    checked = _zone_conditions(r, model, mu, every)
+    checked = _zone_conditions(r, z, model, mu, every)
     if checked is None:  # some value is close to zero or below: decide each one in turn
-        failed, checked = _zone_conditions_one_by_one(r, model, mu, every)
+        failed, checked = _zone_conditions_one_by_one(r, z, model, mu, every)
         if failed is not None:
             return failed
     return Certificate(True, "search zones",
@@ -335,12 +341,12 @@ def _zone_certificate(r: ZoneRegions) -> Certificate:
                        f"{checked} linear zone conditions hold at the patch vertices")
 
 
-def _zone_conditions(r: ZoneRegions, model: str, mu: float, every: bool) -> int | None:
+def _zone_conditions(r: ZoneRegions, z: SearchZones, model: str, mu: float,
+                     every: bool) -> int | None:
     """How many zone conditions hold at the patch vertices, all at once: each finger's
     generators at every vertex of its patches in one call, then each (zone, generator)
     against the vertices of all the patches that chose it. ``None`` when some value is
     not clearly positive (then :func:`_zone_conditions_one_by_one` decides, exactly)."""
-    z = r.zones
     faces = r.polyhedron.faces
     checked = 0
     for region, choices in zip(r.regions, r.choices, strict=True):
@@ -363,11 +369,10 @@ def _zone_conditions(r: ZoneRegions, model: str, mu: float, every: bool) -> int 
     return checked
 
 
-def _zone_conditions_one_by_one(r: ZoneRegions, model: str, mu: float, every: bool
-                                ) -> tuple[Certificate | None, int]:
+def _zone_conditions_one_by_one(r: ZoneRegions, z: SearchZones, model: str, mu: float,
+                                every: bool) -> tuple[Certificate | None, int]:
     """The zone conditions patch by patch, values near zero decided in rationals: the
     first that fails (as a certificate that does not hold), or None, and how many hold."""
-    z = r.zones
     checked = 0
     for finger, (region, choices) in enumerate(zip(r.regions, r.choices, strict=True)):
         for patch, chosen in zip(region, choices, strict=True):
@@ -457,7 +462,7 @@ def _touch(a: FacePatch, b: FacePatch, tol: float) -> bool:
         return shapely.Polygon(a.uv).buffer(tol).intersection(shapely.Polygon(b.uv)).area > 0
     close = np.count_nonzero(_segment_distances(a.points, b.points) <= tol)
     close += np.count_nonzero(_segment_distances(b.points, a.points) <= tol)
-    return close >= 2
+    return bool(close >= 2)
 
 
 def _segment_distances(points: NDArray, ring: NDArray) -> NDArray[np.float64]:
@@ -530,13 +535,13 @@ def zone_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike, model
     >>> r.certify().holds, [len(x) for x in r.regions]
     (True, [1, 1, 1])
     """
-    pinned = isinstance(prototype, Prototype)
-    P = np.asarray(prototype.points if pinned else prototype, dtype=float)
+    pinned = prototype if isinstance(prototype, Prototype) else None
+    P = np.asarray(prototype if pinned is None else pinned.points, dtype=float)
     if P.ndim != 2 or P.shape[1] != 3:
         raise InputError(f"points must be (k, 3), got shape {P.shape}")
-    if pinned:
+    if pinned is not None:
         located = [(f, polyhedron.faces[f].to_plane(p), 0.0)
-                   for f, p in zip(prototype.faces, P, strict=True)]
+                   for f, p in zip(pinned.faces, P, strict=True)]
     else:
         located = [polyhedron.locate(p) for p in P]
     tol = 1e-6 * polyhedron.size
@@ -578,8 +583,8 @@ def zone_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike, model
         picks = [chosen]
         by_face = {face.index: [patches[0]]}
         # the other pieces of the prototype's face, then neighbouring faces, breadth first
-        frontier = deque([(face.index, k) for k in range(len(pieces)) if k != start]
-                         if grow else [])
+        frontier: deque[tuple[int, int | None]] = deque(
+            [(face.index, k) for k in range(len(pieces)) if k != start] if grow else [])
         frontier += [(g, None) for g in sorted(graph.get(face.index, ()))]
         seen = {face.index}
         while frontier and grow and len(patches) < max_patches:
@@ -630,7 +635,7 @@ def surface_samples(polyhedron: Polyhedron, count: int, rng: np.random.Generator
 
 def prototype_grasps(polyhedron: Polyhedron, fingers: int, model: str = "hard",
                      mu: float = 0.5, count: int = 1, samples: int = 20_000, seed: int = 0,
-                     faces: ArrayLike | None = None) -> list[Prototype]:
+                     faces: Iterable[SupportsInt] | None = None) -> list[Prototype]:
     """Force-closure prototype grasps found by sampling, best Ferrari–Canny epsilon first.
 
     ``samples`` random grasps (each finger uniform over the surface, or over
@@ -656,7 +661,7 @@ def prototype_grasps(polyhedron: Polyhedron, fingers: int, model: str = "hard",
 
 
 def prototype_samples(polyhedron: Polyhedron, fingers: int, samples: int = 20_000,
-                      seed: int = 0, faces: ArrayLike | None = None
+                      seed: int = 0, faces: Iterable[SupportsInt] | None = None
                       ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """The random grasps :func:`prototype_grasps` analyses: ``(samples, fingers, 3)``
     points and the face of each, drawn from ``seed`` alone (so that the grasps of many
@@ -677,10 +682,10 @@ def prototype_samples(polyhedron: Polyhedron, fingers: int, samples: int = 20_00
     if faces is None:
         P, F = surface_samples(polyhedron, samples * fingers, rng)
         return P.reshape(samples, fingers, 3), F.reshape(samples, fingers)
-    faces = [int(f) for f in faces]
-    if len(faces) != fingers:
-        raise InputError(f"{fingers} fingers need {fingers} faces, got {len(faces)}")
-    parts = [surface_samples(polyhedron, samples, rng, [f]) for f in faces]
+    ids = [int(f) for f in faces]
+    if len(ids) != fingers:
+        raise InputError(f"{fingers} fingers need {fingers} faces, got {len(ids)}")
+    parts = [surface_samples(polyhedron, samples, rng, [f]) for f in ids]
     return np.stack([p for p, _ in parts], axis=1), np.stack([f for _, f in parts], axis=1)
 
 
