@@ -175,14 +175,13 @@ def test_geometry_imports_nothing_above_it():
 
 
 #: The layers, bottom up: a module imports only from its own layer and those below (the package's
-#: ``__init__``, the lazy facade of public names, and ``__main__`` stand outside). ``io.files``
-#: and ``io.atomic`` are leaf primitives (read a user's file, write one atomically) that import
-#: only ``errors``, so every layer may use them, as may ``schemas`` (the shipped JSON schemas),
-#: ``extras`` (the optional packages, imported on use) and ``verdicts`` (the verdicts' words and
-#: codes).
+#: ``__init__``, the lazy facade of public names, and ``__main__`` stand outside). ``files`` (read
+#: a user's file, write one atomically, a run's results folder) imports only ``errors``, so every
+#: layer may use it, as may ``schemas`` (the shipped JSON schemas), ``extras`` (the optional
+#: packages, imported on use) and ``verdicts`` (the verdicts' words and codes); the grasp formats
+#: stay above, in ``io``.
 LAYERS = [
-    ["errors", "tolerance", "io.files", "io.atomic", "schemas", "extras",
-     "verdicts"],
+    ["errors", "tolerance", "files", "schemas", "extras", "verdicts"],
     ["geometry"],
     ["contacts", "kernels"],
     ["objects", "simulators"],
@@ -246,8 +245,8 @@ def test_every_module_is_in_a_layer():
                 if m not in (PACKAGE, f"{PACKAGE}.__main__")
                 and layer_of(m, PACKAGE, LAYERS) is None]
     assert not unplaced, f"modules in no layer: {unplaced}"
-    for name in ["geometry", "analysis", "synthesis", "synthesis/planar", "synthesis/spatial",
-                 "synthesis/mesh", "gripper", "io", "pictures", "app"]:
+    for name in ["files", "geometry", "analysis", "synthesis", "synthesis/planar",
+                 "synthesis/spatial", "synthesis/mesh", "gripper", "io", "pictures", "app"]:
         assert (SRC / PACKAGE / name / "__init__.py").is_file(), name
 
 

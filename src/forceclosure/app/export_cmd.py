@@ -31,7 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, printable
-from ..io.files import fingerprint
+from ..files.read import fingerprint
 
 __all__ = ["add_parser", "run", "with_source"]
 
@@ -93,7 +93,7 @@ def add_parser(sub: Any) -> None:
 
 def _check_folder_out(path: str, flag: str, labels: Path) -> None:
     """An output folder: an existing, writable folder, or one whose parent is (made later)."""
-    from ..io.atomic import check_output
+    from ..files.atomic import check_output
 
     if os.path.exists(path) and not os.path.isdir(path):
         raise InputError(f"{flag} {path}: for a dataset folder, an output folder (this is a "
@@ -106,7 +106,7 @@ def _check_folder_out(path: str, flag: str, labels: Path) -> None:
 
 
 def _check_file_out(path: str, kind: str, flag: str, labels: str) -> None:
-    from ..io.atomic import check_output
+    from ..files.atomic import check_output
     from ..io.export import KINDS
 
     if not path.lower().endswith(KINDS[kind]):
@@ -176,8 +176,8 @@ def _export_one(args: argparse.Namespace, labels_file: str, graspnet: str | None
     """Everything computed, then the files written: the object's summary entry."""
     import numpy as np
 
+    from ..files.atomic import atomic_write
     from ..gripper.labels import GraspLabels
-    from ..io.atomic import atomic_write
     from ..io.export import acronym_object, graspnet_array, save_acronym
 
     labels = GraspLabels.load(labels_file)

@@ -210,10 +210,10 @@ class GraspLabels:
         """Write the arrays (:data:`ARRAYS`, and those of :data:`ROBUST_ARRAYS`,
         :data:`METRIC_ARRAYS` and :data:`TASK_ARRAYS` present) and
         ``meta`` (as JSON text) to an ``.npz``, atomically
-        (:func:`forceclosure.io.atomic.atomic_write`)."""
+        (:func:`forceclosure.files.atomic.atomic_write`)."""
         import json
 
-        from ..io.atomic import atomic_write
+        from ..files.atomic import atomic_write
 
         arrays = {name: getattr(self, name) for name in self._arrays()
                   if getattr(self, name) is not None}

@@ -252,7 +252,7 @@ def graspnet_array(labels: Any, gripper: ParallelJaw | None = None, score: str =
 def save_graspnet(path: str, labels: Any, gripper: ParallelJaw | None = None,
                   score: str = "friction", object_id: int = -1) -> None:
     """Write :func:`graspnet_array` to ``path`` (``.npy``), atomically."""
-    from .atomic import atomic_write
+    from ..files.atomic import atomic_write
 
     array = graspnet_array(labels, gripper, score, object_id)
     with atomic_write(path) as f:
@@ -373,8 +373,8 @@ def acronym_object(source: Any, path: str, mesh_root: str | None = None, *,
     >>> cube.file, cube.scale, cube.reason
     ('cube.obj', 1.0, 'a bundled object, not a file')
     """
+    from ..files.atomic import check_output
     from ..objects.io import ROBOT_SUFFIXES, load_object
-    from .atomic import check_output
 
     root = os.path.abspath(mesh_root if mesh_root is not None else
                            os.path.dirname(os.path.abspath(path)))
@@ -451,7 +451,7 @@ def write_acronym_object(found: AcronymObject) -> None:
     import trimesh
     from trimesh.exchange.obj import export_obj
 
-    from .atomic import atomic_write
+    from ..files.atomic import atomic_write
 
     text = export_obj(trimesh.Trimesh(*found.surface, process=False), include_normals=False,
                       include_color=False, include_texture=False, digits=17, header=None)
@@ -517,8 +517,8 @@ def save_acronym(path: str, labels: Any, object_file: Any = None, scale: float |
     ...     f["grasps/transforms"].shape, f["object/file"][()].decode(), f["object/scale"][()]
     ((3, 4, 4), 'cube.obj', np.float64(1.0))
     """
+    from ..files.atomic import atomic_write
     from ..gripper.labels import ARRAYS
-    from .atomic import atomic_write
 
     h5py = require_h5py()
     labels = as_labels(labels)

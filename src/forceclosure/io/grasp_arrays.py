@@ -39,9 +39,9 @@ from numpy.typing import NDArray
 from ..analysis.batch import CHUNK, analyze_batch, epsilon_batch
 from ..contacts import MAX_CONTACTS, MAX_QUALITY_CONTACTS, MODELS, Cone, parse_cone
 from ..errors import InputError, clip
+from ..files.atomic import atomic_write
+from ..files.read import regular_file
 from ..verdicts import VERDICT_WORDS, Verdict, VerdictCode
-from .atomic import atomic_write
-from .files import regular_file
 from .grasp_file import MAX_COORDINATE
 
 __all__ = ["ERROR", "AnalysisInterrupted", "GraspArrays", "NpzResults", "analyze_npz",
@@ -293,7 +293,7 @@ class NpzResults:
     0 where it is not force-closure and NaN where its input was bad.
     ``done`` is how many grasps, from the first, were analysed: all of them
     (``None``) unless the run was interrupted; ``input`` the fingerprint of
-    the grasp file (:func:`forceclosure.io.files.fingerprint`), when known.
+    the grasp file (:func:`forceclosure.files.read.fingerprint`), when known.
     """
 
     code: NDArray[np.int8]

@@ -223,7 +223,7 @@ def plot_grasps(obj: Any, labels: Any, path: str, top: int = 10,
     >>> len(plot_grasps("cube", labels, path, top=3)), os.path.getsize(path) > 0
     (3, True)
     """
-    from ..io.atomic import atomic_write
+    from ..files.atomic import atomic_write
 
     check_plot_path(path)
     fig = grasps_picture(obj, labels, top, gripper, title, up=up)

@@ -234,7 +234,7 @@ def _save(fig: Any, path: str | Path | None) -> None:
     """Save as PNG or SVG by the extension, atomically; a bad path is one InputError line."""
     if path is None:
         return
-    from ..io.atomic import atomic_write
+    from ..files.atomic import atomic_write
 
     check_plot_path(path)
     with atomic_write(str(path)) as f:

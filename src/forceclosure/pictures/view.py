@@ -373,7 +373,7 @@ def write_html(found: Sequence[RegionSet], path: str | Path, title: str | None =
     obj = _one_object(found)
     fig = (spatial_figure(found, title, up=up) if obj.dim == 3
            else planar_figure(found, title))
-    from ..io.atomic import atomic_write
+    from ..files.atomic import atomic_write
 
     page = _page(fig, fig.layout.title.text or obj.name, path, shared_js)
     try:
@@ -567,7 +567,7 @@ def write_grasps_html(obj, labels, path: str | Path, top: int = 10, gripper=None
     >>> len(write_grasps_html("cube", labels, out, top=3)), out.stat().st_size < 3 * 10**6
     (3, True)
     """
-    from ..io.atomic import atomic_write
+    from ..files.atomic import atomic_write
     from .grasp_plot import best_grasps
 
     check_html_path(path)
