@@ -582,7 +582,7 @@ def write_exports(out: str | Path, records: Iterable[dict[str, Any]],
     import json
 
     from ..files.outdir import write_atomically
-    from .export_cmd import _export_one
+    from .export_cmd import export_one
 
     out = Path(out)
     exports = list(exports)
@@ -604,9 +604,9 @@ def write_exports(out: str | Path, records: Iterable[dict[str, Any]],
                         and target.stat().st_mtime_ns >= labels_file.stat().st_mtime_ns):
                     report["files"][kind] += 1
                     continue
-                _export_one(args, str(labels_file),
-                            str(target) if kind == "graspnet" else None,
-                            str(target) if kind == "acronym" else None, record, job)
+                export_one(args, str(labels_file),
+                           str(target) if kind == "graspnet" else None,
+                           str(target) if kind == "acronym" else None, record, job)
                 report["files"][kind] += 1
             except (InputError, OSError) as e:
                 report["errors"].append(f"{kind} {target.name}: {str(e).splitlines()[0]}")

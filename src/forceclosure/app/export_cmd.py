@@ -147,7 +147,7 @@ def run(args: argparse.Namespace) -> int:
         _check_file_out(args.graspnet, "graspnet", "--graspnet", args.labels)
     if args.acronym:
         _check_file_out(args.acronym, "acronym", "--acronym", args.labels)
-    entry = _export_one(args, str(labels), args.graspnet, args.acronym, None)
+    entry = export_one(args, str(labels), args.graspnet, args.acronym, None)
     return _report(args, [entry], failed=0)
 
 
@@ -170,9 +170,9 @@ def _source(labels: Any, args: argparse.Namespace, record: dict[str, Any] | None
     return found, options
 
 
-def _export_one(args: argparse.Namespace, labels_file: str, graspnet: str | None,
-                acronym: str | None, record: dict[str, Any] | None,
-                job: dict[str, Any] | None = None) -> dict[str, Any]:
+def export_one(args: argparse.Namespace, labels_file: str, graspnet: str | None,
+               acronym: str | None, record: dict[str, Any] | None,
+               job: dict[str, Any] | None = None) -> dict[str, Any]:
     """Everything computed, then the files written: the object's summary entry."""
     import numpy as np
 
@@ -241,7 +241,7 @@ def _run_folder(args: argparse.Namespace, folder: Path) -> int:
             if fingerprint(str(labels_file)) != f"sha256:{record.get('labels_sha256')}":
                 raise InputError(f"{name}: its labels file changed since its record was "
                                  "written; run the dataset again")
-            entries.append(_export_one(
+            entries.append(export_one(
                 args, str(labels_file),
                 os.path.join(args.graspnet, stem + ".npy") if args.graspnet else None,
                 os.path.join(args.acronym, stem + ".h5") if args.acronym else None,

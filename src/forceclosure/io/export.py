@@ -398,20 +398,21 @@ def acronym_object(source: Any, path: str, mesh_root: str | None = None, *,
                                          allow_outside_meshes=allow_outside_meshes)
             inputs += [str(p.mesh_file) for p in pieces if p.mesh_file is not None]
             piece = pieces[0]
+            mesh_file = piece.mesh_file  # set exactly for a mesh piece
             if len(pieces) > 1:
                 reason = f"the URDF's link has {len(pieces)} pieces, not one mesh"
-            elif piece.kind != "mesh":
+            elif piece.kind != "mesh" or mesh_file is None:
                 reason = f"the URDF's link is a {piece.kind}, not a mesh"
-            elif piece.mesh_file.suffix.lower() not in DIRECT_MESHES:
-                reason = (f"the URDF's mesh is a {piece.mesh_file.suffix} scene, which "
+            elif mesh_file.suffix.lower() not in DIRECT_MESHES:
+                reason = (f"the URDF's mesh is a {mesh_file.suffix} scene, which "
                           "trimesh.load reads as a Scene")
             else:
-                scale = _uniform_scale(piece.vertices, read_mesh_arrays(piece.mesh_file)[0])
+                scale = _uniform_scale(piece.vertices, read_mesh_arrays(mesh_file)[0])
                 if scale is None:
                     reason = ("the URDF places its mesh by an origin or scales it unevenly, "
                               "which object/scale cannot say")
                 else:
-                    mesh = str(piece.mesh_file.resolve())
+                    mesh = str(mesh_file.resolve())
                     return AcronymObject(os.path.relpath(mesh, root), round(scale, 15), mesh,
                                          root)
         else:

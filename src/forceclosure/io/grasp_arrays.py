@@ -30,7 +30,7 @@ import zipfile
 import zlib
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
-from typing import IO
+from typing import IO, Any
 
 import numpy as np
 from numpy.lib import format as npy
@@ -217,7 +217,8 @@ def open_npz(path: str) -> GraspArrays:
         cone: str | Cone = "exact"
         if "cone" in names:
             cone = parse_cone(str(_small(archive, "cone", path)))
-        streamed, constant = ["points", "normals"], {}
+        streamed = ["points", "normals"]
+        constant: dict[str, NDArray[np.float64]] = {}
         for name in ("mu", "torsion"):
             if name not in names:
                 continue
@@ -331,7 +332,8 @@ class NpzResults:
         >>> saved["verdict"].tolist(), int(saved["done"]), bool(saved["partial"])
         ([2, -1], 1, True)
         """
-        extra = {} if self.epsilon is None else {"epsilon": self.epsilon}
+        # Any: np.savez's stubs take a keyword argument for a flag of its own
+        extra: dict[str, Any] = {} if self.epsilon is None else {"epsilon": self.epsilon}
         if self.input is not None:
             extra["input"] = np.array(self.input)
         done = len(self.code) if self.done is None else self.done
@@ -356,7 +358,7 @@ def load_results(path: str) -> NpzResults:
     shapes_ok = n >= 0 and all(arrays[k].shape == (n,) for k in ("rank", "margin", "epsilon")
                                if k in arrays) and {"rank", "margin"} <= set(arrays)
     done = arrays.get("done", np.int64(n))
-    if not shapes_ok or done.shape != () or not 0 <= int(done) <= n:
+    if code is None or not shapes_ok or done.shape != () or not 0 <= int(done) <= n:
         raise InputError(f"{path}: not a results file of 'forceclosure analyze --out'")
     return NpzResults(code.astype(np.int8), arrays["rank"].astype(np.int8),
                       arrays["margin"].astype(float), [],
