@@ -175,14 +175,13 @@ def test_geometry_imports_nothing_above_it():
 
 
 #: The layers, bottom up: a module imports only from its own layer and those below (the package's
-#: ``__init__``, the lazy facade of public names, and ``__main__`` stand outside). ``io.files``
-#: and ``io.atomic`` are leaf primitives (read a user's file, write one atomically) that import
-#: only ``errors``, so every layer may use them, as may ``schemas`` (the shipped JSON schemas),
-#: ``extras`` (the optional packages, imported on use) and ``verdicts`` (the verdicts' words and
-#: codes).
+#: ``__init__``, the lazy facade of public names, and ``__main__`` stand outside). ``files`` (read
+#: a user's file, write one atomically, a run's results folder) imports only ``errors``, so every
+#: layer may use it, as may ``schemas`` (the shipped JSON schemas), ``extras`` (the optional
+#: packages, imported on use) and ``verdicts`` (the verdicts' words and codes); the grasp formats
+#: stay above, in ``io``.
 LAYERS = [
-    ["errors", "tolerance", "io.files", "io.atomic", "schemas", "extras",
-     "verdicts"],
+    ["errors", "tolerance", "files", "schemas", "extras", "verdicts"],
     ["geometry"],
     ["contacts", "kernels"],
     ["objects", "simulators"],
@@ -246,8 +245,8 @@ def test_every_module_is_in_a_layer():
                 if m not in (PACKAGE, f"{PACKAGE}.__main__")
                 and layer_of(m, PACKAGE, LAYERS) is None]
     assert not unplaced, f"modules in no layer: {unplaced}"
-    for name in ["geometry", "analysis", "synthesis", "synthesis/planar", "synthesis/spatial",
-                 "synthesis/mesh", "gripper", "io", "pictures", "app"]:
+    for name in ["files", "geometry", "analysis", "synthesis", "synthesis/planar",
+                 "synthesis/spatial", "synthesis/mesh", "gripper", "io", "pictures", "app"]:
         assert (SRC / PACKAGE / name / "__init__.py").is_file(), name
 
 
@@ -295,3 +294,76 @@ def test_every_public_module_declares_all(name):
     assert len(names) == len(set(names)), f"{name}.__all__ repeats a name"
     missing = [n for n in names if not hasattr(module, n)]
     assert not missing, f"{name}.__all__ names what it does not have: {missing}"
+
+
+def is_private(name: str) -> bool:
+    """``_name`` (not ``__dunder__``): a name its module keeps to itself."""
+    return name.startswith("_") and not (name.startswith("__") and name.endswith("__"))
+
+
+def private_imports(root: Path, package: str) -> list[str]:
+    """Every private name one module of ``package`` takes from another, as text: ``from m
+    import _x`` (``_x`` a name or a private module), and ``m._x`` on a module ``m`` imported as
+    a name (``from pkg import m``, ``import pkg.m as m``)."""
+    modules = module_files(root, package)
+    found = []
+    for name, path in modules.items():
+        here = name if path.name == "__init__.py" else name.rpartition(".")[0]
+        tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
+        bound: dict[str, str] = {}  # local name -> module of the package it is bound to
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom):
+                if node.level:
+                    base = here.split(".")
+                    base = base[: len(base) - (node.level - 1)]
+                    start = ".".join(base + ([node.module] if node.module else []))
+                else:
+                    start = node.module or ""
+                if start != package and not start.startswith(package + "."):
+                    continue
+                for a in node.names:
+                    if f"{start}.{a.name}" in modules:
+                        bound[a.asname or a.name] = f"{start}.{a.name}"
+                    if is_private(a.name) and start != name:
+                        found.append(f"{name} (line {node.lineno}): from {start} import {a.name}")
+            elif isinstance(node, ast.Import):
+                for a in node.names:
+                    if a.asname and a.name in modules:
+                        bound[a.asname] = a.name
+        for node in ast.walk(tree):
+            if (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name)
+                    and node.value.id in bound and bound[node.value.id] != name
+                    and is_private(node.attr)):
+                found.append(f"{name} (line {node.lineno}): {bound[node.value.id]}.{node.attr}")
+    return found
+
+
+def test_the_private_name_checker_finds_what_it_is_shown(tmp_path):
+    """Private names taken across modules on purpose (a relative and an absolute import, one
+    inside a function, a private module, an attribute of an imported module) are found; a
+    module's own private names, dunders and public names are not."""
+    root = write_package(tmp_path, {
+        "pkg/__init__.py": "__version__ = '1'\n",
+        "pkg/low.py": "_secret = 1\nshared = 2\n\n\ndef _helper():\n    return _secret\n",
+        "pkg/_hidden.py": "x = 1\n",
+        "pkg/a.py": "from .low import _secret, shared\n",
+        "pkg/b.py": "def f():\n    from pkg.low import _helper\n    return _helper()\n",
+        "pkg/c.py": "from . import _hidden, __version__\nfrom . import low\ny = low._secret\n",
+        "pkg/d.py": "import pkg.low as low\nfrom .low import shared\nz = low.shared\n",
+        "pkg/e.py": "import pkg.low as low\nw = low._helper()\n",
+    })
+    assert private_imports(root, "pkg") == [
+        "pkg.a (line 1): from pkg.low import _secret",
+        "pkg.b (line 2): from pkg.low import _helper",
+        "pkg.c (line 1): from pkg import _hidden",
+        "pkg.c (line 3): pkg.low._secret",
+        "pkg.e (line 2): pkg.low._helper",
+    ]
+
+
+def test_no_private_name_crosses_modules():
+    """A name with a leading underscore stays in its module: one used elsewhere in the package
+    is made public there (named without the underscore, documented; out of ``__all__`` when
+    only the package uses it) or moved."""
+    found = private_imports(SRC, PACKAGE)
+    assert not found, "private names used across modules: " + "; ".join(found)

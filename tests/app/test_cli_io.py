@@ -161,7 +161,7 @@ def test_fifos_devices_and_symlink_loops_are_refused_in_one_line(tmp_path, capsy
 
 
 def test_a_json_file_beyond_the_cap_is_refused_without_reading_it_all(tmp_path, capsys):
-    from forceclosure.io.files import TEXT_CAP
+    from forceclosure.files.read import TEXT_CAP
 
     path = tmp_path / "big.json"
     with open(path, "wb") as f:  # sparse: 4 GiB of nothing, which would fill memory

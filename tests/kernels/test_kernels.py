@@ -108,9 +108,9 @@ def _families(n_total: int, seed: int = 7):
 
 def _reference_chunk(args):
     P, N, mu, model, torsion, cone = args
-    from forceclosure.analysis.batch_analysis import _validate
+    from forceclosure.analysis.batch_analysis import validate_grasps
 
-    grasps = _validate(P, N, mu, model, torsion)
+    grasps = validate_grasps(P, N, mu, model, torsion)
     rows = []
     for g in range(len(P)):
         vc, _, _ = decide(grasps.contacts(g), cone)

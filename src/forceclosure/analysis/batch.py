@@ -26,11 +26,11 @@ from .batch_analysis import (
     CHUNK,
     BatchAnalysis,
     Engine,
-    _check_engine,
-    _extreme,
-    _kernel_inputs,
-    _validate,
     analyze_batch,
+    check_engine,
+    extreme_grasps,
+    kernel_inputs,
+    validate_grasps,
 )
 from .closure import TOLERANCE, check_tolerance
 from .friction import least_friction_batch
@@ -87,14 +87,14 @@ def epsilon_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
     >>> epsilon_batch(P, N, mu=0.5).round(6).tolist()
     [0.333333, 0.0]
     """
-    _check_engine(engine)
+    check_engine(engine)
     if norm not in ("L1", "Linf"):
         raise InputError(f"norm must be 'L1' or 'Linf', got {norm!r}")
     if orientation not in ORIENTATIONS:
         raise InputError(f"orientation must be 'grasp' or 'axes', got {orientation!r}")
     cone = Cone(edges, "inscribed")
     tol = check_tolerance(tol)
-    grasps = _validate(points, normals, mu, model, torsion)
+    grasps = validate_grasps(points, normals, mu, model, torsion)
     n, k, d = grasps.points.shape
     out = np.zeros(n)
     reference = engine == "reference" or norm == "Linf"
@@ -107,11 +107,11 @@ def epsilon_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
         maxm = theorem1.columns_per_grasp(k, d, max(cone.edges, 256))
         model_codes = np.array([MODELS.index(m) for m in grasps.models], dtype=np.int64)
         deferred = np.zeros(n, dtype=np.bool_)
-        extreme = _extreme(grasps)
+        extreme = extreme_grasps(grasps)
         announce_compiling(epsilon_kernel)
         for lo in range(0, n, CHUNK):
             part = slice(lo, min(n, lo + CHUNK))
-            P, M = _kernel_inputs(grasps, part, extreme)
+            P, M = kernel_inputs(grasps, part, extreme)
             with pool_for(part.stop - part.start):
                 epsilon_kernel(P, kernel_array(grasps.normals[part]), M,
                                kernel_array(grasps.torsion[part]), model_codes, cone.edges,

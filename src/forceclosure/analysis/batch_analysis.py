@@ -138,8 +138,11 @@ def _per_contact(value: ArrayLike | None, shape: tuple[int, int], name: str) -> 
     return a
 
 
-def _validate(points: ArrayLike, normals: ArrayLike, mu: ArrayLike,
-              model: str | Sequence[str], torsion: ArrayLike | None) -> _Grasps:
+def validate_grasps(points: ArrayLike, normals: ArrayLike, mu: ArrayLike,
+                    model: str | Sequence[str], torsion: ArrayLike | None) -> _Grasps:
+    """A batch of grasps checked and read as arrays (shape ``(N, k, 2 or 3)``, finite, bounded
+    coordinates; friction, models and torsion broadcast per contact), or one
+    :class:`~forceclosure.errors.InputError` line naming the first bad grasp and contact."""
     try:
         if np.iscomplexobj(points) or np.iscomplexobj(normals):
             raise TypeError
@@ -214,15 +217,15 @@ def _check_torsion(grasps: _Grasps) -> None:
                          f"is more than {TORSION_MAX:g} times the grasp's size {size[g]:.3g}")
 
 
-def _extreme(grasps: _Grasps) -> NDArray[np.bool_]:
+def extreme_grasps(grasps: _Grasps) -> NDArray[np.bool_]:
     """Grasps the kernels leave to the reference path: coordinates beyond ``2**±64``
     (the reference computes them in units of a power of two)."""
     big = np.max(np.abs(grasps.points), axis=(1, 2))
     return (big != 0) & ((big < 2.0**-64) | (big > 2.0**64))
 
 
-def _kernel_inputs(grasps: _Grasps, part: slice,
-                   extreme: NDArray[np.bool_]) -> tuple[NDArray, NDArray]:
+def kernel_inputs(grasps: _Grasps, part: slice,
+                  extreme: NDArray[np.bool_]) -> tuple[NDArray, NDArray]:
     """Points and friction of ``part`` for the kernels: grasps with extreme coordinates
     zeroed (they are left to the reference), friction capped at :data:`FRICTION_CAP`."""
     from ..kernels import kernel_array
@@ -235,7 +238,7 @@ def _kernel_inputs(grasps: _Grasps, part: slice,
     return kernel_array(P), kernel_array(np.minimum(grasps.mu[part], FRICTION_CAP))
 
 
-def _cone_args(cone: str | Cone) -> tuple[bool, int, int]:
+def cone_args(cone: str | Cone) -> tuple[bool, int, int]:
     """``(exact, edges, fit)`` for the kernels (the cone read by
     :func:`forceclosure.contacts.parse_cone`)."""
     fixed = fixed_cone(cone)
@@ -244,7 +247,8 @@ def _cone_args(cone: str | Cone) -> tuple[bool, int, int]:
     return False, fixed.edges, int(fixed.fit == "circumscribed")
 
 
-def _check_engine(engine: str) -> None:
+def check_engine(engine: str) -> None:
+    """Refuse, in one line, an engine other than ``'compiled'`` or ``'reference'``."""
     if engine not in ("compiled", "reference"):
         raise InputError(f"engine must be 'compiled' or 'reference', got {engine!r}")
 
@@ -283,10 +287,10 @@ def analyze_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
     >>> analyze_batch(p, n, mu=0.3).verdict.tolist()
     ['closure', 'none']
     """
-    _check_engine(engine)
+    check_engine(engine)
     tol = check_tolerance(tol)
-    grasps = _validate(points, normals, mu, model, torsion)
-    exact, edges, fit = _cone_args(cone)
+    grasps = validate_grasps(points, normals, mu, model, torsion)
+    exact, edges, fit = cone_args(cone)
     n, k, d = grasps.points.shape
     code = np.empty(n, dtype=np.int8)
     rank = np.zeros(n, dtype=np.int64)
@@ -298,12 +302,12 @@ def analyze_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
 
         model_codes = np.array([MODELS.index(m) for m in grasps.models], dtype=np.int64)
         maxm = kernel.columns_per_grasp(k, d, 256 if exact else edges)
-        extreme = _extreme(grasps)
+        extreme = extreme_grasps(grasps)
         run = kernel.closure_kernel if n > kernel.BLOCK else kernel.closure_serial
         announce_compiling(run)
         for lo in range(0, n, CHUNK):
             part = slice(lo, min(n, lo + CHUNK))
-            P, M = _kernel_inputs(grasps, part, extreme)
+            P, M = kernel_inputs(grasps, part, extreme)
             run(
                 P, kernel_array(grasps.normals[part]), M, kernel_array(grasps.torsion[part]),
                 model_codes, edges, fit, exact, float(tol), maxm,

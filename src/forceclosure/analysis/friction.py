@@ -28,11 +28,11 @@ from numpy.typing import ArrayLike, NDArray
 from ..contacts import MODELS, Cone, Contact, check_grasp
 from .batch_analysis import (
     Engine,
-    _check_engine,
-    _cone_args,
-    _extreme,
-    _kernel_inputs,
-    _validate,
+    check_engine,
+    cone_args,
+    extreme_grasps,
+    kernel_inputs,
+    validate_grasps,
 )
 from .closure import TOLERANCE, Verdict, check_rtol, check_tolerance, decide
 from .two_finger import MU_MAX, pair_least_friction, two_finger_closure
@@ -159,11 +159,11 @@ def least_friction_batch(points: ArrayLike, normals: ArrayLike, *,
     >>> least_friction_batch(P, N, model="soft", cone=Cone(8)).round(6).tolist()
     [0.1]
     """
-    _check_engine(engine)
+    check_engine(engine)
     tol = check_tolerance(tol)
     rtol = check_rtol(rtol)
-    grasps = _validate(points, normals, 0.0, model, torsion)
-    exact, edges, fit = _cone_args(cone)
+    grasps = validate_grasps(points, normals, 0.0, model, torsion)
+    exact, edges, fit = cone_args(cone)
     n, k, d = grasps.points.shape
     out = np.empty(n)
     soft = [i for i, m in enumerate(grasps.models) if m == "soft"]
@@ -182,8 +182,8 @@ def least_friction_batch(points: ArrayLike, normals: ArrayLike, *,
         model_codes = np.array([MODELS.index(m) for m in grasps.models], dtype=np.int64)
         maxm = kernel.columns_per_grasp(k, d, 256 if exact else edges)
         deferred = np.zeros(n, dtype=np.bool_)
-        extreme = _extreme(grasps)
-        P = _kernel_inputs(grasps, slice(0, n), extreme)[0]
+        extreme = extreme_grasps(grasps)
+        P = kernel_inputs(grasps, slice(0, n), extreme)[0]
         announce_compiling(kernel.least_friction_kernel)
         with pool_for(n):
             kernel.least_friction_kernel(P, kernel_array(grasps.normals),

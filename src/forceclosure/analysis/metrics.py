@@ -116,9 +116,9 @@ def grasp_matrix(points: ArrayLike, normals: ArrayLike,
     >>> G.shape, int(np.linalg.matrix_rank(G[0]))
     ((1, 6, 6), 5)
     """
-    from .batch_analysis import _validate
+    from .batch_analysis import validate_grasps
 
-    grasps = _validate(points, normals, 0.0, model, None)
+    grasps = validate_grasps(points, normals, 0.0, model, None)
     P, N = grasps.points, grasps.normals
     ref, scale = _frame(P)
     if len(P) == 0:
@@ -172,9 +172,9 @@ def grasp_metrics(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
     >>> m.sigma_min.round(6).tolist(), m.isotropy.round(6).tolist(), bool(m.volume[0] > 0)
     ([1.414214], [1.0], True)
     """
-    from .batch_analysis import _validate
+    from .batch_analysis import validate_grasps
 
-    grasps = _validate(points, normals, mu, model, torsion)
+    grasps = validate_grasps(points, normals, mu, model, torsion)
     cone = Cone(edges, "inscribed")
     P, N = grasps.points, grasps.normals
     n = len(P)

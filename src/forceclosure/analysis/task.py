@@ -239,7 +239,7 @@ def resist_wrench(points: ArrayLike, normals: ArrayLike, wrench: ArrayLike, *,
     >>> t.verdict, round(t.spare, 6), t.spare_upper > t.spare
     ('resists', 2.5, True)
     """
-    from .batch import _validate
+    from .batch_analysis import validate_grasps
 
     try:
         P = np.asarray(points, dtype=float)
@@ -256,7 +256,7 @@ def resist_wrench(points: ArrayLike, normals: ArrayLike, wrench: ArrayLike, *,
     except (TypeError, ValueError, OverflowError):
         raise InputError(f"mu and torsion must be numbers or {k} numbers (one per contact)"
                          ) from None
-    grasps = _validate(P[None], N_[None], mu_, model, tors_)
+    grasps = validate_grasps(P[None], N_[None], mu_, model, tors_)
     d = P.shape[1]
     w, ref = _task(wrench, f_max, reference, d)
     P, N_ = grasps.points[0], grasps.normals[0]
@@ -355,9 +355,9 @@ def resist_wrench_batch(points: ArrayLike, normals: ArrayLike, wrench: ArrayLike
     >>> resist_wrench_batch(P, N, w, mu=0.5, f_max=1.0)[0].tolist()
     [0, 0]
     """
-    from .batch import _validate
+    from .batch_analysis import validate_grasps
 
-    grasps = _validate(points, normals, mu, model, torsion)
+    grasps = validate_grasps(points, normals, mu, model, torsion)
     P, N_ = grasps.points, grasps.normals
     n, k, d = P.shape
     w, ref = _task(wrench, f_max, reference, d)

@@ -27,7 +27,7 @@ from typing import Any, NoReturn
 from .. import __version__
 from ..errors import InputError, clip, printable
 from ..extras import require
-from ..io.files import read_text
+from ..files.read import read_text
 from ..synthesis.table import DEFAULT, names
 from ..tolerance import TOLERANCE
 from ..verdicts import VERDICT_WORDS, VerdictCode
@@ -174,13 +174,13 @@ def _analyze_arrays(args: argparse.Namespace) -> int:
     if args.chunk < 1:
         raise InputError(f"--chunk must be a positive number of grasps, got {args.chunk}")
     if args.out:
-        from ..io.atomic import check_output
+        from ..files.atomic import check_output
 
         check_output(args.out, inputs=[args.file])
     info = open_npz(args.file)
     resume, source = None, None
     if args.out:
-        from ..io.files import fingerprint
+        from ..files.read import fingerprint
 
         source = fingerprint(args.file)
         resume = _partial_results(args.out, source, args.epsilon)
@@ -564,7 +564,7 @@ def _check_picture(path: str | None, source: str) -> None:
     """``--plot`` of a format the pictures are not saved in, or where nothing can be
     written (or onto the input file): refused before any work."""
     if path:
-        from ..io.atomic import check_output
+        from ..files.atomic import check_output
         from ..pictures.plot import check_plot_path
 
         check_plot_path(path)
@@ -946,7 +946,7 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
     if args.html_shared and not args.html:
         raise InputError("--html-shared is a way to write the --html page: give --html too")
     if args.html:
-        from ..io.atomic import check_output
+        from ..files.atomic import check_output
 
         require("plotly", "the interactive HTML view", "view")  # before any work
         from ..pictures.view import check_html_path
@@ -964,14 +964,14 @@ def _cmd_grasps(args: argparse.Namespace) -> int:
                                  "--plot and --export need other files")
             check_output(beside, inputs=[args.object])
     if args.out:
-        from ..io.atomic import check_output
+        from ..files.atomic import check_output
 
         if not args.out.lower().endswith(".npz"):
             raise InputError(f"--out {args.out}: labels are saved as .npz")
         check_output(args.out, inputs=[args.object])
     _check_exports(args)
     if args.plot:
-        from ..io.atomic import check_output
+        from ..files.atomic import check_output
         from ..pictures.grasp_plot import check_plot_path
 
         check_plot_path(args.plot)
@@ -1140,7 +1140,7 @@ def _shared_js(page: str) -> str:
 
 def _check_exports(args: argparse.Namespace) -> None:
     """Refuse a bad ``--export`` before any work: its kind, extension, place, and h5py."""
-    from ..io.atomic import check_output
+    from ..files.atomic import check_output
     from ..io.export import KINDS, acronym_object, require_h5py
 
     for kind, path in args.export:

@@ -81,7 +81,7 @@ import numpy as np
 
 from ..errors import InputError, printable
 from ..extras import require
-from ..io.outdir import atomic_file, locked, remove_temporaries, write_atomically
+from ..files.outdir import atomic_file, locked, remove_temporaries, write_atomically
 from ..objects.io import MESH_SUFFIXES, POLYGON_SUFFIXES, ROBOT_SUFFIXES
 from ..objects.urdf import mesh_files
 from ..verdicts import Verdict, VerdictCode

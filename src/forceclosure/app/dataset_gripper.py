@@ -48,8 +48,8 @@ __all__ = ["EXPORTS_FILE", "GRASP_COLUMNS", "GripperJob", "object_seed", "read_l
 
 
 def sha256_of(file: Path) -> str:
-    """The SHA-256 of a file's bytes, in hex (:func:`forceclosure.io.files.fingerprint`)."""
-    from ..io.files import fingerprint
+    """The SHA-256 of a file's bytes, in hex (:func:`forceclosure.files.read.fingerprint`)."""
+    from ..files.read import fingerprint
 
     return fingerprint(str(file)).removeprefix("sha256:")
 
@@ -493,7 +493,7 @@ class GripperJob:
         exports (:func:`write_exports`)."""
         import json
 
-        from ..io.outdir import write_atomically
+        from ..files.outdir import write_atomically
 
         records = list(records)
         table = write_grasp_table(out, records)
@@ -552,7 +552,7 @@ def write_grasp_table(out: str | Path, records: Iterable[dict[str, Any]]) -> Pat
     """Write ``out/grasps.parquet`` (atomically): one row per grasp (:data:`GRASP_COLUMNS`)
     of every done record's labels file, objects in the order of their paths, grasps in the
     order of the file."""
-    from ..io.outdir import atomic_file
+    from ..files.outdir import atomic_file
 
     pa = require("pyarrow", "the dataset's table", "table")
     pq = require("pyarrow.parquet", "the dataset's table", "table")
@@ -581,8 +581,8 @@ def write_exports(out: str | Path, records: Iterable[dict[str, Any]],
     import argparse
     import json
 
-    from ..io.outdir import write_atomically
-    from .export_cmd import _export_one
+    from ..files.outdir import write_atomically
+    from .export_cmd import export_one
 
     out = Path(out)
     exports = list(exports)
@@ -604,9 +604,9 @@ def write_exports(out: str | Path, records: Iterable[dict[str, Any]],
                         and target.stat().st_mtime_ns >= labels_file.stat().st_mtime_ns):
                     report["files"][kind] += 1
                     continue
-                _export_one(args, str(labels_file),
-                            str(target) if kind == "graspnet" else None,
-                            str(target) if kind == "acronym" else None, record, job)
+                export_one(args, str(labels_file),
+                           str(target) if kind == "graspnet" else None,
+                           str(target) if kind == "acronym" else None, record, job)
                 report["files"][kind] += 1
             except (InputError, OSError) as e:
                 report["errors"].append(f"{kind} {target.name}: {str(e).splitlines()[0]}")
@@ -631,8 +631,8 @@ def write_pictures(out: str | Path, records: Iterable[dict[str, Any]], job: Grip
     ``out/exports.json``."""
     import json
 
+    from ..files.outdir import write_atomically
     from ..gripper.labels import GraspLabels
-    from ..io.outdir import write_atomically
     from ..objects.io import load_object
     from ..pictures.plot import upright_axis
 

@@ -31,7 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, printable
-from ..io.files import fingerprint
+from ..files.read import fingerprint
 
 __all__ = ["add_parser", "run", "with_source"]
 
@@ -93,7 +93,7 @@ def add_parser(sub: Any) -> None:
 
 def _check_folder_out(path: str, flag: str, labels: Path) -> None:
     """An output folder: an existing, writable folder, or one whose parent is (made later)."""
-    from ..io.atomic import check_output
+    from ..files.atomic import check_output
 
     if os.path.exists(path) and not os.path.isdir(path):
         raise InputError(f"{flag} {path}: for a dataset folder, an output folder (this is a "
@@ -106,7 +106,7 @@ def _check_folder_out(path: str, flag: str, labels: Path) -> None:
 
 
 def _check_file_out(path: str, kind: str, flag: str, labels: str) -> None:
-    from ..io.atomic import check_output
+    from ..files.atomic import check_output
     from ..io.export import KINDS
 
     if not path.lower().endswith(KINDS[kind]):
@@ -147,7 +147,7 @@ def run(args: argparse.Namespace) -> int:
         _check_file_out(args.graspnet, "graspnet", "--graspnet", args.labels)
     if args.acronym:
         _check_file_out(args.acronym, "acronym", "--acronym", args.labels)
-    entry = _export_one(args, str(labels), args.graspnet, args.acronym, None)
+    entry = export_one(args, str(labels), args.graspnet, args.acronym, None)
     return _report(args, [entry], failed=0)
 
 
@@ -170,14 +170,14 @@ def _source(labels: Any, args: argparse.Namespace, record: dict[str, Any] | None
     return found, options
 
 
-def _export_one(args: argparse.Namespace, labels_file: str, graspnet: str | None,
-                acronym: str | None, record: dict[str, Any] | None,
-                job: dict[str, Any] | None = None) -> dict[str, Any]:
+def export_one(args: argparse.Namespace, labels_file: str, graspnet: str | None,
+               acronym: str | None, record: dict[str, Any] | None,
+               job: dict[str, Any] | None = None) -> dict[str, Any]:
     """Everything computed, then the files written: the object's summary entry."""
     import numpy as np
 
+    from ..files.atomic import atomic_write
     from ..gripper.labels import GraspLabels
-    from ..io.atomic import atomic_write
     from ..io.export import acronym_object, graspnet_array, save_acronym
 
     labels = GraspLabels.load(labels_file)
@@ -241,7 +241,7 @@ def _run_folder(args: argparse.Namespace, folder: Path) -> int:
             if fingerprint(str(labels_file)) != f"sha256:{record.get('labels_sha256')}":
                 raise InputError(f"{name}: its labels file changed since its record was "
                                  "written; run the dataset again")
-            entries.append(_export_one(
+            entries.append(export_one(
                 args, str(labels_file),
                 os.path.join(args.graspnet, stem + ".npy") if args.graspnet else None,
                 os.path.join(args.acronym, stem + ".h5") if args.acronym else None,

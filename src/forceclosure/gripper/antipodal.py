@@ -147,7 +147,8 @@ def sample_antipodal(obj: Any, mu: float, count: int, seed: int = 0,
     reach = min(width_max, 2.0 * size)  # nothing lies farther apart than the size
     rng = np.random.default_rng(seed)
     parts: list[tuple] = []
-    found, attempts, rejected = 0, 0, {}
+    found, attempts = 0, 0
+    rejected: dict[str, int] = {}
     for _ in range(ROUNDS):
         if found >= count:
             break

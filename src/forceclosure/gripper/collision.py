@@ -358,10 +358,11 @@ def choose_approach(obj: Any, poses: Any, gripper: ParallelJaw, approaches: int 
     rest = np.flatnonzero(hit)
     if approaches > 1 and len(rest):
         k = approaches - 1
-        more = collides(obj, _Poses(np.tile(center[rest], (k, 1)),
-                                    np.tile(closing[rest], (k, 1)),
-                                    axes[1:, rest].reshape(-1, 3), np.tile(width[rest], k)),
-                        gripper, clearance, hand).reshape(k, len(rest))
+        more = np.asarray(collides(obj, _Poses(np.tile(center[rest], (k, 1)),
+                                               np.tile(closing[rest], (k, 1)),
+                                               axes[1:, rest].reshape(-1, 3),
+                                               np.tile(width[rest], k)),
+                                   gripper, clearance, hand), dtype=bool).reshape(k, len(rest))
         clear = ~more
         found = clear.any(axis=0)
         first = np.argmax(clear, axis=0)  # the first clear axis, where there is one

@@ -218,7 +218,8 @@ def search_poses(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
     reach = pad_reach(levels, gripper.pad_length, gripper.pad_height)
     rng = np.random.default_rng(seed)
     kept: list[dict[str, NDArray]] = []
-    found, attempts, tried, rejected = 0, 0, 0, {}
+    found, attempts, tried = 0, 0, 0
+    rejected: dict[str, int] = {}
     for _ in range(ROUNDS):
         rate = found / attempts if attempts else 1.0
         if found >= count or rate < HOPELESS:
@@ -283,10 +284,11 @@ def search_poses(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
                 hit = np.zeros(len(sel), bool)
             take = ~hit | ~have[lines]  # a clear pose, or the first with contacts
             rows = lines[take]
-            for key, value in (("center", center), ("approach", approach[sel]),
-                               ("width", width[sel]), ("depth", np.full(len(sel), depth)),
-                               ("points", pc.points[sel]), ("normals", pc.normals[sel]),
-                               ("triangles", pc.triangles[sel]), ("collides", hit)):
+            found_now = {"center": center, "approach": approach[sel], "width": width[sel],
+                         "depth": np.full(len(sel), depth), "points": pc.points[sel],
+                         "normals": pc.normals[sel], "triangles": pc.triangles[sel],
+                         "collides": hit}
+            for key, value in found_now.items():
                 result[key][rows] = value[take]
             have[lines] = True
             settled[lines[~hit]] = True

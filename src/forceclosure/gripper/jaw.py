@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import math
 import weakref
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from numbers import Real
 from typing import Any
 
@@ -118,7 +118,7 @@ def rectangle_mean_radius(length: float, height: float) -> float:
     return float(quarter / (p * q)) * unit
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class ParallelJaw:
     """A parallel-jaw gripper.
 
@@ -178,22 +178,33 @@ class ParallelJaw:
     (0.05, True)
     """
 
+    # every size is a float once made (a size left None gets its default); only pad_radius
+    # keeps None, which means something (the pressed region's lever)
     width_max: float
-    pad_radius: float | None = None
-    depth: float | None = None
-    finger_length: float | None = None
-    finger_thickness: float | None = None
-    finger_height: float | None = None
-    palm_thickness: float | None = None
-    name: str = "parallel-jaw"
-    pad_length: float | None = None
-    pad_height: float | None = None
-    palm_width: float | None = None
-    palm_height: float | None = None
-    tip_offset: float | None = None
-    pad_compliance: float | None = None
+    pad_radius: float | None
+    depth: float
+    finger_length: float
+    finger_thickness: float
+    finger_height: float
+    palm_thickness: float
+    name: str
+    pad_length: float
+    pad_height: float
+    palm_width: float
+    palm_height: float
+    tip_offset: float
+    pad_compliance: float
 
-    def __post_init__(self) -> None:
+    def __init__(self, width_max: float, pad_radius: float | None = None,
+                 depth: float | None = None, finger_length: float | None = None,
+                 finger_thickness: float | None = None, finger_height: float | None = None,
+                 palm_thickness: float | None = None, name: str = "parallel-jaw",
+                 pad_length: float | None = None, pad_height: float | None = None,
+                 palm_width: float | None = None, palm_height: float | None = None,
+                 tip_offset: float | None = None, pad_compliance: float | None = None) -> None:
+        given = locals()  # the arguments, one per field, checked and completed below
+        for f in fields(self):
+            object.__setattr__(self, f.name, given[f.name])
         for name in ("width_max", "pad_radius", *_SHAPE, *_DERIVED):
             value = getattr(self, name)
             if value is None and name != "width_max":
@@ -468,6 +479,5 @@ def pose_from_contacts(p: ArrayLike, q: ArrayLike, approach: ArrayLike | None = 
     """
     p, q = _point(p, "p"), _point(q, "q")
     closing = _unit(q - p, "q - p")
-    if approach is None:
-        approach = default_approach(closing)
-    return JawPose(0.5 * (p + q), closing, approach, float(np.linalg.norm(q - p)))
+    axis = default_approach(closing) if approach is None else _unit(approach, "approach_axis")
+    return JawPose(0.5 * (p + q), closing, axis, float(np.linalg.norm(q - p)))

@@ -169,8 +169,9 @@ class GraspLabels:
         the same grasps (:func:`label_metrics`)."""
         if len(metrics) != len(self):
             raise InputError(f"metrics of {len(metrics)} grasps for {len(self)} labels")
-        return replace(self, **{n: np.asarray(getattr(metrics, n), dtype=float)
-                                for n in METRIC_ARRAYS})
+        arrays: dict[str, Any] = {n: np.asarray(getattr(metrics, n), dtype=float)
+                                  for n in METRIC_ARRAYS}
+        return replace(self, **arrays)
 
     def with_task(self, verdict: ArrayLike, spare: ArrayLike, spare_upper: ArrayLike,
                   settings: dict[str, Any]) -> GraspLabels:
@@ -210,10 +211,10 @@ class GraspLabels:
         """Write the arrays (:data:`ARRAYS`, and those of :data:`ROBUST_ARRAYS`,
         :data:`METRIC_ARRAYS` and :data:`TASK_ARRAYS` present) and
         ``meta`` (as JSON text) to an ``.npz``, atomically
-        (:func:`forceclosure.io.atomic.atomic_write`)."""
+        (:func:`forceclosure.files.atomic.atomic_write`)."""
         import json
 
-        from ..io.atomic import atomic_write
+        from ..files.atomic import atomic_write
 
         arrays = {name: getattr(self, name) for name in self._arrays()
                   if getattr(self, name) is not None}
@@ -264,7 +265,7 @@ class GraspLabels:
                 data = np.load(where, allow_pickle=False)
             except Exception as e:  # a folder, not a zip, truncated: numpy raises many types
                 raise InputError(f"{where}: not a label file (.npz): {first_line(e)}") from None
-            if not isinstance(data, Mapping | np.lib.npyio.NpzFile):
+            if not isinstance(data, np.lib.npyio.NpzFile):
                 raise InputError(f"{where}: not a label file: one array (.npy), not the .npz "
                                  "of labels that GraspLabels.save writes")
             with data:
@@ -339,7 +340,7 @@ CHUNK = 2048
 
 
 def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str = "soft",
-                 torsion: float | None = None,
+                 torsion: float | NDArray[np.float64] | None = None,
                  progress: Callable[[int], object] | None = None, least_friction: bool = True,
                  epsilon: bool = True
                  ) -> tuple[NDArray[np.int8], NDArray[np.float64], NDArray[np.float64]]:
@@ -388,13 +389,12 @@ def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str 
         code, least = pair_labels(points, normals, mu, contact)
         if least_friction:
             mu_star = least
-    per_pair = torsion is not None and np.ndim(torsion) > 0  # one coefficient a contact
-    if per_pair:
-        torsion = np.broadcast_to(np.asarray(torsion, dtype=float), (n, 2))
+    each = (np.broadcast_to(np.asarray(torsion, dtype=float), (n, 2))  # one a contact
+            if torsion is not None and np.ndim(torsion) > 0 else None)
     for lo in range(0, n, CHUNK):
         part = slice(lo, min(n, lo + CHUNK))
         P, N = points[part], normals[part]
-        T = torsion[part] if per_pair else torsion
+        T = torsion if each is None else each[part]
         if not closed_form:  # coupled torsion: Theorem 1 and a bisection
             code[part] = pair_codes(P, N, mu, contact, T)
             if least_friction:
@@ -403,7 +403,7 @@ def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str 
                   else np.zeros(0, np.int64))
         if len(closed):
             eps[lo + closed] = epsilon_batch(P[closed], N[closed], mu=mu, model=contact,
-                                             torsion=T[closed] if per_pair else T)
+                                             torsion=T if each is None else each[part][closed])
         if progress is not None:
             progress(part.stop - part.start)
     return code, mu_star, eps
@@ -472,8 +472,8 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
     poses = search_poses(poly, gripper, mu, count, seed, approaches if collision else 1,
                          depths if collision else 1, clearance, collision, tilt, support)
     pressed = contact == "soft" and gripper.pad_radius is None
-    torsion = (mu * poses.lever if pressed else gripper.torsion(mu) if contact == "soft"
-               else None)
+    each = mu * poses.lever if pressed else None  # one a contact, from the pressed regions
+    torsion = each if pressed else gripper.torsion(mu) if contact == "soft" else None
     code, mu_star, eps = label_grasps(poses.points, poses.normals, mu, contact, torsion,
                                       progress, least_friction, epsilon)
     checked = None
@@ -498,7 +498,7 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
     return GraspLabels(poses.center, poses.closing_axis, poses.approach_axis, poses.width,
                        poses.points, poses.normals, code, mu_star, eps, meta,
                        collides=poses.collides, depth=poses.depth,
-                       torsion=torsion if pressed else None)
+                       torsion=each)
 
 
 def torsion_of(labels: GraspLabels) -> Any:
@@ -542,7 +542,8 @@ def label_metrics(labels: GraspLabels, progress: Callable[[int], object] | None 
         if progress is not None:
             progress(part.stop - part.start)
     if not parts:
-        return GraspMetrics(*(np.zeros(0) for _ in range(4)), np.zeros((0, 3)), np.zeros(0))
+        return GraspMetrics(np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 3)),
+                            np.zeros(0))
     return GraspMetrics(*(np.concatenate([getattr(p, f) for p in parts]) for f in (
         "sigma_min", "sigma_max", "isotropy", "volume", "reference", "length_scale")))
 

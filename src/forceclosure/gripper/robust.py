@@ -74,7 +74,7 @@ class Noise:
     normal_sigma: float = 0.0
 
     def __post_init__(self) -> None:
-        angle = self.angle_sigma
+        angle: Any = self.angle_sigma  # as given: one number or two, checked here
         if isinstance(angle, Real) and not isinstance(angle, bool):
             angle = (angle, angle)
         try:

@@ -108,7 +108,7 @@ class _Joint:
 
 
 def _joints(root: ET.Element, where: str) -> list[_Joint]:
-    from ..objects.urdf import _numbers, origin_transform
+    from ..objects.urdf import origin_transform, urdf_numbers
 
     joints = []
     for index, element in enumerate(root.findall("joint")):
@@ -116,18 +116,20 @@ def _joints(root: ET.Element, where: str) -> list[_Joint]:
         at = f"{where}: joint {name!r}"
         kind = element.get("type", "")
         parent, child = element.find("parent"), element.find("child")
-        if parent is None or child is None or not parent.get("link") or not child.get("link"):
+        parent_link = None if parent is None else parent.get("link")
+        child_link = None if child is None else child.get("link")
+        if not parent_link or not child_link:
             raise InputError(f"{at}: needs <parent link> and <child link>")
         origin = element.find("origin")
-        xyz = _numbers(origin.get("xyz", "0 0 0") if origin is not None else "0 0 0", (3,),
-                       "origin xyz", at)
-        rpy = _numbers(origin.get("rpy", "0 0 0") if origin is not None else "0 0 0", (3,),
-                       "origin rpy", at)
+        xyz = urdf_numbers(origin.get("xyz", "0 0 0") if origin is not None else "0 0 0", (3,),
+                           "origin xyz", at)
+        rpy = urdf_numbers(origin.get("rpy", "0 0 0") if origin is not None else "0 0 0", (3,),
+                           "origin rpy", at)
         axis_element = element.find("axis")
         axis = np.array([1.0, 0.0, 0.0])
         if kind in ("prismatic", "revolute", "continuous"):
             if axis_element is not None:
-                axis = _numbers(axis_element.get("xyz", "1 0 0"), (3,), "axis xyz", at)
+                axis = urdf_numbers(axis_element.get("xyz", "1 0 0"), (3,), "axis xyz", at)
             norm = float(np.linalg.norm(axis))
             if norm <= 1e-12:
                 raise InputError(f"{at}: its axis is zero")
@@ -137,8 +139,8 @@ def _joints(root: ET.Element, where: str) -> list[_Joint]:
         if kind in ("prismatic", "revolute"):
             if limit is None:
                 raise InputError(f"{at}: a {kind} joint needs <limit>")
-            lower = float(_numbers(limit.get("lower", "0"), (1,), "limit lower", at)[0])
-            upper = float(_numbers(limit.get("upper", "0"), (1,), "limit upper", at)[0])
+            lower = float(urdf_numbers(limit.get("lower", "0"), (1,), "limit lower", at)[0])
+            upper = float(urdf_numbers(limit.get("upper", "0"), (1,), "limit upper", at)[0])
             if lower > upper:
                 raise InputError(f"{at}: limit lower {lower:g} is above upper {upper:g}")
         mimic = element.find("mimic")
@@ -146,10 +148,10 @@ def _joints(root: ET.Element, where: str) -> list[_Joint]:
         if mimic is not None:
             if not mimic.get("joint"):
                 raise InputError(f"{at}: <mimic> names no joint")
-            multiplier = float(_numbers(mimic.get("multiplier", "1"), (1,), "mimic multiplier",
-                                        at)[0])
-            offset = float(_numbers(mimic.get("offset", "0"), (1,), "mimic offset", at)[0])
-        joints.append(_Joint(name, kind, parent.get("link"), child.get("link"),
+            multiplier = float(urdf_numbers(mimic.get("multiplier", "1"), (1,), "mimic multiplier",
+                                            at)[0])
+            offset = float(urdf_numbers(mimic.get("offset", "0"), (1,), "mimic offset", at)[0])
+        joints.append(_Joint(name, kind, parent_link, child_link,
                              origin_transform(xyz, rpy), axis, lower, upper,
                              None if mimic is None else mimic.get("joint"), multiplier, offset))
     return joints
@@ -322,13 +324,13 @@ def gripper_from_urdf(path: str | Path, *, finger_links: tuple[str, str] | None 
     ...
     forceclosure.errors.InputError: pr2_gripper.urdf: no prismatic joints, only turning ones ...
     """
-    from ..objects.urdf import _robot
+    from ..objects.urdf import robot_element
 
     urdf = Path(path)
     where = urdf.name
     if not urdf.is_file():
         raise InputError(f"{path}: no such URDF file")
-    root = _robot(urdf)
+    root = robot_element(urdf)
     tree = _Tree(root, where)
     turning = [j.name for j in tree.joints if j.kind in ("revolute", "continuous")]
     prismatic = [j for j in tree.joints if j.kind == "prismatic"]
@@ -353,7 +355,7 @@ def gripper_from_urdf(path: str | Path, *, finger_links: tuple[str, str] | None 
                 or len(set(finger_links)) != 2):
             raise InputError(f"{where}: finger_links: two different links are needed, got "
                              f"{finger_links!r}")
-        fingers = tuple(str(f) for f in finger_links)
+        fingers = (str(finger_links[0]), str(finger_links[1]))
         for f in fingers:
             tree.check_link(f, "finger_links")
     # the palm: the nearest common parent, or the one named (above both fingers)
@@ -404,11 +406,12 @@ def gripper_from_urdf(path: str | Path, *, finger_links: tuple[str, str] | None 
     if set(groups[0]) & set(groups[1]):
         raise InputError(f"{where}: the fingers {fingers[0]!r} and {fingers[1]!r} share links")
     # the closing axis
-    axes = [_direction(tree, palm, j) for j in drives if j is not None]
+    sliding = [j for j in drives if j is not None]
+    axes = [_direction(tree, palm, j) for j in sliding]
     if len(axes) == 2 and abs(float(axes[0] @ axes[1])) < math.cos(PARALLEL_RADIANS):
         angle = math.degrees(math.acos(min(1.0, abs(float(axes[0] @ axes[1])))))
-        raise InputError(f"{where}: the finger joints {drives[0].name!r} and "
-                         f"{drives[1].name!r} slide along axes {angle:.3g} degrees apart: not "
+        raise InputError(f"{where}: the finger joints {sliding[0].name!r} and "
+                         f"{sliding[1].name!r} slide along axes {angle:.3g} degrees apart: not "
                          "a parallel-jaw hand")
     closing = axes[0]
     # the positions of the driving joints: each at either limit; mimic joints follow

@@ -252,7 +252,7 @@ def graspnet_array(labels: Any, gripper: ParallelJaw | None = None, score: str =
 def save_graspnet(path: str, labels: Any, gripper: ParallelJaw | None = None,
                   score: str = "friction", object_id: int = -1) -> None:
     """Write :func:`graspnet_array` to ``path`` (``.npy``), atomically."""
-    from .atomic import atomic_write
+    from ..files.atomic import atomic_write
 
     array = graspnet_array(labels, gripper, score, object_id)
     with atomic_write(path) as f:
@@ -373,8 +373,8 @@ def acronym_object(source: Any, path: str, mesh_root: str | None = None, *,
     >>> cube.file, cube.scale, cube.reason
     ('cube.obj', 1.0, 'a bundled object, not a file')
     """
+    from ..files.atomic import check_output
     from ..objects.io import ROBOT_SUFFIXES, load_object
-    from .atomic import check_output
 
     root = os.path.abspath(mesh_root if mesh_root is not None else
                            os.path.dirname(os.path.abspath(path)))
@@ -398,20 +398,21 @@ def acronym_object(source: Any, path: str, mesh_root: str | None = None, *,
                                          allow_outside_meshes=allow_outside_meshes)
             inputs += [str(p.mesh_file) for p in pieces if p.mesh_file is not None]
             piece = pieces[0]
+            mesh_file = piece.mesh_file  # set exactly for a mesh piece
             if len(pieces) > 1:
                 reason = f"the URDF's link has {len(pieces)} pieces, not one mesh"
-            elif piece.kind != "mesh":
+            elif piece.kind != "mesh" or mesh_file is None:
                 reason = f"the URDF's link is a {piece.kind}, not a mesh"
-            elif piece.mesh_file.suffix.lower() not in DIRECT_MESHES:
-                reason = (f"the URDF's mesh is a {piece.mesh_file.suffix} scene, which "
+            elif mesh_file.suffix.lower() not in DIRECT_MESHES:
+                reason = (f"the URDF's mesh is a {mesh_file.suffix} scene, which "
                           "trimesh.load reads as a Scene")
             else:
-                scale = _uniform_scale(piece.vertices, read_mesh_arrays(piece.mesh_file)[0])
+                scale = _uniform_scale(piece.vertices, read_mesh_arrays(mesh_file)[0])
                 if scale is None:
                     reason = ("the URDF places its mesh by an origin or scales it unevenly, "
                               "which object/scale cannot say")
                 else:
-                    mesh = str(piece.mesh_file.resolve())
+                    mesh = str(mesh_file.resolve())
                     return AcronymObject(os.path.relpath(mesh, root), round(scale, 15), mesh,
                                          root)
         else:
@@ -451,7 +452,7 @@ def write_acronym_object(found: AcronymObject) -> None:
     import trimesh
     from trimesh.exchange.obj import export_obj
 
-    from .atomic import atomic_write
+    from ..files.atomic import atomic_write
 
     text = export_obj(trimesh.Trimesh(*found.surface, process=False), include_normals=False,
                       include_color=False, include_texture=False, digits=17, header=None)
@@ -517,8 +518,8 @@ def save_acronym(path: str, labels: Any, object_file: Any = None, scale: float |
     ...     f["grasps/transforms"].shape, f["object/file"][()].decode(), f["object/scale"][()]
     ((3, 4, 4), 'cube.obj', np.float64(1.0))
     """
+    from ..files.atomic import atomic_write
     from ..gripper.labels import ARRAYS
-    from .atomic import atomic_write
 
     h5py = require_h5py()
     labels = as_labels(labels)

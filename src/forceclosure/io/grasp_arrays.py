@@ -30,7 +30,7 @@ import zipfile
 import zlib
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
-from typing import IO
+from typing import IO, Any
 
 import numpy as np
 from numpy.lib import format as npy
@@ -39,9 +39,9 @@ from numpy.typing import NDArray
 from ..analysis.batch import CHUNK, analyze_batch, epsilon_batch
 from ..contacts import MAX_CONTACTS, MAX_QUALITY_CONTACTS, MODELS, Cone, parse_cone
 from ..errors import InputError, clip
+from ..files.atomic import atomic_write
+from ..files.read import regular_file
 from ..verdicts import VERDICT_WORDS, Verdict, VerdictCode
-from .atomic import atomic_write
-from .files import regular_file
 from .grasp_file import MAX_COORDINATE
 
 __all__ = ["ERROR", "AnalysisInterrupted", "GraspArrays", "NpzResults", "analyze_npz",
@@ -217,7 +217,8 @@ def open_npz(path: str) -> GraspArrays:
         cone: str | Cone = "exact"
         if "cone" in names:
             cone = parse_cone(str(_small(archive, "cone", path)))
-        streamed, constant = ["points", "normals"], {}
+        streamed = ["points", "normals"]
+        constant: dict[str, NDArray[np.float64]] = {}
         for name in ("mu", "torsion"):
             if name not in names:
                 continue
@@ -293,7 +294,7 @@ class NpzResults:
     0 where it is not force-closure and NaN where its input was bad.
     ``done`` is how many grasps, from the first, were analysed: all of them
     (``None``) unless the run was interrupted; ``input`` the fingerprint of
-    the grasp file (:func:`forceclosure.io.files.fingerprint`), when known.
+    the grasp file (:func:`forceclosure.files.read.fingerprint`), when known.
     """
 
     code: NDArray[np.int8]
@@ -331,7 +332,8 @@ class NpzResults:
         >>> saved["verdict"].tolist(), int(saved["done"]), bool(saved["partial"])
         ([2, -1], 1, True)
         """
-        extra = {} if self.epsilon is None else {"epsilon": self.epsilon}
+        # Any: np.savez's stubs take a keyword argument for a flag of its own
+        extra: dict[str, Any] = {} if self.epsilon is None else {"epsilon": self.epsilon}
         if self.input is not None:
             extra["input"] = np.array(self.input)
         done = len(self.code) if self.done is None else self.done
@@ -356,7 +358,7 @@ def load_results(path: str) -> NpzResults:
     shapes_ok = n >= 0 and all(arrays[k].shape == (n,) for k in ("rank", "margin", "epsilon")
                                if k in arrays) and {"rank", "margin"} <= set(arrays)
     done = arrays.get("done", np.int64(n))
-    if not shapes_ok or done.shape != () or not 0 <= int(done) <= n:
+    if code is None or not shapes_ok or done.shape != () or not 0 <= int(done) <= n:
         raise InputError(f"{path}: not a results file of 'forceclosure analyze --out'")
     return NpzResults(code.astype(np.int8), arrays["rank"].astype(np.int8),
                       arrays["margin"].astype(float), [],

@@ -244,16 +244,16 @@ TOO_MANY = (f"not computed: more than {MAX_QUALITY_CONTACTS} spatial contact poi
             "(minutes a grasp beyond)")
 
 
-def _analyse(entry: GraspEntry, cone: str | Cone, quality: bool,
+def _analyse(entry: GraspEntry, contacts: list[Contact], cone: str | Cone, quality: bool,
              ) -> tuple[Analysis, float | None, float | None]:
-    a = analyze_explained(entry.contacts, cone=cone, reference=entry.reference,
+    a = analyze_explained(contacts, cone=cone, reference=entry.reference,
                           length_scale=entry.length_scale)
     eps = mu_star = None
     if quality:
         if a.verdict is Verdict.CLOSURE:
-            eps = epsilon(entry.contacts, reference=entry.reference,
+            eps = epsilon(contacts, reference=entry.reference,
                           length_scale=entry.length_scale).value
-        mu_star = least_friction(entry.contacts, cone=cone)
+        mu_star = least_friction(contacts, cone=cone)
     return a, eps, mu_star
 
 
@@ -274,12 +274,13 @@ def result_record(entry: GraspEntry, cone: str | Cone, quality: bool = True,
     >>> record["verdict"], record["least_friction"], record["null_reasons"]["least_friction"]
     ('closure', None, 'not computed (--no-quality)')
     """
-    if entry.error is not None:
+    contacts = entry.contacts
+    if entry.error is not None or contacts is None:  # a grasp has its contacts or its error
         return {"name": entry.name, "error": entry.error}, None
-    too_many = entry.contacts[0].dim == 3 and sum(
-        len(c.points) for c in entry.contacts) > MAX_QUALITY_CONTACTS
+    too_many = contacts[0].dim == 3 and sum(
+        len(c.points) for c in contacts) > MAX_QUALITY_CONTACTS
     try:
-        a, eps, mu_star = _analyse(entry, cone, quality and not too_many)
+        a, eps, mu_star = _analyse(entry, contacts, cone, quality and not too_many)
     except InputError as e:
         return {"name": entry.name, "error": str(e.within(entry.label))}, None
     closed = a.verdict is Verdict.CLOSURE

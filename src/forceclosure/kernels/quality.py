@@ -19,7 +19,16 @@ import numpy as np
 
 from ..geometry import cones
 from .hull import hull_radius
-from .theorem1 import BLOCK, CLOSURE, DEFER, EXACT_EDGES, _decide, _frame, _work, wrenches
+from .theorem1 import (
+    BLOCK,
+    CLOSURE,
+    DEFER,
+    EXACT_EDGES,
+    contact_frame,
+    decide_pyramid,
+    work_arrays,
+    wrenches,
+)
 
 __all__ = ["epsilon_kernel", "grasp_frames"]
 
@@ -40,7 +49,7 @@ def epsilon_kernel(points, normals, mu, tors, model, edges, tol, maxm,
     oriented = by_grasp and d == 3
     n_blocks = (n_grasps + BLOCK - 1) // BLOCK
     for blk in nb.prange(n_blocks):
-        work = _work(maxm, max(edges, EXACT_EDGES[-1]))
+        work = work_arrays(maxm, max(edges, EXACT_EDGES[-1]))
         ref = np.empty(d)
         y = np.empty(D)
         X = np.empty((maxm, D))
@@ -51,12 +60,13 @@ def epsilon_kernel(points, normals, mu, tors, model, edges, tol, maxm,
             P, N, M, T = points[g], normals[g], mu[g], tors[g]
             # closed with the inscribed pyramid epsilon is measured on: then with the exact
             # cones around it too (a proof for the pyramid is one for the larger cones)
-            scale = _frame(P, ref)
+            scale = contact_frame(P, ref)
             if oriented:
                 grasp_frames(P, N, frames)
-                c = _decide(P, N, M, T, model, edges, 1.0, ref, scale, tol, work, y, frames)[0]
+                c = decide_pyramid(P, N, M, T, model, edges, 1.0, ref, scale, tol, work, y,
+                                   frames)[0]
             else:
-                c = _decide(P, N, M, T, model, edges, 1.0, ref, scale, tol, work, y)[0]
+                c = decide_pyramid(P, N, M, T, model, edges, 1.0, ref, scale, tol, work, y)[0]
             if c != CLOSURE:
                 deferred[g] = c == DEFER
                 continue

@@ -78,7 +78,9 @@ _divisor = nb.njit(cache=True, nogil=True)(cones.pyramid_divisor)
 
 
 @nb.njit(cache=True, nogil=True)
-def _work(maxm, max_edges):  # pragma: no cover - compiled
+def work_arrays(maxm, max_edges):  # pragma: no cover - compiled
+    """The scratch arrays (:data:`Work`) of one thread, for grasps of at most ``maxm``
+    generating wrenches and pyramids of at most ``max_edges`` edges."""
     n = maxm + 12
     return Work(np.empty((6, maxm)), np.empty(maxm, dtype=np.bool_), np.empty((6, maxm)),
                 np.empty((6, maxm)), np.empty(maxm), np.empty((6, 6)), np.empty((6, 6)),
@@ -132,7 +134,7 @@ def _eigh(G, V, lam):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, nogil=True)
-def _frame(P, ref):  # pragma: no cover - compiled
+def contact_frame(P, ref):  # pragma: no cover - compiled
     """Centroid of the contact points and their largest distance from it (``contacts.frame``)."""
     k, d = P.shape
     for j in range(d):
@@ -619,7 +621,8 @@ def _modulo_two_sided(W, two, m, tol, work, twist):  # pragma: no cover - compil
 
 
 @nb.njit(cache=True, nogil=True)
-def _decide(P, N, mu, tors, model, edges, divisor, ref, scale, tol, work, twist, frames=None):
+def decide_pyramid(P, N, mu, tors, model, edges, divisor, ref, scale, tol, work, twist,
+                   frames=None):
     # pragma: no cover - compiled
     """Theorem 1 for one grasp with one pyramid: (code, rank, margin); ``frames`` as in
     :func:`wrenches`."""
@@ -674,7 +677,7 @@ def grasp(P, N, mu, tors, model, edges, fit, exact, tol, work, ref, y):
     scaled wrench frame.
     """
     k, d = P.shape
-    scale = _frame(P, ref)
+    scale = contact_frame(P, ref)
     friction = False
     if d == 3:
         for i in range(k):
@@ -683,18 +686,18 @@ def grasp(P, N, mu, tors, model, edges, fit, exact, tol, work, ref, y):
     if not (exact and friction):
         use = 8 if exact else edges  # closure.decide: Cone() when there is nothing to bracket
         divisor = _divisor(use, fit == 1 and not exact)
-        c, r, mg = _decide(P, N, mu, tors, model, use, divisor, ref, scale, tol, work, y)
+        c, r, mg = decide_pyramid(P, N, mu, tors, model, use, divisor, ref, scale, tol, work, y)
         return c, r, mg, scale
     kept = np.empty_like(y)
     c, r, mg = DEFER, 0, np.nan
     for e in EXACT_EDGES:  # inscribed proves closure, circumscribed refutes it
-        c, r, mg = _decide(P, N, mu, tors, model, e, 1.0, ref, scale, tol, work, y)
+        c, r, mg = decide_pyramid(P, N, mu, tors, model, e, 1.0, ref, scale, tol, work, y)
         if c in (CLOSURE, DEFER):
             return c, r, mg, scale
         inner_r, inner_mg = r, mg
         kept[:] = y
-        c, r, mg = _decide(P, N, mu, tors, model, e, _divisor(e, True), ref, scale, tol, work,
-                           y)
+        c, r, mg = decide_pyramid(P, N, mu, tors, model, e, _divisor(e, True), ref, scale, tol,
+                                  work, y)
         if c in (NONE, DEFER):
             return c, r, mg, scale
         y[:] = kept
@@ -707,7 +710,7 @@ def _closure_range(points, normals, mu, tors, model, edges, fit, exact, tol, max
                    code, rank, margin, twist, lo, hi):  # pragma: no cover - compiled
     """:func:`closure_kernel`'s work on grasps ``lo`` to ``hi``, with one work area."""
     d = points.shape[2]
-    work = _work(maxm, max(edges, EXACT_EDGES[-1]))
+    work = work_arrays(maxm, max(edges, EXACT_EDGES[-1]))
     ref = np.empty(d)
     y = np.empty(3 if d == 2 else 6)
     for g in range(lo, hi):
@@ -771,7 +774,7 @@ def least_friction_kernel(points, normals, tors, model, edges, fit, exact, tol, 
     frictionless_can_close = columns_0 >= (3 if d == 2 else 6) + 1
     n_blocks = (n_grasps + BLOCK - 1) // BLOCK
     for blk in nb.prange(n_blocks):
-        work = _work(maxm, max(edges, EXACT_EDGES[-1]))
+        work = work_arrays(maxm, max(edges, EXACT_EDGES[-1]))
         ref = np.empty(d)
         y = np.empty(3 if d == 2 else 6)
         mu = np.empty(k)

@@ -36,7 +36,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError, parse_json
 from ..errors import first_line as _first_line
-from ..io.files import regular_file
+from ..files.read import regular_file
 from .examples import POLYGONS, POLYHEDRA, bundled
 from .meshfile import MESH_SUFFIXES, read_mesh_arrays
 from .polygon import Polygon

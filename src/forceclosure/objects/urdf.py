@@ -219,8 +219,8 @@ class GeometryPiece:
     turn: float = 0.0
 
 
-def _numbers(text: str | None, count: tuple[int, ...], what: str, where: str,
-             positive: bool = False) -> NDArray[np.float64]:
+def urdf_numbers(text: str | None, count: tuple[int, ...], what: str, where: str,
+                 positive: bool = False) -> NDArray[np.float64]:
     """``count`` (one of) finite numbers from an attribute's text, or one line why not."""
     words = {1: "one number", 3: "three numbers"}
     wanted = words[count[0]]
@@ -445,10 +445,10 @@ def _piece(element: ET.Element, urdf: Path, link: str, which: str,
     origins = element.findall("origin")
     if len(origins) > 1:
         raise InputError(f"{where}: has {len(origins)} <origin> elements; one is allowed")
-    xyz = _numbers(origins[0].get("xyz", "0 0 0") if origins else "0 0 0", (3,),
-                   "origin xyz", where)
-    rpy = _numbers(origins[0].get("rpy", "0 0 0") if origins else "0 0 0", (3,),
-                   "origin rpy", where)
+    xyz = urdf_numbers(origins[0].get("xyz", "0 0 0") if origins else "0 0 0", (3,),
+                       "origin xyz", where)
+    rpy = urdf_numbers(origins[0].get("rpy", "0 0 0") if origins else "0 0 0", (3,),
+                       "origin rpy", where)
     geometries = element.findall("geometry")
     if len(geometries) != 1:
         raise InputError(f"{where}: has {len(geometries)} <geometry> elements; one is needed")
@@ -460,22 +460,22 @@ def _piece(element: ET.Element, urdf: Path, link: str, which: str,
     mesh_file = None
     turn = 0.0  # how far the true surface's normal turns from the facets'
     if kind == "box":
-        V, T = box_mesh(_numbers(shape.get("size"), (3,), "box size", where, positive=True))
+        V, T = box_mesh(urdf_numbers(shape.get("size"), (3,), "box size", where, positive=True))
     elif kind == "cylinder":
-        radius = _numbers(shape.get("radius"), (1,), "cylinder radius", where, positive=True)
-        length = _numbers(shape.get("length"), (1,), "cylinder length", where, positive=True)
+        radius = urdf_numbers(shape.get("radius"), (1,), "cylinder radius", where, positive=True)
+        length = urdf_numbers(shape.get("length"), (1,), "cylinder length", where, positive=True)
         V, T = cylinder_mesh(float(radius[0]), float(length[0]))
         turn = CYLINDER_TURN
     elif kind == "sphere":
-        V, T = sphere_mesh(float(_numbers(shape.get("radius"), (1,), "sphere radius", where,
-                                          positive=True)[0]))
+        V, T = sphere_mesh(float(urdf_numbers(shape.get("radius"), (1,), "sphere radius", where,
+                                              positive=True)[0]))
         turn = _unit_sphere()[2]
     elif kind == "mesh":
         filename = shape.get("filename")
         if not filename:
             raise InputError(f"{where}: <mesh> has no filename")
-        scale = _numbers(shape.get("scale", "1 1 1"), (3, 1), "mesh scale", where,
-                         positive=True)
+        scale = urdf_numbers(shape.get("scale", "1 1 1"), (3, 1), "mesh scale", where,
+                             positive=True)
         mesh_file = (resolve_mesh_filename(filename, urdf) if allow_outside_meshes
                      else check_mesh_inside(filename, urdf, where))
         if not mesh_file.is_file():
@@ -507,7 +507,7 @@ def _label(link: ET.Element, index: int) -> str:
     return repr(name) if name else f"{index + 1} (unnamed)"
 
 
-def _robot(path: Path) -> ET.Element:
+def robot_element(path: Path) -> ET.Element:
     """The ``<robot>`` element of a URDF file, or one line saying why there is none."""
     try:  # blank lines before the XML declaration (pybullet's biped2d has them) mean nothing
         root = ET.fromstring(path.read_bytes().lstrip(b" \t\r\n"))
@@ -531,7 +531,7 @@ def mesh_files(path: Path) -> list[Path]:
     ['duck.obj', 'duck_vhacd.obj']
     """
     found = []
-    for mesh in _robot(path).iter("mesh"):
+    for mesh in robot_element(path).iter("mesh"):
         try:
             found.append(resolve_mesh_filename(mesh.get("filename", ""), path))
         except InputError:
@@ -556,7 +556,7 @@ def link_geometry(path: Path, part: str | None = None, *, allow_outside_meshes: 
     >>> name, [(p.where, p.kind) for p in pieces]
     ('right_leg', [('collision 1', 'box')])
     """
-    root = _robot(path)
+    root = robot_element(path)
     links = root.findall("link")
     if not links:
         raise InputError(f"{path.name}: the URDF has no <link>")

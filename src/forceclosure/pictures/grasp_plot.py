@@ -84,10 +84,10 @@ def check_plot_path(path: str) -> None:
 def _view(pose: Any, up: str) -> tuple[float, float]:
     """The camera of a pose's panel: the elevation, and the azimuth showing the closing
     axis most across the picture, the hand towards the viewer on a tie."""
-    from .plot import _eye
+    from .plot import camera_eye
 
     def score(azimuth: float) -> float:
-        eye = _eye((_ELEVATION, azimuth), up)
+        eye = camera_eye((_ELEVATION, azimuth), up)
         across = float(np.linalg.norm(np.cross(pose.closing_axis, eye)))
         return round(across, 2) + 0.1 * float(-pose.approach_axis @ eye)
 
@@ -100,16 +100,16 @@ def _panel(ax: Any, scene: Any, pose: Any, up: str) -> None:
     from matplotlib.colors import to_rgb
     from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 
-    from .plot import _eye, _light
+    from .plot import camera_eye, camera_light
 
     view = _view(pose, up) if pose is not None else (_ELEVATION, _AZIMUTHS[0])
-    eye = _eye(view, up)
+    eye = camera_eye(view, up)
     ax.computed_zorder = False
     V, T = scene.vertices, scene.triangles
     if len(T):
         n = np.cross(V[T[:, 1]] - V[T[:, 0]], V[T[:, 2]] - V[T[:, 0]])
         n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
-        grey = 0.5 + 0.45 * np.clip(n @ _light(eye, up), 0, 1)
+        grey = 0.5 + 0.45 * np.clip(n @ camera_light(eye, up), 0, 1)
         ax.add_collection3d(Poly3DCollection(
             V[T], facecolors=np.column_stack([grey * 0.80, grey * 0.82, grey * 0.86,
                                               np.full(len(T), 0.35)]),
@@ -223,7 +223,7 @@ def plot_grasps(obj: Any, labels: Any, path: str, top: int = 10,
     >>> len(plot_grasps("cube", labels, path, top=3)), os.path.getsize(path) > 0
     (3, True)
     """
-    from ..io.atomic import atomic_write
+    from ..files.atomic import atomic_write
 
     check_plot_path(path)
     fig = grasps_picture(obj, labels, top, gripper, title, up=up)

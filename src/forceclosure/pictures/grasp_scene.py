@@ -323,11 +323,13 @@ def grasp_scene(obj: Any, labels: Any, chosen: NDArray[np.int64],
     kind = categories(labels)
     V, T = drawn_mesh(mesh.vertices, mesh.faces, most_triangles)
     size = float(np.ptp(mesh.vertices, axis=0).max())
-    frames = jaw_frames(np.asarray(labels.center)[chosen], np.asarray(labels.closing_axis)[chosen],
-                        np.asarray(labels.approach_axis)[chosen]) if len(chosen) else []
+    frames = (jaw_frames(np.asarray(labels.center)[chosen],
+                         np.asarray(labels.closing_axis)[chosen],
+                         np.asarray(labels.approach_axis)[chosen])
+              if len(chosen) else np.zeros((0, 4, 4)))
     poses = []
-    for rank, (i, frame) in enumerate(zip(chosen, frames, strict=True), start=1):
-        i = int(i)
+    for rank, (index, frame) in enumerate(zip(chosen, frames, strict=True), start=1):
+        i = int(index)
         depth = gripper.depth if depth_of is None else float(np.asarray(depth_of)[i])
         shift = np.array([depth - gripper.depth, 0.0, 0.0])
         boxes = np.array([centre + shift + extents * _CORNERS for _, extents, centre in

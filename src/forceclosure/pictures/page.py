@@ -198,7 +198,7 @@ def write_plotly_js(folder, name: str = PLOTLY_JS):
     """
     from pathlib import Path
 
-    from ..io.atomic import atomic_write
+    from ..files.atomic import atomic_write
 
     path = Path(folder) / name
     content = _plotly_js()

@@ -214,7 +214,7 @@ def _palette() -> tuple:
     """matplotlib's tab10 (the HTML view uses the same colours)."""
     import matplotlib
 
-    return tuple(matplotlib.colormaps["tab10"].colors)
+    return tuple(matplotlib.color_sequences["tab10"])
 
 
 def _axes(ax: Any, three_d: bool, figsize: tuple[float, float], who: str):
@@ -234,7 +234,7 @@ def _save(fig: Any, path: str | Path | None) -> None:
     """Save as PNG or SVG by the extension, atomically; a bad path is one InputError line."""
     if path is None:
         return
-    from ..io.atomic import atomic_write
+    from ..files.atomic import atomic_write
 
     check_plot_path(path)
     with atomic_write(str(path)) as f:
@@ -244,7 +244,7 @@ def _save(fig: Any, path: str | Path | None) -> None:
 # --- the plane --------------------------------------------------------------------------
 
 
-def _one_object(found: Sequence[Any]) -> Polygon | Polyhedron:
+def one_object(found: Sequence[Any]) -> Polygon | Polyhedron:
     """The object all the region sets are on, or one InputError line."""
     if not found:
         raise InputError("no regions to draw")
@@ -507,8 +507,8 @@ def plot_regions(regions: Sequence[Any], path: str | Path | None = None,
     >>> len(fig.axes[0].lines) > 0
     True
     """
-    polygon = _one_object(regions)
-    if polygon.dim != 2:
+    polygon = one_object(regions)
+    if not isinstance(polygon, Polygon):
         raise InputError("plot_regions draws grasps on a polygon; on a polyhedron, "
                          "plot_spatial_regions (or plot_found)")
     fig, ax = _axes(ax, False, (6, 6), "plot_regions")
@@ -573,7 +573,7 @@ def plot_regions(regions: Sequence[Any], path: str | Path | None = None,
 # --- space ------------------------------------------------------------------------------
 
 
-def _eye(view: tuple[float, float], up: str) -> NDArray[np.float64]:
+def camera_eye(view: tuple[float, float], up: str) -> NDArray[np.float64]:
     """The unit vector from the object towards the camera (matplotlib's convention)."""
     if up not in ("x", "y", "z"):
         raise InputError(f"up must be 'x', 'y' or 'z', got {up!r}")
@@ -582,7 +582,7 @@ def _eye(view: tuple[float, float], up: str) -> NDArray[np.float64]:
     return np.roll(toward, "xyz".index(up) - 2)
 
 
-def _light(eye: NDArray, up: str) -> NDArray[np.float64]:
+def camera_light(eye: NDArray, up: str) -> NDArray[np.float64]:
     """A light from above the camera and to its left."""
     vertical = np.eye(3)["xyz".index(up)]
     right = np.cross(-eye, vertical)
@@ -664,14 +664,14 @@ def _polyhedron_axes(ax: Any, poly: Polyhedron, label_faces: bool,
     from matplotlib import colormaps
     from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 
-    eye = _eye(view, up)
+    eye = camera_eye(view, up)
     cmap = colormaps["tab20"]
     merged = np.array([len(f.triangles) > 1 for f in poly.faces])
     palette = np.array([cmap(i % 20) if merged[i] else (0.72, 0.72, 0.72, 1.0)
                         for i in range(len(poly.faces))])
     colours = palette[poly.face_of_triangle]  # one-triangle faces (curved parts) in grey
     normals = _normals(poly)
-    shade = 0.5 + 0.5 * np.clip(normals @ _light(eye, up), 0, 1)
+    shade = 0.5 + 0.5 * np.clip(normals @ camera_light(eye, up), 0, 1)
     colours[:, :3] *= shade[:, None]
     # explicit layers: the object, then the outlines and numbers of what is in sight
     ax.computed_zorder = False
@@ -694,7 +694,7 @@ def _polyhedron_axes(ax: Any, poly: Polyhedron, label_faces: bool,
             shown = ~hidden[at:at + len(pts)]
             at += len(pts)
             nxt = np.roll(np.arange(len(pts)), -1)
-            segments += [pts[[i, j]] for i, j in enumerate(nxt) if shown[i] and shown[j]]
+            segments += [pts[[i, int(j)]] for i, j in enumerate(nxt) if shown[i] and shown[j]]
         ax.add_collection3d(Line3DCollection(segments, colors="#1b1b1b", linewidths=0.6,
                                              zorder=2))
     if label_faces and len(poly.faces) <= 60 and front:
@@ -712,7 +712,7 @@ def _choose_view(normals: list[NDArray], centres: list[NDArray], size: float,
     regions clearly from the front, then keeps them furthest apart on the picture (two
     opposed fingers are not drawn over each other), then the first (an oblique view)."""
     def score(k: int) -> tuple:
-        eye = _eye((ELEVATION, AZIMUTHS[k]), up)
+        eye = camera_eye((ELEVATION, AZIMUTHS[k]), up)
         facing = np.array([n @ eye for n in normals])
         flat = [c - (c @ eye) * eye for c in centres]
         apart = min(np.linalg.norm(a - b) for i, a in enumerate(flat) for b in flat[i + 1:]) \
@@ -782,10 +782,10 @@ def plot_spatial_regions(regions: Any, path: str | Path | None = None,
     anchors = [max(region, key=lambda p: p.area) for region in regions.regions]
     view = view or _choose_view([facing(r) for r in regions.regions],
                                 [p.points.mean(axis=0) for p in anchors], poly.size, up)
-    eye = _eye(view, up)
+    eye = camera_eye(view, up)
     ax.computed_zorder = False  # layers: far regions, object, near regions, cones, labels
     V, T = poly.vertices, poly.triangles
-    grey = 0.55 + 0.45 * np.clip(_normals(poly) @ _light(eye, up), 0, 1)
+    grey = 0.55 + 0.45 * np.clip(_normals(poly) @ camera_light(eye, up), 0, 1)
     pieces, rgba = _refined(V[T], np.column_stack([grey[:, None] * _GREY,
                                                    np.full(len(T), 0.32)]), poly.size / 8)
     ax.add_collection3d(Poly3DCollection(pieces, facecolors=rgba, edgecolors="none",
@@ -880,7 +880,7 @@ def plot_found(found: Sequence[Any], path: str | Path | None = None, title: str 
     >>> [t.get_text() for t in fig.axes[0].texts]
     ['finger 1', 'finger 2 (behind)']
     """
-    obj = _one_object(found)
+    obj = one_object(found)
     if obj.dim == 2:
         return plot_regions(found, path, title, ax=ax)
     return plot_spatial_regions(found[0], path, title, ax=ax, up=up)

@@ -28,11 +28,12 @@ from numpy.typing import NDArray
 from ..contacts import tangent_basis
 from ..errors import InputError
 from ..extras import require
-from ..objects import Polyhedron
+from ..objects import Polygon, Polyhedron
 from ..objects.polygon import axis_label
-from ..synthesis.regions import RegionSet
+from ..synthesis.planar.vertex_grasps import VertexGrasp
+from ..synthesis.regions import Regions, RegionSet
 from ..synthesis.spatial.patches import SpatialRegions
-from .plot import _one_object, corner_cone, on_vertex
+from .plot import corner_cone, one_object
 
 if TYPE_CHECKING:
     import plotly.graph_objects as go
@@ -136,7 +137,7 @@ def _grasp_traces(regions: SpatialRegions) -> list:
 
 def _camera(up: str) -> dict:
     """The page's camera: from the front, right and above, with ``up`` upright (as the
-    PNG's :func:`forceclosure.pictures.plot._eye` turns its camera)."""
+    PNG's :func:`forceclosure.pictures.plot.camera_eye` turns its camera)."""
     if up not in ("x", "y", "z"):
         raise InputError(f"up must be 'x', 'y' or 'z', got {up!r}")
     turn = "xyz".index(up) - 2
@@ -170,7 +171,10 @@ def spatial_figure(found: Sequence[SpatialRegions], title: str | None = None, *,
     >>> sum(t.type == "mesh3d" for t in fig.data)  # object, two regions, two cones
     5
     """
-    poly = _one_object(found)
+    poly = one_object(found)
+    if not isinstance(poly, Polyhedron):
+        raise InputError("spatial_figure draws grasps on a polyhedron; on a polygon, "
+                         "planar_figure (or write_html)")
     fig = go.Figure(_object_traces(poly))
     always = len(fig.data)
     groups = []
@@ -278,8 +282,8 @@ def planar_figure(found: Sequence[RegionSet], title: str | None = None) -> go.Fi
     >>> sorted({t.legendgroup for t in fig.data if t.legendgroup})
     ['grasp 1', 'grasp 2', 'v1']
     """
-    polygon = _one_object(found)
-    if polygon.dim != 2:
+    polygon = one_object(found)
+    if not isinstance(polygon, Polygon):
         raise InputError("planar_figure draws grasps on a polygon; on a polyhedron, "
                          "spatial_figure (or write_html)")
     outline = _lines(list(polygon.rings), closed=True)
@@ -287,8 +291,8 @@ def planar_figure(found: Sequence[RegionSet], title: str | None = None) -> go.Fi
                                fillcolor="#dfe7f2", line={"color": "#1f3b63", "width": 2},
                                hoverinfo="skip", showlegend=False))
     reach = polygon.size * 0.18
-    sets = [r for r in found if not on_vertex(r)]
-    corners = [r for r in found if on_vertex(r)]
+    sets = [r for r in found if isinstance(r, Regions)]  # fingers on segments of edges
+    corners = [r for r in found if isinstance(r, VertexGrasp)]  # a soft finger on a vertex
     colours = {id(r): COLOURS[place % len(COLOURS)] for place, r in enumerate(found)}
     for rank, r in enumerate(sets):
         colour, group = colours[id(r)], f"grasp {rank + 1}"
@@ -370,10 +374,11 @@ def write_html(found: Sequence[RegionSet], path: str | Path, title: str | None =
     path = Path(path)
     if path.suffix.lower() not in (".html", ".htm"):
         raise InputError(f"{path}: an interactive view is saved as .html")
-    obj = _one_object(found)
-    fig = (spatial_figure(found, title, up=up) if obj.dim == 3
+    obj = one_object(found)
+    fig = (spatial_figure([r for r in found if isinstance(r, SpatialRegions)], title, up=up)
+           if isinstance(obj, Polyhedron)  # every region set on a polyhedron is spatial
            else planar_figure(found, title))
-    from ..io.atomic import atomic_write
+    from ..files.atomic import atomic_write
 
     page = _page(fig, fig.layout.title.text or obj.name, path, shared_js)
     try:
@@ -567,7 +572,7 @@ def write_grasps_html(obj, labels, path: str | Path, top: int = 10, gripper=None
     >>> len(write_grasps_html("cube", labels, out, top=3)), out.stat().st_size < 3 * 10**6
     (3, True)
     """
-    from ..io.atomic import atomic_write
+    from ..files.atomic import atomic_write
     from .grasp_plot import best_grasps
 
     check_html_path(path)

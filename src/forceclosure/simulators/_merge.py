@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Literal
+from typing import Literal, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -34,7 +34,10 @@ Friction = Literal["nominal", "inner"]
 MERGE = 1e-6
 
 
-def one_of(where: str, new: str, old: str, new_value: object, old_value: object) -> object:
+T = TypeVar("T")
+
+
+def one_of(where: str, new: str, old: str, new_value: T | None, old_value: T | None) -> T | None:
     """The value of an option given by its common name ``new`` or its older name ``old``
     (both still accepted); refused in one line when both are given.
 

@@ -53,7 +53,7 @@ from ..regions import (
     proved_once,
 )
 from .edge_sites import edge_tuples, force_direction_prune
-from .vertex_grasps import _extremes
+from .vertex_grasps import extreme_generators
 
 __all__ = ["STRICT", "FrictionlessRegions", "cofactors",
            "maximal_frictionless_regions", "nguyen_frictionless_regions"]
@@ -310,8 +310,8 @@ def nguyen_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, in
         maps = [_meeting_point(es[0], es[1]), _meeting_point(es[2], es[3])]
         if maps[0] is None or maps[1] is None:
             continue
-        c12 = _extremes(_generators_of([-es[0].normal, -es[1].normal]))
-        c34 = _extremes(_generators_of([es[2].normal, es[3].normal]))  # -C34
+        c12 = extreme_generators(_generators_of([-es[0].normal, -es[1].normal]))
+        c34 = extreme_generators(_generators_of([es[2].normal, es[3].normal]))  # -C34
         if c12 is None or c34 is None:
             continue
         funcs = [np.array([-g[0][1], g[0][0]]) for g in (c12, c34)] + \

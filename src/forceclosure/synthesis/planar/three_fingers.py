@@ -84,7 +84,7 @@ from ..regions import (
 )
 from .edge_sites import edge_tuples, force_direction_prune
 from .two_fingers import IndependentRegions, maximal_regions
-from .vertex_grasps import _extremes, _generators
+from .vertex_grasps import extreme_generators, pushing_generators
 
 __all__ = ["DEPTH", "GRID", "SEARCHED", "ThreeFingerRegions",
            "three_finger_regions"]
@@ -201,8 +201,8 @@ class ThreeFingerRegions(Regions):
         sectors = []
         for k, (e, seg, s) in enumerate(zip((self.polygon.edges[k] for k in self.edges),
                                             self.segments, self.signs, strict=True)):
-            cone = _extremes(_generators([[-x for x in exact_inward(e)]],
-                                         F(narrowed(self.mu, self.polygon.spread))))
+            cone = extreme_generators(pushing_generators([[-x for x in exact_inward(e)]],
+                                                         F(narrowed(self.mu, self.polygon.spread))))
             assert cone is not None  # one normal's friction cone is narrower than a half-plane
             sector = list(cone)
             if self.sectors is not None:
@@ -313,7 +313,8 @@ def _centre(polygon: Polygon, edges: tuple[int, ...], mu: float, sectors, signs,
 def _whole_cones(polygon: Polygon, edges: tuple[int, ...], mu: float,
                  shrunk: float) -> ThreeFingerRegions | None:
     """The original construction: whole (narrowed) cones, ``X`` ahead of every finger."""
-    cones = [_extremes(_generators([polygon.edges[k].normal], shrunk)) for k in edges]
+    cones = [extreme_generators(pushing_generators([polygon.edges[k].normal], shrunk))
+             for k in edges]
     if not _spans_whatever_the_choice(cones):
         return None
     return _centre(polygon, edges, mu, cones, (1, 1, 1),

@@ -420,7 +420,7 @@ def counter_overlap_prune(polygon: Polygon, sites: NDArray, hand: Hand) -> NDArr
     return keep
 
 
-def _solve(polygon: Polygon, sites: NDArray, mu: float) -> tuple[NDArray, NDArray, NDArray]:
+def solve_sites(polygon: Polygon, sites: NDArray, mu: float) -> tuple[NDArray, NDArray, NDArray]:
     """:func:`max_min_segments` on every site, in blocks of :data:`CHUNK`."""
     start, direction, normal, length = polygon.edge_arrays
     n = len(sites)
@@ -443,7 +443,7 @@ def largest_segments_bound(polygon: Polygon, sites: NDArray, hand: Hand) -> NDAr
     the few pairs built read their segments from it (a solve of one pair alone costs as
     much as of two thousand)."""
     mu = narrowed(hand.mu, hand.margin)
-    z, u1, u2 = _solve(polygon, sites, mu)
+    z, u1, u2 = solve_sites(polygon, sites, mu)
     hand.memo[_SOLVED] = (polygon, mu, sites, z, u1, u2)
     return z / polygon.size
 
@@ -461,7 +461,7 @@ def _build_maximal(polygon: Polygon, site: NDArray, hand: Hand,
     if solved is not None and len(row):
         z, u1, u2 = (a[row[:1]] for a in solved[3:])
     else:
-        z, u1, u2 = _solve(polygon, site[None], mu)
+        z, u1, u2 = solve_sites(polygon, site[None], mu)
     i, j, way = (int(x) for x in site)
     return _certified(polygon, i, j, z[0], u1[0], u2[0], (hand.mu, hand.mu), bool(way))
 

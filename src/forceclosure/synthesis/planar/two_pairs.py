@@ -32,7 +32,7 @@ from ..construction import Construction, Hand
 from ..regions import MARGIN, Certificate, Regions, check_edges, check_margin, narrowed, proved_once
 from .edge_pair import IndependentRegions
 from .edge_sites import edge_tuples
-from .two_fingers import _solve, edge_pair_sites, maximal_regions
+from .two_fingers import edge_pair_sites, maximal_regions, solve_sites
 
 __all__ = ["PairedRegions", "two_pair_regions"]
 
@@ -156,7 +156,7 @@ def _pair_table(polygon: Polygon, hand: Hand) -> NDArray[np.float64]:
     table = np.zeros((n, n))
     sites = np.concatenate(list(edge_pair_sites(polygon, Hand(2, "hard", hand.mu, hand.margin))))
     if len(sites) and mu > 0:
-        z = _solve(polygon, sites, mu)[0] / polygon.size
+        z = solve_sites(polygon, sites, mu)[0] / polygon.size
         z = np.where(np.isfinite(z), np.maximum(z, 0.0), 0.0)
         i, j = sites[:, 0], sites[:, 1]
         np.maximum.at(table, (i, j), z)

@@ -48,13 +48,13 @@ def convex_vertices(polygon: Polygon) -> list[tuple[int, int, int]]:
     return list(polygon.convex_corners)
 
 
-def _generators(normals, mu) -> list:
+def pushing_generators(normals, mu) -> list:
     """The pushing generators ``-n ± mu t`` of a contact, for each of its normals
     (:func:`forceclosure.geometry.cones.friction_forces`), as lists."""
     return friction_forces(np.asarray(normals, dtype=float), float(mu)).reshape(-1, 2).tolist()
 
 
-def _extremes(gens) -> tuple[list, list] | None:
+def extreme_generators(gens) -> tuple[list, list] | None:
     """The two generators bounding their conic hull (``g_lo`` clockwise-most), or None when
     the hull is a half-plane or more (then the finger alone pushes every way it needs)."""
     def cross(a, b):
@@ -171,7 +171,8 @@ class VertexGrasp(RegionSet):
 
         def cone(indices):
             normals = [[-x for x in exact_inward(edges[i])] for i in indices]
-            return _extremes(_generators(normals, F(narrowed(self.mu, self.polygon.spread))))
+            return extreme_generators(pushing_generators(normals,
+                                                         F(narrowed(self.mu, self.polygon.spread))))
 
         kind, k = self.other
         cone_p = cone(self.corners[0])
@@ -216,14 +217,14 @@ def _build_vertex(polygon: Polygon, site, hand: Hand) -> VertexGrasp | None:
     c, kind, k = site
     v, a, b = corners[c]
     p = edges[a].end
-    cone_p = _extremes(_generators([edges[a].normal, edges[b].normal], shrunk))
+    cone_p = extreme_generators(pushing_generators([edges[a].normal, edges[b].normal], shrunk))
     if kind == "edge":
-        segment = _interval(p, edges[k], cone_p, _extremes(_generators([edges[k].normal],
-                                                                        shrunk)))
+        segment = _interval(p, edges[k], cone_p,
+                            extreme_generators(pushing_generators([edges[k].normal], shrunk)))
         return None if segment is None else VertexGrasp(polygon, v, ("edge", k), segment,
                                                         hand.mu, ((a, b),))
     w, a2, b2 = corners[k]
-    cone_q = _extremes(_generators([edges[a2].normal, edges[b2].normal], shrunk))
+    cone_q = extreme_generators(pushing_generators([edges[a2].normal, edges[b2].normal], shrunk))
     d = edges[a2].end - p
     if (cone_p is None or _inside(cone_p, d)) and (cone_q is None or _inside(cone_q, -d)):
         return VertexGrasp(polygon, v, ("vertex", w), None, hand.mu, ((a, b), (a2, b2)))

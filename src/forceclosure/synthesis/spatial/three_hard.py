@@ -37,7 +37,7 @@ from ...geometry import cones
 from ...objects.polyhedron import Polyhedron
 from ..construction import Construction, Hand
 from ..regions import MARGIN, check_margin, narrowed, tie_rounded
-from .two_soft import _check_faces, _check_mu
+from .two_soft import check_faces, check_mu_margin
 from .zones import (
     EDGES,
     Prototype,
@@ -165,8 +165,8 @@ def three_hard_regions(polyhedron: Polyhedron, faces: tuple[int, int, int], mu: 
     >>> r.certify().holds, r.grasp_class.number
     (True, 3)
     """
-    faces = _check_faces(polyhedron, faces, 3)
-    _check_mu(mu, 0.0)
+    faces = check_faces(polyhedron, faces, 3)
+    check_mu_margin(mu, 0.0)
     normals = [polyhedron.faces[f].normal for f in faces]
     if not force_direction_closure_of_faces(normals, mu):
         return None

@@ -193,12 +193,14 @@ def _on_face(patch: FacePatch, face: PlanarFace) -> bool:
 
 
 @overload
-def _check_faces(poly: Polyhedron, faces: Iterable[SupportsInt],
+def check_faces(poly: Polyhedron, faces: Iterable[SupportsInt],
                  count: Literal[2]) -> tuple[int, int]: ...
 @overload
-def _check_faces(poly: Polyhedron, faces: Iterable[SupportsInt],
+def check_faces(poly: Polyhedron, faces: Iterable[SupportsInt],
                  count: Literal[3]) -> tuple[int, int, int]: ...
-def _check_faces(poly: Polyhedron, faces: Iterable[SupportsInt], count: int) -> tuple[int, ...]:
+def check_faces(poly: Polyhedron, faces: Iterable[SupportsInt], count: int) -> tuple[int, ...]:
+    """``count`` face indices of ``poly`` as ints, or one InputError line naming the wrong
+    count or the missing face."""
     names = {2: "two", 3: "three", 7: "seven"}
     ids = tuple(int(f) for f in faces)
     if len(ids) != count:
@@ -210,7 +212,9 @@ def _check_faces(poly: Polyhedron, faces: Iterable[SupportsInt], count: int) -> 
     return ids
 
 
-def _check_mu(mu: float, margin: float) -> None:
+def check_mu_margin(mu: float, margin: float) -> None:
+    """Refuse, in one line, a friction coefficient that is not positive and finite, or an
+    angular margin outside ``[0, atan(mu))``."""
     if not (math.isfinite(mu) and mu > 0):
         raise InputError(f"mu must be a positive number, got {mu!r}")
     if not 0 <= margin < math.atan(mu):
@@ -359,10 +363,10 @@ def soft_pair_regions(polyhedron: Polyhedron, face1: int, face2: int, mu: float,
     >>> soft_pair_regions(cube, 0, 2, mu=0.5) is None   # adjacent faces at a right angle
     True
     """
-    face1, face2 = _check_faces(polyhedron, (face1, face2), 2)
+    face1, face2 = check_faces(polyhedron, (face1, face2), 2)
     if face1 == face2:
         raise InputError(f"two fingers need two different faces, got {face1} twice")
-    _check_mu(mu, margin)
+    check_mu_margin(mu, margin)
     if construction not in ("maximal", "nguyen"):
         raise InputError(f"construction must be 'maximal' or 'nguyen', got {construction!r}")
     f1, f2 = polyhedron.faces[face1], polyhedron.faces[face2]
