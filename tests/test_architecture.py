@@ -178,11 +178,11 @@ def test_geometry_imports_nothing_above_it():
 #: ``__init__``, the lazy facade of public names, and ``__main__`` stand outside). ``io.files``
 #: and ``io.atomic`` are leaf primitives (read a user's file, write one atomically) that import
 #: only ``errors``, so every layer may use them, as may ``schemas`` (the shipped JSON schemas),
-#: ``extras`` (the optional packages, imported on use) and ``verdicts`` (the verdicts' words and
-#: codes).
+#: ``extras`` (the optional packages, imported on use), ``verdicts`` (the verdicts' words and
+#: codes) and ``lazy`` (the facades' names imported on first use).
 LAYERS = [
     ["errors", "tolerance", "io.files", "io.atomic", "schemas", "extras",
-     "verdicts"],
+     "verdicts", "lazy"],
     ["geometry"],
     ["contacts", "kernels"],
     ["objects", "simulators"],
