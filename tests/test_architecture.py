@@ -178,10 +178,10 @@ def test_geometry_imports_nothing_above_it():
 #: ``__init__``, the lazy facade of public names, and ``__main__`` stand outside). ``files`` (read
 #: a user's file, write one atomically, a run's results folder) imports only ``errors``, so every
 #: layer may use it, as may ``schemas`` (the shipped JSON schemas), ``extras`` (the optional
-#: packages, imported on use) and ``verdicts`` (the verdicts' words and codes); the grasp formats
-#: stay above, in ``io``.
+#: packages, imported on use), ``verdicts`` (the verdicts' words and codes) and ``lazy`` (the
+#: facades' names imported on first use); the grasp formats stay above, in ``io``.
 LAYERS = [
-    ["errors", "tolerance", "files", "schemas", "extras", "verdicts"],
+    ["errors", "tolerance", "files", "schemas", "extras", "verdicts", "lazy"],
     ["geometry"],
     ["contacts", "kernels"],
     ["objects", "simulators"],

@@ -10,10 +10,12 @@ question: :func:`least_friction_reference` over full analyses, or
 
 Examples
 --------
+Two fingers inside a ring push apart (the object's outward normals face each other):
+Corollary 3 in its spreading sense, ``mu* = tan`` of the angle of ``PQ``, ``0.2 / 2``.
+
 >>> from forceclosure import point_contact
->>> grasp = [point_contact([-1, 0], [-1, 0], "hard"),
-...          point_contact([1, 0.2], [1, 0], "hard")]
->>> round(least_friction(grasp), 6)   # tan of the angle of PQ: 0.2 / 2
+>>> apart = [point_contact([-1, 0], [1, 0], "hard"), point_contact([1, 0.2], [-1, 0], "hard")]
+>>> round(least_friction(apart), 6)
 0.1
 """
 

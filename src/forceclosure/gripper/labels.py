@@ -448,7 +448,7 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
     >>> labels = grasp_labels("cube", ParallelJaw(3.0), mu=0.3, count=20, seed=0)
     >>> len(labels), sum(labels.counts().values())
     (20, 20)
-    >>> bool(np.all(labels.least_friction[labels.code == 2] < 0.3))
+    >>> bool(np.all(labels.least_friction[labels.code == VerdictCode.CLOSURE] < 0.3))
     True
     >>> labels.collides.shape, grasp_labels("cube", ParallelJaw(3.0), 0.3, 5,
     ...                                     collision=False).collides

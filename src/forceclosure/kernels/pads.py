@@ -73,16 +73,23 @@ def line_pairs(centroid, spread, origin, direction, radius):  # pragma: no cover
 
 
 @nb.njit(cache=True, nogil=True)
-def _extreme(V, F, p, t, origin, R, depth, length, h, P, cand):  # pragma: no cover
-    """Pair ``(p, t)``'s lowest ``y`` and minus its highest under the pad (``inf``: the
-    triangle misses the pad); ``P`` (3, 3: the triangle in the pose's frame, left there)
-    and ``cand`` (19, 3) are scratch."""
+def _in_pose(V, F, p, t, origin, R, out):  # pragma: no cover - compiled
+    """Triangle ``t`` of the mesh ``(V, F)`` in pose ``p``'s frame (rotation ``R[p]`` about
+    ``origin[p]``), written into the first three rows of ``out``."""
     for v in range(3):
         for k in range(3):
             acc = 0.0
             for j in range(3):
                 acc += R[p, k, j] * (V[F[t, v], j] - origin[p, j])
-            P[v, k] = acc
+            out[v, k] = acc
+
+
+@nb.njit(cache=True, nogil=True)
+def _extreme(V, F, p, t, origin, R, depth, length, h, P, cand):  # pragma: no cover
+    """Pair ``(p, t)``'s lowest ``y`` and minus its highest under the pad (``inf``: the
+    triangle misses the pad); ``P`` (3, 3: the triangle in the pose's frame, left there)
+    and ``cand`` (19, 3) are scratch."""
+    _in_pose(V, F, p, t, origin, R, P)
     return _extreme_of(P, depth[p], length, h, cand)
 
 
@@ -198,12 +205,7 @@ def _pressed(V, F, p, t, origin, R, depth, length, h, level, jaw, one, two
     """Triangle ``t`` in pose ``p``'s frame, clipped to the pad's rectangle and the pressed
     layer, in the scratch polygons ``one`` and ``two`` (:data:`CORNERS` rows each): the
     polygon holding the corners and their count (0: none)."""
-    for v in range(3):
-        for k in range(3):
-            acc = 0.0
-            for j in range(3):
-                acc += R[p, k, j] * (V[F[t, v], j] - origin[p, j])
-            one[v, k] = acc
+    _in_pose(V, F, p, t, origin, R, one)
     return _clipped(one, two, depth[p], length, h, level[p], jaw)
 
 

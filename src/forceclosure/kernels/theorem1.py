@@ -90,6 +90,29 @@ def work_arrays(maxm, max_edges):  # pragma: no cover - compiled
                 np.zeros((2, max_edges + 1)))
 
 
+@nb.njit(cache=True, nogil=True, inline="always")
+def _gram(U, mm, d, G):  # pragma: no cover - compiled
+    """``G = U U^T`` over the first ``d`` rows and ``mm`` columns of ``U``."""
+    for i in range(d):
+        for j in range(i, d):
+            s = 0.0
+            for col in range(mm):
+                s += U[i, col] * U[j, col]
+            G[i, j] = s
+            G[j, i] = s
+
+
+@nb.njit(cache=True, nogil=True, inline="always")  # inlined: as fast as the loops written out
+def _rotate(A, p, q, c, s, d):  # pragma: no cover - compiled
+    """Columns ``p`` and ``q`` of ``A`` (rows ``0 .. d - 1``) turned by the plane rotation
+    ``(c, s)``, in place (a step of :func:`_eigh`)."""
+    for k in range(d):
+        akp = A[k, p]
+        akq = A[k, q]
+        A[k, p] = c * akp - s * akq
+        A[k, q] = s * akp + c * akq
+
+
 @nb.njit(cache=True, nogil=True)
 def _eigh(G, V, lam):  # pragma: no cover - compiled
     """Eigen-decomposition of a small symmetric ``G`` (cyclic Jacobi, destroys ``G``)."""
@@ -114,21 +137,9 @@ def _eigh(G, V, lam):  # pragma: no cover - compiled
                 t = (1.0 if theta >= 0 else -1.0) / (abs(theta) + math.sqrt(theta * theta + 1))
                 c = 1.0 / math.sqrt(t * t + 1.0)
                 s = t * c
-                for k in range(d):
-                    gkp = G[k, p]
-                    gkq = G[k, q]
-                    G[k, p] = c * gkp - s * gkq
-                    G[k, q] = s * gkp + c * gkq
-                for k in range(d):
-                    gpk = G[p, k]
-                    gqk = G[q, k]
-                    G[p, k] = c * gpk - s * gqk
-                    G[q, k] = s * gpk + c * gqk
-                for k in range(d):
-                    vkp = V[k, p]
-                    vkq = V[k, q]
-                    V[k, p] = c * vkp - s * vkq
-                    V[k, q] = s * vkp + c * vkq
+                _rotate(G, p, q, c, s, d)  # G J
+                _rotate(G.T, p, q, c, s, d)  # J^T (G J)
+                _rotate(V, p, q, c, s, d)
     for i in range(d):
         lam[i] = G[i, i]
 
@@ -292,13 +303,7 @@ def _closure(W, m, d, tol, work, twist, rank_only=False):  # pragma: no cover - 
         twist[0] = 1.0
         return NONE, 0, np.nan
     G = work.G[:d, :d]
-    for i in range(d):
-        for j in range(i, d):
-            s = 0.0
-            for c in range(mm):
-                s += U[i, c] * U[j, c]
-            G[i, j] = s
-            G[j, i] = s
+    _gram(U, mm, d, G)
     V = work.V[:d, :d]
     lam = work.lam[:d]
     low = -1
@@ -485,12 +490,7 @@ def _null_correct(U, mm, d, lam, work):  # pragma: no cover - compiled
         for col in range(mm):
             s += U[i, col] * lam[col]
         r[i] = s
-        for j in range(i, d):
-            g = 0.0
-            for col in range(mm):
-                g += U[i, col] * U[j, col]
-            G[i, j] = g
-            G[j, i] = g
+    _gram(U, mm, d, G)
     if _cholesky(G, G, d, 0.0) < 0.0:
         return False
     for i in range(d):  # forward

@@ -49,7 +49,7 @@ from ..geometry.placement import Placement
 from ..objects.polygon import Edge, Polygon
 from ..objects.polyhedron import Polyhedron
 from .construction import Undecided
-from .regions import TRIMS, RegionSet
+from .regions import TRIMS, RegionSet, first_proved
 from .spatial.patches import FacePatch, SpatialRegions
 
 __all__ = ["Frame"]
@@ -121,7 +121,8 @@ class Frame(Placement):
             pieces = [(polygon.edges[regions.other[1]], regions.segment)]
         else:
             pieces = []
-        for trim in TRIMS:
+
+        def mapped(trim: float) -> Any:
             cut = []
             for e, (u, v) in pieces:
                 u, v = u * self.scale, v * self.scale
@@ -131,11 +132,11 @@ class Frame(Placement):
                 fixed["segments"] = tuple(cut)
             elif cut:
                 fixed["segment"] = cut[0]
-            mapped = dataclasses.replace(regions, **fixed)
-            if mapped.certify().holds:
-                return mapped
-            if not pieces:
-                break
+            return dataclasses.replace(regions, **fixed)
+
+        proved = first_proved(mapped, TRIMS if pieces else TRIMS[:1])  # no piece: no cut
+        if proved is not None:
+            return proved
         return Undecided("regions found in object-centred coordinates could not be proved "
                          "at the floats of the coordinates given")
 
@@ -167,7 +168,8 @@ class Frame(Placement):
                 zones, reference=self.to_user_points(zones.reference),
                 length_scale=zones.length_scale * self.scale)
         faces = polyhedron.faces
-        for trim in TRIMS:
+
+        def moved(trim: float) -> SpatialRegions:
             patches = []
             for region in regions.regions:
                 mapped = []
@@ -177,8 +179,10 @@ class Frame(Placement):
                     mapped.append(FacePatch(p.face, uv, faces[p.face].to_world(uv)))
                 patches.append(tuple(mapped))
             fixed["regions"] = tuple(patches)
-            moved = dataclasses.replace(regions, **fixed)
-            if moved.certify().holds:
-                return moved
+            return dataclasses.replace(regions, **fixed)
+
+        proved = first_proved(moved)
+        if proved is not None:
+            return proved
         return Undecided("regions found in object-centred coordinates could not be proved "
                          "at the floats of the coordinates given")

@@ -5,10 +5,10 @@ from __future__ import annotations
 import builtins  # builtins.object in annotations inside classes with an `object` property
 import functools
 import math
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Literal, SupportsInt, overload
+from typing import Literal, SupportsInt, TypeVar, overload
 
 import numpy as np
 from numpy.typing import NDArray
@@ -17,8 +17,8 @@ from ..errors import InputError
 from ..objects.polygon import Edge, Polygon
 
 __all__ = ["MARGIN", "TRIMS", "Certificate", "RegionSet", "Regions", "check_edges",
-           "check_margin", "exact_inward", "exact_point", "face_middle", "narrowed",
-           "proved_once", "rounded", "tie_rounded"]
+           "check_margin", "exact_inward", "exact_point", "face_middle", "first_proved",
+           "narrowed", "proved_once", "rounded", "tie_rounded"]
 
 _COUNT = {2: "two", 3: "three", 4: "four"}
 
@@ -216,6 +216,48 @@ def proved_once(certify):
         return proofs[key]
 
     return once
+
+
+Cut = TypeVar("Cut", bound="RegionSet")
+
+
+def first_proved(cut: Callable[[float], Cut], trims: Sequence[float] = TRIMS) -> Cut | None:
+    """The regions ``cut(trim)`` for the first ``trim`` of :data:`TRIMS` whose proof holds
+    (:meth:`RegionSet.certify`), or None when no cut is proved: the one "trim and certify
+    again" rule of the constructions of regions (Nguyen 1988, §4 and §5), which return only
+    proved region sets.
+
+    Parameters
+    ----------
+    cut : callable
+        The region set with each end of each region cut by the fraction ``trim`` of it.
+    trims : sequence of float
+        The cuts tried, in turn (by default :data:`TRIMS`).
+
+    Returns
+    -------
+    RegionSet or None
+
+    Examples
+    --------
+    On opposite sides of a square of side 2, with friction 0.3, aligned segments 0.6 long
+    are on the boundary of Corollary 3 (``0.3 / 2 = tan(atan 0.3) / 2``): the first cut proves
+    them.
+
+    >>> from forceclosure.objects import bundled
+    >>> from forceclosure.synthesis.planar.edge_pair import IndependentRegions
+    >>> square = bundled("square")
+    >>> def cut(trim):
+    ...     ends = (0.7 + trim * 0.6, 1.3 - trim * 0.6)
+    ...     return IndependentRegions(square, (0, 2), (ends, ends), "example", (0.3, 0.3))
+    >>> cut(0.0).certify().holds, first_proved(cut).segments[0][0] > 0.7
+    (False, True)
+    """
+    for trim in trims:
+        regions = cut(trim)
+        if regions.certify().holds:
+            return regions
+    return None
 
 
 class RegionSet:

@@ -39,7 +39,7 @@ from ..regions import (
 )
 
 __all__ = ["ANGLE_MARGIN", "IndependentRegions", "Sector", "check_mu", "counter_overlapping_sector",
-           "edge_pair", "shrunk_pair"]
+           "edge_pair", "senses", "shrunk_pair"]
 
 #: Default angular margin (radians) kept between region grasps and the cone boundary.
 ANGLE_MARGIN = MARGIN  # the one margin (regions.check_margin)
@@ -105,6 +105,18 @@ def check_mu(mu_p: float, mu_q: float, margin: float = ANGLE_MARGIN) -> None:
         if not (isinstance(mu, int | float) and math.isfinite(mu) and mu >= 0):
             raise InputError(f"friction coefficient must be a finite number >= 0, got {mu!r}")
     check_margin(margin)
+
+
+def senses(spreading: bool | None) -> tuple[bool, ...]:
+    """The senses of Corollary 3 asked for: ``spreading`` itself, or both (squeezing,
+    ``False``, then spreading, ``True``) when it is None.
+
+    Examples
+    --------
+    >>> senses(None), senses(True)
+    ((False, True), (True,))
+    """
+    return (False, True) if spreading is None else (bool(spreading),)
 
 
 def shrunk_pair(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | None,

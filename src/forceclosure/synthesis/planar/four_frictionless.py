@@ -42,7 +42,6 @@ from ...objects.polygon import Polygon
 from ..construction import Construction, Hand
 from ..regions import (
     MARGIN,
-    TRIMS,
     Certificate,
     Regions,
     check_edges,
@@ -50,6 +49,7 @@ from ..regions import (
     exact_inward,
     exact_point,
     face_middle,
+    first_proved,
     proved_once,
 )
 from .edge_sites import edge_tuples, force_direction_prune
@@ -246,14 +246,10 @@ def maximal_frictionless_regions(polygon: Polygon, edges: tuple[int, int, int, i
     best = best * size
     z = float(best[4])
     lengths = [polygon.edges[e].length for e in edges]
-    for trim in TRIMS:  # should rounding have cut a corner, trim and check again
-        segments = tuple((float(u) + trim * z + 0.0, min(float(u) + z, L) - trim * z)
-                         for u, L in zip(best[:4], lengths, strict=True))
-        regions = FrictionlessRegions(polygon, edges, segments, "maximal (linear program)",
-                                      margin)
-        if regions.certify().holds:
-            return regions
-    return None
+    return first_proved(lambda trim: FrictionlessRegions(  # rounding may cut a corner
+        polygon, edges, tuple((float(u) + trim * z + 0.0, min(float(u) + z, L) - trim * z)
+                              for u, L in zip(best[:4], lengths, strict=True)),
+        "maximal (linear program)", margin))
 
 
 def _builder(build):

@@ -70,7 +70,6 @@ from ...objects.polygon import Polygon
 from ..construction import Construction, Hand
 from ..regions import (
     MARGIN,
-    TRIMS,
     Certificate,
     Regions,
     check_edges,
@@ -78,6 +77,7 @@ from ..regions import (
     exact_inward,
     exact_point,
     face_middle,
+    first_proved,
     narrowed,
     proved_once,
     tie_rounded,
@@ -299,15 +299,11 @@ def _centre(polygon: Polygon, edges: tuple[int, ...], mu: float, sectors, signs,
     X, Y, *u, z = (float(v) for v in x)
     kept = (tuple(((float(lo[0]), float(lo[1])), (float(hi[0]), float(hi[1])))
                   for lo, hi in sectors) if keep else None)
-    for trim in TRIMS:  # should rounding have cut a corner, trim and check again
-        segments = tuple((max(ui, 0.0) + trim * z + 0.0, min(ui + z, e.length) - trim * z)
-                         for ui, e in zip(u, es, strict=True))
-        regions = ThreeFingerRegions(polygon, edges, segments, construction,
-                                     (X + 0.0, Y + 0.0), float(mu), kept,
-                                     (int(signs[0]), int(signs[1]), int(signs[2])))
-        if regions.certify().holds:
-            return regions
-    return None
+    return first_proved(lambda trim: ThreeFingerRegions(  # rounding may cut a corner
+        polygon, edges, tuple((max(ui, 0.0) + trim * z + 0.0, min(ui + z, e.length) - trim * z)
+                              for ui, e in zip(u, es, strict=True)),
+        construction, (X + 0.0, Y + 0.0), float(mu), kept,
+        (int(signs[0]), int(signs[1]), int(signs[2]))))
 
 
 def _whole_cones(polygon: Polygon, edges: tuple[int, ...], mu: float,

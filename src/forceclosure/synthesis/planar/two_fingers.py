@@ -39,7 +39,7 @@ from ...geometry.cones import counter_overlap
 from ...geometry.rings import signed_area
 from ...objects.polygon import Edge, Polygon
 from ..construction import Construction, Hand, Undecided
-from ..regions import TRIMS, narrowed
+from ..regions import TRIMS, first_proved, narrowed
 from .edge_pair import (
     ANGLE_MARGIN,
     IndependentRegions,
@@ -47,6 +47,7 @@ from .edge_pair import (
     check_mu,
     counter_overlapping_sector,
     edge_pair,
+    senses,
     shrunk_pair,
 )
 
@@ -338,9 +339,8 @@ def maximal_regions(polygon: Polygon, i: int, j: int, mu: float, mu_q: float | N
         return None
     mu_q = mu if mu_q is None else mu_q
     A, b = _affine(e1, e2, *shrink)
-    ways = (False, True) if spreading is None else (bool(spreading),)
     found, undecided = [], None
-    for way in ways:
+    for way in senses(spreading):
         sign = -1.0 if way else 1.0
         z, u1, u2 = max_min_segments(sign * A[None], sign * b[None], np.array([e1.length]),
                                      np.array([e2.length]))
@@ -366,12 +366,11 @@ def _certified(polygon: Polygon, i: int, j: int, z: float, u1: float, u2: float,
     u1, u2 = max(float(u1), 0.0) + 0.0, max(float(u2), 0.0) + 0.0  # + 0.0: no -0.0
     segments = ((u1, min(u1 + z, e1.length)), (u2, min(u2 + z, e2.length)))
     mu = (float(mu[0]), float(mu[1]))
-    for trim in TRIMS:  # should rounding have cut a corner, trim and check again
-        cut = tuple((u + trim * (v - u), v - trim * (v - u)) for u, v in segments)
-        regions = IndependentRegions(polygon, (i, j), cut, "maximal (linear program)", mu,
-                                     spreading=bool(spreading))
-        if regions.certify().holds:
-            return regions
+    regions = first_proved(lambda trim: IndependentRegions(  # rounding may cut a corner
+        polygon, (i, j), tuple((u + trim * (v - u), v - trim * (v - u)) for u, v in segments),
+        "maximal (linear program)", mu, spreading=bool(spreading)))
+    if regions is not None:
+        return regions
     return Undecided(f"segments {z:.6g} long on edges {i} and {j} by the linear program, "
                      "none of them proved force-closure in the coordinates given (even cut by "
                      f"{TRIMS[-1]:.1%})")

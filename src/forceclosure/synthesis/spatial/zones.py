@@ -38,7 +38,7 @@ import shapely
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import ConvexHull, QhullError
 
-from ...contacts import Cone, Model, primitive_wrenches
+from ...contacts import MODELS, Cone, Model, primitive_wrenches
 from ...errors import InputError
 from ...geometry.clip import clip
 from ...geometry.cones import pyramid_radius
@@ -56,7 +56,6 @@ __all__ = ["AFFINE_BATCH", "EDGES", "MODELS", "ZONE_MARGIN", "Prototype", "Searc
 EDGES = 8
 #: Every zone condition holds with at least this margin, ``a_k . w >= ZONE_MARGIN``.
 ZONE_MARGIN = 1e-6
-MODELS = ("frictionless", "hard", "soft")
 #: Largest number of faces whose generators are computed in one call while growing.
 AFFINE_BATCH = 4096
 
