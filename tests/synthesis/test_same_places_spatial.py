@@ -12,11 +12,12 @@ on them lie on the file's triangles, and pushed outward by 1e-6 of the size (or 
 spacing there, if larger) they are outside every shell of the file (a generalised winding
 number, Van Oosterom and Strackee's solid angles, summed over the file's triangles).
 
-Two cases are not the same yet, and are strict xfails (:data:`NOT_YET`, :data:`KNOWN`): the
-mesh method on random_urdfs/000 at 1e8 (its faces merge differently once the union is rounded
-there) and three hard fingers on the hexagonal prism at 1e12 (its rounded corners break the
-tie between symmetric face triples): in both the regions are certified, on the surface, and
-elsewhere.
+Two cases test what the rounding of a far copy must not change: three hard fingers on the
+hexagonal prism at 1e12 (its corners rounded by 4e-5 of its size, its symmetric faces no longer
+equal: faces numbered and ranked as at the origin, ties within the rounding to the lower index)
+and the mesh method on random_urdfs/000 at 1e8 (the union's small triangles, whose normals the
+doubles there turn by up to 1e-2 rad, merged into the faces they lie on as at the origin, and a
+face's straight corner made reflex by the rounding not cut into convex pieces).
 """
 
 from __future__ import annotations
@@ -195,12 +196,6 @@ def test_a_far_decomposition_is_searched_on_its_outer_surface(offset, scale):
     assert got is not None and len(got.found) == 3 and got.undecided == 0
 
 
-#: Not the same yet: at 1e12 the hexagon's corners round by 3.5e-5 of its size, its symmetric
-#: face triples are no longer equal, and the sampled prototype of three hard fingers on faces
-#: lands on another of them (certified regions, elsewhere; not reported undecided).
-KNOWN = {("hexagonal-prism", "3-hard", 1e12): "symmetric face triples, rounded at 1e12"}
-
-
 #: Every move with FORCECLOSURE_ALL_MOVES=1 (about 16 CPU-minutes); the long profile takes the
 #: far ones for each hand (seven frictionless fingers, seconds a search, at 1e8 only).
 ALL_MOVES = os.environ.get("FORCECLOSURE_ALL_MOVES") == "1"
@@ -215,26 +210,16 @@ def _moves(hand: str) -> list[tuple[float, float]]:
 
 @pytest.mark.long  # minutes: the faces' constructions take seconds each
 @pytest.mark.parametrize("name,hand,offset,scale", [
-    pytest.param(name, hand, offset, scale, marks=pytest.mark.xfail(
-        strict=True, reason=KNOWN[name, hand, offset]) if (name, hand, offset) in KNOWN else ())
-    for name in OBJECTS for hand in ("3-hard", "7-frictionless", "3-hard-mesh")
-    for offset, scale in _moves(hand)])
+    (name, hand, offset, scale) for name in OBJECTS
+    for hand in ("3-hard", "7-frictionless", "3-hard-mesh") for offset, scale in _moves(hand)])
 def test_other_hands_same_places(name, hand, offset, scale):
     obj = bundled(name)
     _check(obj.vertices, obj.triangles, name, hand, offset, scale)
 
 
-#: Not the same yet (docs/synthesis.md): the decomposition's union rounded at 1e8 merges its
-#: faces differently (434 faces, 415 at the origin) and the mesh method grows its regions over
-#: them differently; still certified, on the file's triangles and outside the solid.
-NOT_YET = pytest.mark.xfail(strict=True, reason="faces merged differently at 1e8")
-
-
 @pytest.mark.long
 @pytest.mark.parametrize("mesh,offset,scale", [
-    pytest.param(mesh, offset, scale, marks=NOT_YET if (mesh.startswith("random")
-                                                       and offset == 1e8) else ())
-    for mesh in MESHES for offset, scale in _moves("pybullet")])
+    (mesh, offset, scale) for mesh in MESHES for offset, scale in _moves("pybullet")])
 def test_pybullet_meshes_same_places_on_the_outer_surface(mesh, offset, scale):
     V, T = read_obj(Path(pybullet_data.getDataPath()) / mesh, MESHES[mesh])
     _check(V, T, mesh, "3-hard-mesh", offset, scale, surface=True, places=False)
