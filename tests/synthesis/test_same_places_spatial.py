@@ -16,8 +16,8 @@ Two cases test what the rounding of a far copy must not change: three hard finge
 hexagonal prism at 1e12 (its corners rounded by 4e-5 of its size, its symmetric faces no longer
 equal: faces numbered and ranked as at the origin, ties within the rounding to the lower index)
 and the mesh method on random_urdfs/000 at 1e8 (the union's small triangles, whose normals the
-doubles there turn by up to 1e-2 rad, merged into the faces they lie on as at the origin, and a
-face's straight corner made reflex by the rounding not cut into convex pieces).
+doubles there turn by up to 1e-2 rad, merged with the faces around them allowing for that, and
+a face's straight corner made reflex by the rounding not cut into convex pieces).
 """
 
 from __future__ import annotations
@@ -32,6 +32,7 @@ import pytest
 from forceclosure import InputError
 from forceclosure.objects import POLYHEDRA, Polyhedron, bundled
 from forceclosure.synthesis import synthesize
+from forceclosure.synthesis.spatial.patches import convex_pieces
 
 MOVES = [(1e4, 1.0), (1e8, 1.0), (1e12, 1.0), (0.0, 1e-4), (0.0, 1e3)]
 HANDS = {"2-soft": (2, "soft", 0.5, "faces"), "3-hard": (3, "hard", 0.5, "faces"),
@@ -184,6 +185,38 @@ CHEAP = [(1e8, 1.0), (0.0, 1e-4)]
 def test_two_soft_fingers_same_places(name, offset, scale):
     obj = bundled(name)
     _check(obj.vertices, obj.triangles, name, "2-soft", offset, scale)
+
+
+@pytest.mark.parametrize("offset", [1e4, 1e8, 1e12])
+@pytest.mark.parametrize("name", OBJECTS)
+def test_faces_numbered_as_at_the_origin(name, offset):
+    """A moved polyhedron has the original's faces under the same numbers: each face the
+    same triangles (the file's, in the file's order) and, to the rounding there, the same
+    normal (at 1e12 the hexagonal prism's top was once numbered after its sides)."""
+    obj = bundled(name)
+    moved = Polyhedron.from_arrays(obj.vertices + offset, obj.triangles, name)
+    np.testing.assert_array_equal(moved.triangles, obj.triangles)
+    np.testing.assert_array_equal(moved.face_of_triangle, obj.face_of_triangle)
+    spacing = float(np.spacing(offset + obj.size))
+    for f, g in zip(moved.faces, obj.faces, strict=True):
+        assert np.linalg.norm(f.normal - g.normal) <= 64 * spacing / obj.size, (name, f.index)
+
+
+def test_a_straight_corner_rounded_reflex_does_not_cut_a_face():
+    """A wedge whose top is the triangle (0,0), (1,0), (0.7,0.9) with a fourth corner at
+    the middle of its slanted side: convex, one piece. Moved by 3e8, that corner rounds
+    off the line, reflex by a few spacings there; allowing for the rounding (as the
+    search does), each face is still one convex piece."""
+    P = np.array([[0, 0], [1, 0], [0.7, 0.9], [0.35, 0.45]])
+    V = np.vstack([np.column_stack([P, np.zeros(4)]), np.column_stack([P, np.ones(4)])])
+    T = [[1, 0, 3], [1, 3, 2], [5, 6, 7], [5, 7, 4]]
+    T += [t for i in range(4) for t in ([i, (i + 1) % 4, 4 + (i + 1) % 4],
+                                       [i, 4 + (i + 1) % 4, 4 + i])]
+    moved = Polyhedron.from_arrays(V + 3e8, T, "wedge")
+    spacing = float(np.spacing(3e8))
+    top = max(moved.faces, key=lambda f: f.normal[2])
+    assert len(convex_pieces(top)) == 2  # the rounding made the corner reflex
+    assert [len(convex_pieces(f, spacing)) for f in moved.faces] == [1] * 5
 
 
 @pytest.mark.parametrize("offset,scale", [(1e8, 1.0), (1e6, 1e-3)])

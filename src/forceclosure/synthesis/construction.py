@@ -65,8 +65,9 @@ class Hand:
         Region sets wanted.
     resolution : float
         The spacing of the doubles where the object stands, relative to its size (about
-        1e-16 at the origin, 1e-7 for an object 0.15 across at 1e8): sizes that differ by
-        less than a few of it may be the rounding of a moved copy, and rank as ties.
+        1e-16 at the origin, 1e-7 for an object 0.15 across at 1e8): what a moved copy's
+        rounding may change, which the steps allow for (sizes that differ by less than a
+        few of it rank as ties; a face's corner made reflex by it is not a cut).
         :func:`~forceclosure.synthesis.ranked_search.search` sets it from the object.
     memo : dict
         The search's own memory: what one step of a construction leaves for a later step
