@@ -12,11 +12,12 @@ on them lie on the file's triangles, and pushed outward by 1e-6 of the size (or 
 spacing there, if larger) they are outside every shell of the file (a generalised winding
 number, Van Oosterom and Strackee's solid angles, summed over the file's triangles).
 
-Two cases are not the same yet, and are strict xfails (:data:`NOT_YET`, :data:`KNOWN`): the
-mesh method on random_urdfs/000 at 1e8 (its faces merge differently once the union is rounded
-there) and three hard fingers on the hexagonal prism at 1e12 (its rounded corners break the
-tie between symmetric face triples): in both the regions are certified, on the surface, and
-elsewhere.
+Two cases test what the rounding of a far copy must not change: three hard fingers on the
+hexagonal prism at 1e12 (its corners rounded by 4e-5 of its size, its symmetric faces no longer
+equal: faces numbered and ranked as at the origin, ties within the rounding to the lower index)
+and the mesh method on random_urdfs/000 at 1e8 (the union's small triangles, whose normals the
+doubles there turn by up to 1e-2 rad, merged with the faces around them allowing for that, and
+a face's straight corner made reflex by the rounding not cut into convex pieces).
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ import pytest
 from forceclosure import InputError
 from forceclosure.objects import POLYHEDRA, Polyhedron, bundled
 from forceclosure.synthesis import synthesize
+from forceclosure.synthesis.spatial.patches import convex_pieces
 
 MOVES = [(1e4, 1.0), (1e8, 1.0), (1e12, 1.0), (0.0, 1e-4), (0.0, 1e3)]
 HANDS = {"2-soft": (2, "soft", 0.5, "faces"), "3-hard": (3, "hard", 0.5, "faces"),
@@ -185,6 +187,38 @@ def test_two_soft_fingers_same_places(name, offset, scale):
     _check(obj.vertices, obj.triangles, name, "2-soft", offset, scale)
 
 
+@pytest.mark.parametrize("offset", [1e4, 1e8, 1e12])
+@pytest.mark.parametrize("name", OBJECTS)
+def test_faces_numbered_as_at_the_origin(name, offset):
+    """A moved polyhedron has the original's faces under the same numbers: each face the
+    same triangles (the file's, in the file's order) and, to the rounding there, the same
+    normal (at 1e12 the hexagonal prism's top was once numbered after its sides)."""
+    obj = bundled(name)
+    moved = Polyhedron.from_arrays(obj.vertices + offset, obj.triangles, name)
+    np.testing.assert_array_equal(moved.triangles, obj.triangles)
+    np.testing.assert_array_equal(moved.face_of_triangle, obj.face_of_triangle)
+    spacing = float(np.spacing(offset + obj.size))
+    for f, g in zip(moved.faces, obj.faces, strict=True):
+        assert np.linalg.norm(f.normal - g.normal) <= 64 * spacing / obj.size, (name, f.index)
+
+
+def test_a_straight_corner_rounded_reflex_does_not_cut_a_face():
+    """A wedge whose top is the triangle (0,0), (1,0), (0.7,0.9) with a fourth corner at
+    the middle of its slanted side: convex, one piece. Moved by 3e8, that corner rounds
+    off the line, reflex by a few spacings there; allowing for the rounding (as the
+    search does), each face is still one convex piece."""
+    P = np.array([[0, 0], [1, 0], [0.7, 0.9], [0.35, 0.45]])
+    V = np.vstack([np.column_stack([P, np.zeros(4)]), np.column_stack([P, np.ones(4)])])
+    T = [[1, 0, 3], [1, 3, 2], [5, 6, 7], [5, 7, 4]]
+    T += [t for i in range(4) for t in ([i, (i + 1) % 4, 4 + (i + 1) % 4],
+                                       [i, 4 + (i + 1) % 4, 4 + i])]
+    moved = Polyhedron.from_arrays(V + 3e8, T, "wedge")
+    spacing = float(np.spacing(3e8))
+    top = max(moved.faces, key=lambda f: f.normal[2])
+    assert len(convex_pieces(top)) == 2  # the rounding made the corner reflex
+    assert [len(convex_pieces(f, spacing)) for f in moved.faces] == [1] * 5
+
+
 @pytest.mark.parametrize("offset,scale", [(1e8, 1.0), (1e6, 1e-3)])
 def test_a_far_decomposition_is_searched_on_its_outer_surface(offset, scale):
     """random_urdfs/000 (three overlapping shells and two apart) moved by 1e8, or scaled by
@@ -193,12 +227,6 @@ def test_a_far_decomposition_is_searched_on_its_outer_surface(offset, scale):
     V, T = read_obj(Path(pybullet_data.getDataPath()) / "random_urdfs/000/000.obj", 0.015)
     got = _check(V, T, "000", "3-hard-mesh", offset, scale, surface=True, places=False)
     assert got is not None and len(got.found) == 3 and got.undecided == 0
-
-
-#: Not the same yet: at 1e12 the hexagon's corners round by 3.5e-5 of its size, its symmetric
-#: face triples are no longer equal, and the sampled prototype of three hard fingers on faces
-#: lands on another of them (certified regions, elsewhere; not reported undecided).
-KNOWN = {("hexagonal-prism", "3-hard", 1e12): "symmetric face triples, rounded at 1e12"}
 
 
 #: Every move with FORCECLOSURE_ALL_MOVES=1 (about 16 CPU-minutes); the long profile takes the
@@ -215,26 +243,16 @@ def _moves(hand: str) -> list[tuple[float, float]]:
 
 @pytest.mark.long  # minutes: the faces' constructions take seconds each
 @pytest.mark.parametrize("name,hand,offset,scale", [
-    pytest.param(name, hand, offset, scale, marks=pytest.mark.xfail(
-        strict=True, reason=KNOWN[name, hand, offset]) if (name, hand, offset) in KNOWN else ())
-    for name in OBJECTS for hand in ("3-hard", "7-frictionless", "3-hard-mesh")
-    for offset, scale in _moves(hand)])
+    (name, hand, offset, scale) for name in OBJECTS
+    for hand in ("3-hard", "7-frictionless", "3-hard-mesh") for offset, scale in _moves(hand)])
 def test_other_hands_same_places(name, hand, offset, scale):
     obj = bundled(name)
     _check(obj.vertices, obj.triangles, name, hand, offset, scale)
 
 
-#: Not the same yet (docs/synthesis.md): the decomposition's union rounded at 1e8 merges its
-#: faces differently (434 faces, 415 at the origin) and the mesh method grows its regions over
-#: them differently; still certified, on the file's triangles and outside the solid.
-NOT_YET = pytest.mark.xfail(strict=True, reason="faces merged differently at 1e8")
-
-
 @pytest.mark.long
 @pytest.mark.parametrize("mesh,offset,scale", [
-    pytest.param(mesh, offset, scale, marks=NOT_YET if (mesh.startswith("random")
-                                                       and offset == 1e8) else ())
-    for mesh in MESHES for offset, scale in _moves("pybullet")])
+    (mesh, offset, scale) for mesh in MESHES for offset, scale in _moves("pybullet")])
 def test_pybullet_meshes_same_places_on_the_outer_surface(mesh, offset, scale):
     V, T = read_obj(Path(pybullet_data.getDataPath()) / mesh, MESHES[mesh])
     _check(V, T, mesh, "3-hard-mesh", offset, scale, surface=True, places=False)

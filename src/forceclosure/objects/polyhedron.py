@@ -383,10 +383,10 @@ class Polyhedron:
             if abs(volume) <= 1e-12 * size**3:
                 raise InputError(f"{name}: the mesh encloses no volume")
         double_area = np.linalg.norm(cross, axis=1)
-        normals, glued = _sliver_normals(V, T, cross, double_area <= 1e-12 * size * size,
-                                         directed, ids)
+        sliver = double_area <= 1e-12 * size * size
+        normals, glued = _sliver_normals(V, T, cross, sliver, directed, ids)
         faces, face_of = _planar_faces(V, T, normals, double_area / 2, directed, ids, counts,
-                                       size, glued)
+                                       size, glued, _rounding(V, T, double_area, sliver))
         for arr in (V, T, face_of):
             arr.setflags(write=False)
         if spread > 0:
@@ -590,30 +590,54 @@ def _sliver_normals(V, T, cross, sliver, directed, ids):
     return normals, np.array(pairs, dtype=np.int64).reshape(-1, 2)
 
 
-def _planar_faces(V, T, normals, areas, directed, ids, counts, size, glued=None):
+def _rounding(V, T, double_area, sliver) -> tuple[NDArray, float]:
+    """What the doubles where the mesh stands leave unresolved: each triangle's normal to
+    within the returned angles (radians: its corners rounded by two spacings each turn it
+    by up to 6 spacings over its least height; 0 for a sliver, which takes its
+    neighbour's normal), and its points to within the returned length (two spacings).
+
+    Negligible at the origin (1e-12 rad for a triangle 1e-3 of a unit object high); at 1e8,
+    the small triangles of a union (1e-6 of a decomposition 0.15 across high) turn by up to
+    1e-2 rad, a hundred times :data:`FACE_ANGLE`. The faces are then merged as at the
+    origin wherever the rounding can explain the difference, and the spread of a face does
+    not count the turn of such a triangle that it explains (the surface the copy stands
+    for is the original's, moved)."""
+    spacing = float(np.spacing(np.abs(V).max()))
+    d = V[T[:, [1, 2, 0]]] - V[T]
+    longest = np.sqrt(np.einsum("ijk,ijk->ij", d, d).max(axis=1))
+    height = np.where(sliver, np.inf, double_area / np.where(sliver, 1.0, longest))
+    return 6 * spacing / height, 2 * spacing
+
+
+def _planar_faces(V, T, normals, areas, directed, ids, counts, size, glued=None,
+                  rounding=None):
     """Group coplanar adjacent triangles (and each sliver with the triangle it is glued
-    to); return the faces and each triangle's face."""
+    to); return the faces and each triangle's face. ``rounding``: each triangle's normal
+    and every point are known to within these (:func:`_rounding`), and the tests of
+    flatness allow for it."""
     m = len(T)
     tri_of_edge = np.repeat(np.arange(m), 3)
-    tol = FLAT_RTOL * size
+    turned, off = rounding if rounding is not None else (np.zeros(m), 0.0)
+    tol = FLAT_RTOL * size + off
     # pairs of triangles sharing an (undirected) edge
     order = np.argsort(ids, kind="stable")
     sid = ids[order]
     same = np.flatnonzero(sid[1:] == sid[:-1])
     a, b = tri_of_edge[order[same]], tri_of_edge[order[same + 1]]
-    # each triangle's vertices against the other's plane
-    dist_b = np.max(np.abs(np.einsum("ikj,ij->ik", V[T[b]] - V[T[a, 0]][:, None, :],
-                                     normals[a])), axis=1)
-    dist_a = np.max(np.abs(np.einsum("ikj,ij->ik", V[T[a]] - V[T[b, 0]][:, None, :],
-                                     normals[b])), axis=1)
-    coplanar = ((np.einsum("ij,ij->i", normals[a], normals[b]) > 0.999)
-                & (dist_a <= tol) & (dist_b <= tol))
+    # each triangle's vertices against the other's plane, which its normal's rounding tilts
+    # by up to that angle times the distance
+    coplanar = np.einsum("ij,ij->i", normals[a], normals[b]) > 0.999
+    for x, y in ((a, b), (b, a)):
+        arm = V[T[y]] - V[T[x, 0]][:, None, :]
+        dist = np.max(np.abs(np.einsum("ikj,ij->ik", arm, normals[x]))
+                      - turned[x][:, None] * np.linalg.norm(arm, axis=2), axis=1)
+        coplanar &= dist <= tol
     a, b = a[coplanar], b[coplanar]
     if glued is not None and len(glued):
         a, b = np.concatenate([a, glued[:, 0]]), np.concatenate([b, glued[:, 1]])
     graph = coo_matrix((np.ones(len(a)), (a, b)), shape=(m, m))
     _, label = connected_components(graph, directed=False)
-    label = _split_curved(V, T, normals, areas, label, a, b, tol)
+    label = _split_curved(V, T, normals, areas, label, a, b, tol, turned)
     n_faces = int(label.max()) + 1
     face_normal = np.zeros((n_faces, 3))
     np.add.at(face_normal, label, normals * areas[:, None])
@@ -624,6 +648,8 @@ def _planar_faces(V, T, normals, areas, directed, ids, counts, size, glued=None)
     # padded for the rounding of the normals
     turn = np.arcsin(np.clip(np.linalg.norm(np.cross(normals, face_normal[label]), axis=1),
                              0.0, 1.0))
+    # a normal the doubles do not resolve turns by what the rounding of its corners explains
+    turn = np.where(turned > np.sin(FACE_ANGLE) / 2, np.maximum(turn - turned, 0.0), turn)
     spread = np.zeros(n_faces)
     np.maximum.at(spread, label, turn)
     sizes = np.bincount(label, minlength=n_faces)
@@ -657,19 +683,26 @@ def _member(x: NDArray[np.int64], of: NDArray[np.int64]) -> NDArray[np.bool_]:
     return table[at] == x
 
 
-def _split_curved(V, T, normals, areas, label, a, b, tol):
-    """Re-check flatness per group; regrow groups that drift off one plane from a seed."""
+def _split_curved(V, T, normals, areas, label, a, b, tol, turned):
+    """Re-check flatness per group; regrow groups that drift off one plane from a seed
+    (a triangle's normal allowed to turn by ``turned``, its rounding, beyond
+    :data:`FACE_ANGLE`).
+
+    The groups' centres are averaged about the bounding box's centre: averaged in far-away
+    coordinates (1e12) they would be rounded by more than ``tol``, and a flat group regrown
+    under another label (the same faces, numbered otherwise than at the origin)."""
     n_groups = label.max() + 1
     w = normals * areas[:, None]
     n_sum = np.zeros((n_groups, 3))
     np.add.at(n_sum, label, w)
     n_mean = n_sum / np.linalg.norm(n_sum, axis=1, keepdims=True)
+    X = V[T] - 0.5 * (V.min(axis=0) + V.max(axis=0))
     centre = np.zeros((n_groups, 3))
-    np.add.at(centre, label, V[T].mean(axis=1) * areas[:, None])
+    np.add.at(centre, label, X.mean(axis=1) * areas[:, None])
     area_sum = np.bincount(label, weights=areas, minlength=n_groups)
     centre /= area_sum[:, None]
-    dev = np.abs(np.einsum("ikj,ij->ik", V[T] - centre[label][:, None, :], n_mean[label]))
-    turn = np.linalg.norm(np.cross(normals, n_mean[label]), axis=1)
+    dev = np.abs(np.einsum("ikj,ij->ik", X - centre[label][:, None, :], n_mean[label]))
+    turn = np.linalg.norm(np.cross(normals, n_mean[label]), axis=1) - turned
     bad_groups = np.unique(label[(dev.max(axis=1) > tol) | (turn > np.sin(FACE_ANGLE) / 2)])
     if len(bad_groups) == 0:
         return label
@@ -679,18 +712,29 @@ def _split_curved(V, T, normals, areas, label, a, b, tol):
         neighbours.setdefault(j, []).append(i)
     label = label.copy()
     next_label = n_groups
+    resolved = turned <= np.sin(FACE_ANGLE) / 2
     for g in bad_groups:
         todo = set(np.flatnonzero(label == g).tolist())
+        sure = iter(np.flatnonzero((label == g) & resolved).tolist())
         while todo:
             seed = todo.pop()
+            if not resolved[seed]:  # a normal the doubles do not resolve would take in both
+                # faces it lies between: grow from the first resolved triangle left, if any
+                first = next((t for t in sure if t in todo), None)
+                if first is not None:
+                    todo.add(seed)
+                    seed = first
+                    todo.discard(seed)
             n0, p0 = normals[seed], V[T[seed, 0]]
             label[seed] = next_label
             stack = [seed]
             while stack:
                 t = stack.pop()
                 for u in neighbours.get(t, ()):
-                    if u in todo and np.max(np.abs((V[T[u]] - p0) @ n0)) <= tol and \
-                            np.linalg.norm(np.cross(normals[u], n0)) <= np.sin(FACE_ANGLE) / 2:
+                    arm = V[T[u]] - p0
+                    if u in todo and np.max(np.abs(arm @ n0) - turned[seed] * np.linalg.norm(
+                            arm, axis=1)) <= tol and np.linalg.norm(np.cross(
+                            normals[u], n0)) <= np.sin(FACE_ANGLE) / 2 + turned[seed] + turned[u]:
                         todo.discard(u)
                         label[u] = next_label
                         stack.append(u)

@@ -63,6 +63,12 @@ class Hand:
         Random grasps sampled by the constructions that start from prototypes.
     top : int
         Region sets wanted.
+    resolution : float
+        The spacing of the doubles where the object stands, relative to its size (about
+        1e-16 at the origin, 1e-7 for an object 0.15 across at 1e8): what a moved copy's
+        rounding may change, which the steps allow for (sizes that differ by less than a
+        few of it rank as ties; a face's corner made reflex by it is not a cut).
+        :func:`~forceclosure.synthesis.ranked_search.search` sets it from the object.
     memo : dict
         The search's own memory: what one step of a construction leaves for a later step
         of the same search (the bound's solve of every edge pair, which the builds read).
@@ -77,6 +83,7 @@ class Hand:
     samples: int = 20_000
     seed: int = 0
     top: int = 5
+    resolution: float = 0.0
     memo: dict[str, Any] = field(default_factory=dict, compare=False, hash=False, repr=False)
 
 

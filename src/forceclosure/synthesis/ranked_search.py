@@ -32,13 +32,16 @@ from .construction import Construction, Hand, Undecided
 from .frame import Frame
 from .regions import RegionSet, tie_rounded
 
-__all__ = ["TIE", "Found", "candidate_sites", "ranked", "search"]
+__all__ = ["SPACINGS", "TIE", "Found", "candidate_sites", "ranked", "search"]
 
 #: Relative sizes within this fraction of the largest of a run of them rank as ties, broken
 #: by the order of the sites (edge indices: the object's own order), so that the rounding of
 #: a moved or scaled copy (1e-8 of its size at 1e8, more where proofs cut regions at the
 #: floats of far-away coordinates) does not reorder equal regions.
 TIE = 1e-6
+#: Sizes within this many spacings of the doubles where the object stands (relative to its
+#: size: :attr:`~forceclosure.synthesis.construction.Hand.resolution`) tie too.
+SPACINGS = 8
 
 
 def _by_size(b: tuple[float, int, Any]) -> tuple[float, int]:
@@ -159,7 +162,13 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
         (:attr:`Found.undecided`: then the answer is not complete).
     """
     top = hand.top
-    hand = dataclasses.replace(hand, memo={})  # this search's own memory, for its steps
+    # sizes closer than the object's coordinates resolve (relative to its size: 6e-8 at 1e8
+    # on an object 2 across) are ties too: a far-away copy is rounded by that much
+    resolution = float(np.spacing(np.abs(obj.bounds).max())) / obj.size \
+        if hasattr(obj, "bounds") else 0.0
+    slack = SPACINGS * resolution
+    # this search's own memory, for its steps, and the object's resolution
+    hand = dataclasses.replace(hand, memo={}, resolution=resolution)
     if not isinstance(top, int | np.integer) or isinstance(top, bool) or top < 1:
         raise InputError(f"top must be a positive integer, got {top!r}")
     # on a polygon or polyhedron, every step but the proofs runs in object-centred, scaled
@@ -167,10 +176,6 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
     frame = Frame.of(obj) if isinstance(obj, Polygon | Polyhedron) else None
     where = obj if frame is None else frame.local(obj)
     sites = candidate_sites(construction, where, hand)
-    # sizes closer than the object's coordinates resolve (relative to its size: 6e-8 at 1e8
-    # on an object 2 across) are ties too: a far-away copy is rounded by that much
-    slack = 8 * float(np.spacing(np.abs(obj.bounds).max())) / obj.size \
-        if hasattr(obj, "bounds") else 0.0
     areas = getattr(obj, "dim", 2) == 3
     bound = None
     if construction.bound is not None and len(sites):

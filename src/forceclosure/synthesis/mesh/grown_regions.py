@@ -38,7 +38,7 @@ def _prototypes(polyhedron: Polyhedron, hand: Hand):
 def _grow(polyhedron: Polyhedron, prototype: Prototype, hand: Hand) -> ZoneRegions | None:
     try:
         return zone_regions(polyhedron, prototype, hand.contact, hand.mu, grow=True,
-                            margin=hand.margin)
+                            margin=hand.margin, resolution=hand.resolution)
     except InputError:  # a prototype on the boundary of closure: skip it
         return None
 

@@ -116,13 +116,15 @@ def _corners(ring: NDArray, tol: float) -> NDArray[np.float64]:
     return ring[keep]
 
 
-def convex_pieces(face: PlanarFace) -> list[NDArray[np.float64]]:
+def convex_pieces(face: PlanarFace, rounding: float = 0.0) -> list[NDArray[np.float64]]:
     """The face as convex polygons (plane coordinates, counter-clockwise) that cover it.
 
     A convex face is one piece. A non-convex face, or one with holes, is cut
     into its mesh triangles, and neighbouring pieces are merged while their
     union stays convex (Hertel and Mehlhorn's greedy merge): the paper's
-    "local convex regions" of a face (§5.2).
+    "local convex regions" of a face (§5.2). ``rounding`` (a length) is how far the
+    doubles where the object stands may have moved its corners: a corner made reflex by
+    no more than that (a straight corner of a copy moved by 1e8) is not a cut.
 
     Examples
     --------
@@ -137,7 +139,7 @@ def convex_pieces(face: PlanarFace) -> list[NDArray[np.float64]]:
         return [face.triangle_outline]
     shape = face.polygon.to_shapely()
     length = CONVEX_RTOL * max(face.polygon.size, 1e-300)
-    tol = length * face.polygon.size  # an area
+    tol = (length + 4 * rounding) * face.polygon.size  # an area
     if shape.convex_hull.area - shape.area <= tol:
         return [_ccw(np.asarray(shape.exterior.coords)[:-1])]
     V, T = face._vertices, face._mesh

@@ -36,6 +36,7 @@ from ...errors import InputError
 from ...geometry import cones
 from ...objects.polyhedron import Polyhedron
 from ..construction import Construction, Hand
+from ..ranked_search import SPACINGS, ranked
 from ..regions import MARGIN, check_margin, narrowed, tie_rounded
 from .two_soft import check_faces, check_mu_margin
 from .zones import (
@@ -178,10 +179,10 @@ def three_hard_regions(polyhedron: Polyhedron, faces: tuple[int, int, int], mu: 
 
 
 def _around(polyhedron: Polyhedron, prototype: Prototype, mu: float,
-            margin: float) -> ThreeHardRegions:
+            margin: float, resolution: float = 0.0) -> ThreeHardRegions:
     regions = zone_regions(polyhedron, prototype, "hard", mu, grow=False,
                            construction="search zones on faces (§5.3)", margin=margin,
-                           result=ThreeHardRegions)
+                           result=ThreeHardRegions, resolution=resolution)
     assert isinstance(regions, ThreeHardRegions)
     return regions
 
@@ -216,10 +217,13 @@ def three_hard_construction(max_faces: int = MAX_FACES, samples: int = SAMPLES) 
     """
     def sites(polyhedron: Polyhedron, hand: Hand):
         """Step 1: triples of the ``max_faces`` largest faces (two fingers may share one,
-        not all three); ties (equal faces of a symmetric object) to the lower index."""
-        size = polyhedron.size
-        order = sorted(range(len(polyhedron.faces)),
-                       key=lambda f: (-tie_rounded(polyhedron.faces[f].area / size**2), f))
+        not all three); ties (equal faces of a symmetric object, and faces whose areas
+        differ by no more than the rounding of the object's coordinates: the
+        hand's ``resolution``, as the search ranks) to the lower index, so that a moved copy
+        gives its fingers the same faces in the same order."""
+        areas = [(tie_rounded(f.area / polyhedron.size**2), f.index, None)
+                 for f in polyhedron.faces]
+        order = [f for _, f, _ in ranked(areas, SPACINGS * hand.resolution, areas=True)]
         yield [t for t in itertools.combinations_with_replacement(order[:max_faces], 3)
                if t[0] != t[2]]
 
@@ -239,7 +243,8 @@ def three_hard_construction(max_faces: int = MAX_FACES, samples: int = SAMPLES) 
         eps = epsilon_batch(P, normals[F], mu=narrowed(hand.mu, hand.margin), model="hard",
                             orientation="axes")
         best = best_prototypes(P, F, eps, 1)
-        return _around(polyhedron, best[0], hand.mu, hand.margin) if best else None
+        return (_around(polyhedron, best[0], hand.mu, hand.margin, hand.resolution) if best
+                else None)
 
     return Construction(
         dim=3, fingers=3, contact="hard", name="maximal", paper="§5.3", method="faces",

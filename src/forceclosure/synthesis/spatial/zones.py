@@ -496,8 +496,8 @@ class Prototype:
 def zone_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike, model: str = "hard",
                  mu: float = 0.5, grow: bool = True, edges: int = EDGES,
                  max_patches: int = 5000, construction: str = "search zones",
-                 margin: float = MARGIN, result: type[ZoneRegions] | None = None
-                 ) -> ZoneRegions:
+                 margin: float = MARGIN, result: type[ZoneRegions] | None = None,
+                 resolution: float = 0.0) -> ZoneRegions:
     """Independent regions around a force-closure prototype grasp on a polyhedron or mesh.
 
     Parameters
@@ -524,6 +524,10 @@ def zone_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike, model
         proof (:func:`~forceclosure.synthesis.regions.check_margin`).
     result : type, optional
         The :class:`ZoneRegions` subclass to return (a construction's own).
+    resolution : float
+        The spacing of the doubles where the object stands, relative to its size
+        (:attr:`~forceclosure.synthesis.construction.Hand.resolution`): the faces' convex
+        pieces allow for corners rounded by that much (:func:`.patches.convex_pieces`).
 
     Examples
     --------
@@ -556,6 +560,7 @@ def zone_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike, model
     built, cone_mu, every = finger_generators(model, mu, margin, edges)
     zones = search_zones(P, N, model, 0.0 if every else cone_mu, edges)
     graph = polyhedron.face_neighbors if grow else {}
+    rounding = resolution * polyhedron.size
     affines: dict[int, tuple[NDArray, NDArray, NDArray]] = {}  # by face, for every finger
 
     def affine_of(f_index: int, frontier) -> tuple[NDArray, NDArray, NDArray]:
@@ -571,7 +576,7 @@ def zone_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike, model
 
     regions, choices = [], []
     for finger, (face, (_, uv, _)) in enumerate(zip(faces, located, strict=True)):
-        pieces = convex_pieces(face)
+        pieces = convex_pieces(face, rounding)
         start = _containing(pieces, uv)
         affine = affine_of(face.index, ())
         ring, chosen = _patch_for(face, pieces[start], zones, finger, affine, uv, every)
@@ -593,7 +598,7 @@ def zone_regions(polyhedron: Polyhedron, prototype: Prototype | ArrayLike, model
             f = polyhedron.faces[f_index]
             if which is None:
                 seen.add(f_index)
-            f_pieces = convex_pieces(f)
+            f_pieces = convex_pieces(f, rounding)
             f_affine = affine_of(f_index, frontier)
             added = False
             for k in (range(len(f_pieces)) if which is None else [which]):
