@@ -27,7 +27,7 @@ import numpy as np
 
 __all__ = ["CLOSURE", "MARGINAL", "NONE", "NON_FINITE", "TOO_LARGE", "UNDECIDED", "ZERO_NORMAL",
            "pair_labels", "pair_labels_kernel", "pair_verdict_kernel",
-           "pair_verdict_serial"]
+           "pair_verdicts"]
 
 #: Pair codes, as in :mod:`forceclosure.analysis.two_finger`.
 NONE, MARGINAL, CLOSURE = 0, 1, 2
@@ -333,55 +333,24 @@ def _conditioned_pair(d, px, py, pz, qx, qy, qz, ax, ay, az, bx, by, bz, mp, mq,
                          bz, mp, mq, T, tol, atan_p, atan_q)
 
 
-@nb.njit(parallel=True, cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True)
 def pair_verdict_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, hard, max_coordinate, code,
                         least):  # pragma: no cover - compiled
     """Fill ``code`` (int8) and ``least`` (float64) for ``(N, d)`` pairs as a user gives
-    them, ``d`` = 2 or 3, in one pass: each row conditioned (points beyond ``2**64`` in
-    units of a power of two, extreme normals made unit) and checked, bad rows flagged
-    (``NON_FINITE``, ``TOO_LARGE`` beyond ``max_coordinate``, ``ZERO_NORMAL``), then
-    decided by :func:`_planar_pair` or :func:`_spatial_pair` (``hard`` spatial pairs never
-    closed). ``mu_p`` and ``mu_q`` have a value per pair, or one value for all. Returns how
-    many pairs have a code other than the three verdicts. Parallel;
-    :func:`pair_verdict_serial` is the same pass on the calling thread, for small batches
-    (no thread pool to wake, nor its scheduling)."""
+    them, ``d`` = 2 or 3, in one pass on the calling thread (it releases the GIL:
+    :func:`pair_verdicts` runs it on slices in threads): each row conditioned (points
+    beyond ``2**64`` in units of a power of two, extreme normals made unit) and checked,
+    bad rows flagged (``NON_FINITE``, ``TOO_LARGE`` beyond ``max_coordinate``,
+    ``ZERO_NORMAL``), then decided by :func:`_planar_pair` or :func:`_spatial_pair`
+    (``hard`` spatial pairs never closed). ``mu_p`` and ``mu_q`` have a value per pair,
+    or one value for all. Returns how many pairs have a code other than the three
+    verdicts."""
     T = math.tan(tol)
     flagged = 0
     step_p = 1 if mu_p.shape[0] > 1 else 0
     step_q = 1 if mu_q.shape[0] > 1 else 0
     if p.shape[1] == 2:  # the dimension outside the loops, scalars only inside: measured
-        for i in nb.prange(p.shape[0]):  # 1.4x faster serially than a row function's loop
-            c, m = _conditioned_pair(2, p[i, 0], p[i, 1], 0.0, q[i, 0], q[i, 1], 0.0,
-                                     n_p[i, 0], n_p[i, 1], 0.0, n_q[i, 0], n_q[i, 1], 0.0,
-                                     mu_p[i * step_p], mu_q[i * step_q], -1.0, -1.0, T, tol,
-                                     False, max_coordinate)
-            code[i] = c
-            least[i] = m
-            if c > CLOSURE:
-                flagged += 1
-        return flagged
-    for i in nb.prange(p.shape[0]):
-        c, m = _conditioned_pair(3, p[i, 0], p[i, 1], p[i, 2], q[i, 0], q[i, 1], q[i, 2],
-                                 n_p[i, 0], n_p[i, 1], n_p[i, 2], n_q[i, 0], n_q[i, 1],
-                                 n_q[i, 2], mu_p[i * step_p], mu_q[i * step_q], -1.0, -1.0, T,
-                                 tol, hard, max_coordinate)
-        code[i] = c
-        least[i] = m
-        if c > CLOSURE:
-            flagged += 1
-    return flagged
-
-
-@nb.njit(cache=True, nogil=True)
-def pair_verdict_serial(p, n_p, q, n_q, mu_p, mu_q, tol, hard, max_coordinate, code,
-                        least):  # pragma: no cover - compiled
-    """:func:`pair_verdict_kernel` on the calling thread."""
-    T = math.tan(tol)
-    flagged = 0
-    step_p = 1 if mu_p.shape[0] > 1 else 0
-    step_q = 1 if mu_q.shape[0] > 1 else 0
-    if p.shape[1] == 2:
-        for i in range(p.shape[0]):
+        for i in range(p.shape[0]):  # 1.4x faster than a row function's loop
             c, m = _conditioned_pair(2, p[i, 0], p[i, 1], 0.0, q[i, 0], q[i, 1], 0.0,
                                      n_p[i, 0], n_p[i, 1], 0.0, n_q[i, 0], n_q[i, 1], 0.0,
                                      mu_p[i * step_p], mu_q[i * step_q], -1.0, -1.0, T, tol,
@@ -419,7 +388,7 @@ def pair_labels_kernel(points, normals, mu, tol, hard, mu_max, max_coordinate, c
     flagged = 0
     planar = points.shape[2] == 2
     for i in range(points.shape[0]):  # scalars only in the loop (no row function taking
-        if planar:                    # the arrays: measured 1.4x slower in pair_verdict_serial)
+        if planar:                    # the arrays: measured 1.4x slower)
             c, m = _conditioned_pair(2, points[i, 0, 0], points[i, 0, 1], 0.0,
                                      points[i, 1, 0], points[i, 1, 1], 0.0, normals[i, 0, 0],
                                      normals[i, 0, 1], 0.0, normals[i, 1, 0], normals[i, 1, 1],
@@ -441,22 +410,39 @@ def pair_labels_kernel(points, normals, mu, tol, hard, mu_max, max_coordinate, c
 _POOL: list = []
 
 
-def pair_labels(points, normals, mu, tol, hard, mu_max, max_coordinate, code, least,
-                serial_below):
-    """:func:`pair_labels_kernel` on the calling thread for fewer than ``serial_below``
-    pairs; else on one contiguous slice per thread (numba's thread count), in a pool of
-    Python threads that sleep between calls (no spinning, no per-chunk wake-ups)."""
-    n = points.shape[0]
+def _in_slices(kernel, n, serial_below, *args):
+    """``kernel(*args)`` on the calling thread for fewer than ``serial_below`` rows; else on
+    one contiguous slice of every array of ``n`` rows per thread (numba's thread count), in
+    a pool of Python threads that sleep between calls (no spinning, no per-chunk wake-ups).
+    Returns the sum of the slices' answers."""
+    if n < serial_below:
+        return kernel(*args)
     threads = max(1, int(nb.config.NUMBA_NUM_THREADS))
-    if n < serial_below or threads == 1:
-        return pair_labels_kernel(points, normals, mu, tol, hard, mu_max, max_coordinate,
-                                  code, least)
+    if threads == 1:
+        return kernel(*args)
     if not _POOL:
         from concurrent.futures import ThreadPoolExecutor
 
         _POOL.append(ThreadPoolExecutor(threads, thread_name_prefix="forceclosure-pairs"))
     bounds = np.linspace(0, n, threads + 1).astype(np.int64)
-    jobs = [_POOL[0].submit(pair_labels_kernel, points[a:b], normals[a:b], mu, tol, hard,
-                            mu_max, max_coordinate, code[a:b], least[a:b])
-            for a, b in itertools.pairwise(bounds)]
+    jobs = [_POOL[0].submit(kernel, *(a[lo:hi] if isinstance(a, np.ndarray) and a.ndim
+                                      and a.shape[0] == n else a for a in args))
+            for lo, hi in itertools.pairwise(bounds)]
     return sum(job.result() for job in jobs)
+
+
+def pair_labels(points, normals, mu, tol, hard, mu_max, max_coordinate, code, least,
+                serial_below):
+    """:func:`pair_labels_kernel` on the calling thread for fewer than ``serial_below``
+    pairs; else on one contiguous slice per thread (:func:`_in_slices`)."""
+    return _in_slices(pair_labels_kernel, points.shape[0], serial_below, points, normals, mu,
+                      tol, hard, mu_max, max_coordinate, code, least)
+
+
+def pair_verdicts(p, n_p, q, n_q, mu_p, mu_q, tol, hard, max_coordinate, code, least,
+                  serial_below):
+    """:func:`pair_verdict_kernel` on the calling thread for fewer than ``serial_below``
+    pairs; else on one contiguous slice per thread (:func:`_in_slices`; ``mu_p``, ``mu_q``
+    sliced when they have a value per pair)."""
+    return _in_slices(pair_verdict_kernel, p.shape[0], serial_below, p, n_p, q, n_q, mu_p,
+                      mu_q, tol, hard, max_coordinate, code, least)
