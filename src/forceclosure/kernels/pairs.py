@@ -412,9 +412,10 @@ _POOL: list = []
 
 def _in_slices(kernel, n, serial_below, *args):
     """``kernel(*args)`` on the calling thread for fewer than ``serial_below`` rows; else on
-    one contiguous slice of every array of ``n`` rows per thread (numba's thread count), in
-    a pool of Python threads that sleep between calls (no spinning, no per-chunk wake-ups).
-    Returns the sum of the slices' answers."""
+    one contiguous slice of every array of ``n`` rows per thread (numba's thread count): the
+    first on the calling thread, the others in a pool of Python threads that sleep between
+    calls (one wake-up per extra thread, no spinning). Returns the sum of the slices'
+    answers."""
     if n < serial_below:
         return kernel(*args)
     threads = max(1, int(nb.config.NUMBA_NUM_THREADS))
@@ -423,12 +424,12 @@ def _in_slices(kernel, n, serial_below, *args):
     if not _POOL:
         from concurrent.futures import ThreadPoolExecutor
 
-        _POOL.append(ThreadPoolExecutor(threads, thread_name_prefix="forceclosure-pairs"))
+        _POOL.append(ThreadPoolExecutor(threads - 1, thread_name_prefix="forceclosure-pairs"))
     bounds = np.linspace(0, n, threads + 1).astype(np.int64)
-    jobs = [_POOL[0].submit(kernel, *(a[lo:hi] if isinstance(a, np.ndarray) and a.ndim
-                                      and a.shape[0] == n else a for a in args))
-            for lo, hi in itertools.pairwise(bounds)]
-    return sum(job.result() for job in jobs)
+    slices = [[a[lo:hi] if isinstance(a, np.ndarray) and a.ndim and a.shape[0] == n else a
+               for a in args] for lo, hi in itertools.pairwise(bounds)]
+    jobs = [_POOL[0].submit(kernel, *part) for part in slices[1:]]
+    return kernel(*slices[0]) + sum(job.result() for job in jobs)
 
 
 def pair_labels(points, normals, mu, tol, hard, mu_max, max_coordinate, code, least,
