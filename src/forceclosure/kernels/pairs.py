@@ -227,6 +227,22 @@ def _planar_pair(px, py, qx, qy, ax, ay, bx, by, mp, mq, T):
     return _verdict(cp, sp, cq, sq, mp, mq, T), _least(cp, sp, cq, sq)
 
 
+@nb.njit(inline="always")
+def _sides(vx, vy, vz, ax, ay, az, bx, by, bz, np2, nq2):
+    """Corollary 3's ``c`` and ``s`` at both contacts of a spatial pair (``v = Q - P``,
+    normals ``a``, ``b`` of squared lengths ``np2``, ``nq2``) and the unit normals."""
+    cp = -(vx * ax + vy * ay + vz * az)
+    cq = vx * bx + vy * by + vz * bz
+    sp = math.sqrt((vy * az - vz * ay) ** 2 + (vz * ax - vx * az) ** 2
+                   + (vx * ay - vy * ax) ** 2)
+    sq = math.sqrt((vy * bz - vz * by) ** 2 + (vz * bx - vx * bz) ** 2
+                   + (vx * by - vy * bx) ** 2)
+    inv_p = 1.0 / math.sqrt(np2)
+    inv_q = 1.0 / math.sqrt(nq2)
+    return (cp, sp, cq, sq, ax * inv_p, ay * inv_p, az * inv_p, bx * inv_q, by * inv_q,
+            bz * inv_q)
+
+
 @nb.njit(cache=True)
 def _spatial_pair(px, py, pz, qx, qy, qz, ax, ay, az, bx, by, bz, mp, mq, T, tol,
                   atan_p=-1.0, atan_q=-1.0):
@@ -237,23 +253,14 @@ def _spatial_pair(px, py, pz, qx, qy, qz, ax, ay, az, bx, by, bz, mp, mq, T, tol
     vy = qy - py
     vz = qz - pz
     pq2 = vx * vx + vy * vy + vz * vz
-    np2 = ax * ax + ay * ay + az * az
-    nq2 = bx * bx + by * by + bz * bz
-    cp = -(vx * ax + vy * ay + vz * az)
-    cq = vx * bx + vy * by + vz * bz
     scale = max(1.0, abs(px), abs(py), abs(pz), abs(qx), abs(qy), abs(qz))
     if pq2 <= 1e-24 * scale * scale:
         return NONE, np.inf
-    sp = math.sqrt((vy * az - vz * ay) ** 2 + (vz * ax - vx * az) ** 2
-                   + (vx * ay - vy * ax) ** 2)
-    sq = math.sqrt((vy * bz - vz * by) ** 2 + (vz * bx - vx * bz) ** 2
-                   + (vx * by - vy * bx) ** 2)
+    cp, sp, cq, sq, ax, ay, az, bx, by, bz = _sides(vx, vy, vz, ax, ay, az, bx, by, bz,
+                                                    ax * ax + ay * ay + az * az,
+                                                    bx * bx + by * by + bz * bz)
     c = _verdict(cp, sp, cq, sq, mp, mq, T)
     # Corollary 3 is only sufficient in space unless the normals are antiparallel
-    inv_p = 1.0 / math.sqrt(np2)
-    inv_q = 1.0 / math.sqrt(nq2)
-    ax, ay, az, bx, by, bz = ax * inv_p, ay * inv_p, az * inv_p, bx * inv_q, by * inv_q, \
-        bz * inv_q
     antiparallel = (ax + bx) ** 2 + (ay + by) ** 2 + (az + bz) ** 2 <= 1e-18
     screened = UNDECIDED
     if antiparallel:
@@ -402,17 +409,9 @@ def _common_rows(points, normals, mu, T, tol, mu_max, max_coordinate, code,
         vx, vy, vz = qx - px, qy - py, qz - pz
         scale = max(1.0, big)
         common &= vx * vx + vy * vy + vz * vz > 1e-24 * scale * scale
-        cp = -(vx * ax + vy * ay + vz * az)
-        cq = vx * bx + vy * by + vz * bz
-        sp = math.sqrt((vy * az - vz * ay) ** 2 + (vz * ax - vx * az) ** 2
-                       + (vx * ay - vy * ax) ** 2)
-        sq = math.sqrt((vy * bz - vz * by) ** 2 + (vz * bx - vx * bz) ** 2
-                       + (vx * by - vy * bx) ** 2)
+        cp, sp, cq, sq, ax, ay, az, bx, by, bz = _sides(vx, vy, vz, ax, ay, az, bx, by, bz,
+                                                        na, nb_)
         c = _verdict(cp, sp, cq, sq, mu, mu, T)
-        inv_p = 1.0 / math.sqrt(na)
-        inv_q = 1.0 / math.sqrt(nb_)
-        ax, ay, az, bx, by, bz = ax * inv_p, ay * inv_p, az * inv_p, bx * inv_q, by * inv_q, \
-            bz * inv_q
         common &= ((ax + bx) ** 2 + (ay + by) ** 2 + (az + bz) ** 2 > 1e-18) & (
             (ax - bx) ** 2 + (ay - by) ** 2 + (az - bz) ** 2 > 1e-18)
         least_, tan_half_beta, well = _least_soft(vx, vy, vz, ax, ay, az, bx, by, bz)
