@@ -225,10 +225,8 @@ def pair_row(rng, n: int, repeats: int) -> None:
     code, least = np.empty(n, dtype=np.int8), np.empty(n)
     flat = [kernel_array(a) for a in (p, n_p, q, n_q)]
 
-    run = kernel.pair_verdict_serial if n < SERIAL_BELOW else kernel.pair_verdict_kernel
-
     def compiled(_):  # what two_finger_closure runs, on its prepared inputs
-        run(*flat, mu, mu, 1e-9, False, 1e290, code, least)
+        kernel.pair_verdicts(*flat, mu, mu, 1e-9, False, 1e290, code, least, SERIAL_BELOW)
 
     reps = [None] * max(1, min(repeats * 20, 2_000_000 // n))
     public = timed(lambda _: two_finger_closure(p, n_p, q, n_q, 0.3), reps)

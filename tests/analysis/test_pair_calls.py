@@ -47,7 +47,7 @@ def _planar_pairs(rng, n):
     return p, n_p, q, n_q, mu
 
 
-@pytest.mark.parametrize("n", [50, SERIAL_BELOW + 10])  # the serial pass and the parallel one
+@pytest.mark.parametrize("n", [50, SERIAL_BELOW + 10])  # the calling thread, and slices in threads
 def test_planar_pairs_agree_with_the_reference(n):
     rng = np.random.default_rng(n)
     p, n_p, q, n_q, mu = _planar_pairs(rng, n)

@@ -163,6 +163,51 @@ def test_lines_on_a_cones_edge_are_never_closure(mu):
     assert np.all(code_g != 2)
 
 
+def test_the_vectorised_rows_are_the_scalar_paths_bit_for_bit():
+    """The branch-free pass (``kernels.pairs._common_rows``) gives each row it decides the
+    code and μ* of the scalar path (``pair_verdict_kernel``, one pair at a time), to the
+    last bit, and leaves it every row outside its case: bad input, huge or tiny values,
+    coincident points, parallel and antiparallel normals, rows beyond the screen."""
+    from forceclosure.kernels import pairs as kernel
+
+    rng = np.random.default_rng(16)
+    P, N = _near_antipodal(rng, 6000, 0.4)
+    N[:300, 1] = -N[:300, 0] * 2.0  # antiparallel
+    N[300:600, 1] = N[300:600, 0] * 3.0  # parallel
+    P[600:700, 1] = P[600:700, 0]  # coincident
+    P[700:800] *= 2.0**70
+    P[800:900, 0, 1] = np.nan
+    N[900:1000, 1] *= 1e-11 / np.linalg.norm(N[900:1000, 1], axis=1, keepdims=True)  # unit first
+    N[1000:1100, 0] *= 1e120
+    N[1100:1200, 0] = 0.0
+    P[1200:1300] *= 1e295  # too large
+    P[1300:1400] = rng.normal(size=(100, 2, 3))  # anything at all
+    N[1300:1400] = rng.normal(size=(100, 2, 3))
+    mu_max, big = two_finger.MU_MAX, two_finger.MAX_COORDINATE
+    for mu in (0.0, 0.3, 0.55, 1.5, 1e5):
+        code, least = np.empty(len(P), np.int8), np.empty(len(P))
+        kernel._common_rows(P, N, mu, np.tan(1e-9), 1e-9, mu_max, big, code, least)
+        ref_code, ref_least = np.empty(len(P), np.int8), np.empty(len(P))
+        kernel.pair_verdict_kernel(P[:, 0].copy(), N[:, 0].copy(), P[:, 1].copy(),
+                                   N[:, 1].copy(), np.array([mu]), np.array([mu]), 1e-9, False,
+                                   big, ref_code, ref_least)
+        ref_least[ref_least > mu_max] = np.inf
+        done = code != kernel._REDO
+        assert done[1400:].mean() > 0.9 and not done[:1300].any()
+        assert np.array_equal(code[done], ref_code[done])
+        assert np.array_equal(least[done].view(np.int64), ref_least[done].view(np.int64))
+    # and the kernel's answers, over all rows, are the scalar path's
+    P[800:900, 0, 1], N[1100:1200, 0], P[1200:1300] = 0.0, 1.0, 1.0  # no bad rows left
+    code, least = pair_labels(P, N, 0.3)
+    kernel.pair_verdict_kernel(P[:, 0].copy(), N[:, 0].copy(), P[:, 1].copy(), N[:, 1].copy(),
+                               np.array([0.3]), np.array([0.3]), 1e-9, False, big, ref_code,
+                               ref_least)
+    decided = ref_code != kernel.UNDECIDED  # the rest by Theorem 1
+    assert decided.mean() > 0.9
+    assert np.array_equal(code[decided], ref_code[decided])
+    assert np.array_equal(least, np.where(ref_least > mu_max, np.inf, ref_least))
+
+
 def test_the_pool_and_the_calling_thread_agree(monkeypatch):
     rng = np.random.default_rng(15)
     P, N = _near_antipodal(rng, 3000, 0.3)

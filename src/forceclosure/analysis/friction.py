@@ -80,7 +80,7 @@ def least_friction(contacts: Sequence[Contact], *, cone: str | Cone = "exact",
     from ..kernels import pairs, theorem1, use_compiled
 
     if all(len(c.points) == 1 and len(c.normals) == 1 for c in contacts) and use_compiled(
-            pairs.pair_verdict_serial, theorem1.least_friction_kernel):
+            pairs.pair_verdict_kernel, theorem1.least_friction_kernel):
         # point contacts: one compiled bisection (closed forms for pairs), the reference
         # below only where the kernel defers (or before the kernels are compiled)
         models = ["hard" if c.model == "frictionless" else c.model for c in contacts]

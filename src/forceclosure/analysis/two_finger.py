@@ -123,9 +123,10 @@ def two_finger_closure(p: ArrayLike, n_p: ArrayLike, q: ArrayLike, n_q: ArrayLik
         Angles within ``tol`` radians of the cone's half-angle are
         ``marginal``.
     engine : {"compiled", "reference"}
-        The compiled kernel (:mod:`forceclosure.kernels.pairs`, parallel; spatial
-        soft pairs in closed form) or the NumPy reference computing the angles
-        (spatial soft pairs failing Corollary 3 by Theorem 1). They return the
+        The compiled kernel (:mod:`forceclosure.kernels.pairs`, on slices in
+        threads from :data:`SERIAL_BELOW` pairs; spatial soft pairs in closed
+        form) or the NumPy reference computing the angles (spatial soft pairs
+        failing Corollary 3 by Theorem 1). They return the
         same verdicts, but within the tolerance band of the boundary, where one
         may say ``marginal`` and the other not.
 
@@ -327,10 +328,9 @@ def pair_least_friction(p: NDArray[np.float64], n_p: NDArray[np.float64],
     code = np.empty(len(p), dtype=np.int8)
     least = np.empty(len(p))
     one = np.ones(1)
-    run = kernel.pair_verdict_serial if len(p) < SERIAL_BELOW else kernel.pair_verdict_kernel
-    announce_compiling(run)
-    run(kernel_array(p), kernel_array(n_p), kernel_array(q), kernel_array(n_q), one, one, 0.0,
-        False, MAX_COORDINATE, code, least)
+    announce_compiling(kernel.pair_verdict_kernel)
+    kernel.pair_verdicts(kernel_array(p), kernel_array(n_p), kernel_array(q), kernel_array(n_q),
+                         one, one, 0.0, False, MAX_COORDINATE, code, least, SERIAL_BELOW)
     return least
 
 
@@ -353,9 +353,9 @@ def _compiled(p, n_p, q, n_q, mu_p, mu_q, model, tol, shape):
     code = np.empty(n, dtype=np.int8)
     least = np.empty(n)
     hard = p.shape[-1] == 3 and model == "hard"
-    run = kernel.pair_verdict_serial if n < SERIAL_BELOW else kernel.pair_verdict_kernel
-    announce_compiling(run)
-    flagged = run(*flat, *mus, float(tol), hard, MAX_COORDINATE, code, least)
+    announce_compiling(kernel.pair_verdict_kernel)
+    flagged = kernel.pair_verdicts(*flat, *mus, float(tol), hard, MAX_COORDINATE, code, least,
+                                   SERIAL_BELOW)
     if not flagged:
         return code, least
     if np.any(code >= kernel.ZERO_NORMAL):  # bad input: named as the checks name it

@@ -382,13 +382,16 @@ def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str 
     points = np.asarray(points, dtype=float)
     normals = np.asarray(normals, dtype=float)
     n = len(points)
-    code = np.zeros(n, np.int8)
-    mu_star, eps = np.full(n, np.nan), np.zeros(n) if epsilon else np.full(n, np.nan)
+    eps = np.zeros(n) if epsilon else np.full(n, np.nan)
     closed_form = torsion is None  # verdict and μ* of every pair in one compiled pass
     if closed_form:
-        code, least = pair_labels(points, normals, mu, contact)
-        if least_friction:
-            mu_star = least
+        code, mu_star = pair_labels(points, normals, mu, contact)
+        if not least_friction:
+            mu_star.fill(np.nan)
+        if not epsilon and progress is None:
+            return code, mu_star, eps  # nothing left to do by chunks
+    else:
+        code, mu_star = np.zeros(n, np.int8), np.full(n, np.nan)
     each = (np.broadcast_to(np.asarray(torsion, dtype=float), (n, 2))  # one a contact
             if torsion is not None and np.ndim(torsion) > 0 else None)
     for lo in range(0, n, CHUNK):

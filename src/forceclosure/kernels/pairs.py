@@ -27,7 +27,7 @@ import numpy as np
 
 __all__ = ["CLOSURE", "MARGINAL", "NONE", "NON_FINITE", "TOO_LARGE", "UNDECIDED", "ZERO_NORMAL",
            "pair_labels", "pair_labels_kernel", "pair_verdict_kernel",
-           "pair_verdict_serial"]
+           "pair_verdicts"]
 
 #: Pair codes, as in :mod:`forceclosure.analysis.two_finger`.
 NONE, MARGINAL, CLOSURE = 0, 1, 2
@@ -227,6 +227,22 @@ def _planar_pair(px, py, qx, qy, ax, ay, bx, by, mp, mq, T):
     return _verdict(cp, sp, cq, sq, mp, mq, T), _least(cp, sp, cq, sq)
 
 
+@nb.njit(inline="always")
+def _sides(vx, vy, vz, ax, ay, az, bx, by, bz, np2, nq2):
+    """Corollary 3's ``c`` and ``s`` at both contacts of a spatial pair (``v = Q - P``,
+    normals ``a``, ``b`` of squared lengths ``np2``, ``nq2``) and the unit normals."""
+    cp = -(vx * ax + vy * ay + vz * az)
+    cq = vx * bx + vy * by + vz * bz
+    sp = math.sqrt((vy * az - vz * ay) ** 2 + (vz * ax - vx * az) ** 2
+                   + (vx * ay - vy * ax) ** 2)
+    sq = math.sqrt((vy * bz - vz * by) ** 2 + (vz * bx - vx * bz) ** 2
+                   + (vx * by - vy * bx) ** 2)
+    inv_p = 1.0 / math.sqrt(np2)
+    inv_q = 1.0 / math.sqrt(nq2)
+    return (cp, sp, cq, sq, ax * inv_p, ay * inv_p, az * inv_p, bx * inv_q, by * inv_q,
+            bz * inv_q)
+
+
 @nb.njit(cache=True)
 def _spatial_pair(px, py, pz, qx, qy, qz, ax, ay, az, bx, by, bz, mp, mq, T, tol,
                   atan_p=-1.0, atan_q=-1.0):
@@ -237,23 +253,14 @@ def _spatial_pair(px, py, pz, qx, qy, qz, ax, ay, az, bx, by, bz, mp, mq, T, tol
     vy = qy - py
     vz = qz - pz
     pq2 = vx * vx + vy * vy + vz * vz
-    np2 = ax * ax + ay * ay + az * az
-    nq2 = bx * bx + by * by + bz * bz
-    cp = -(vx * ax + vy * ay + vz * az)
-    cq = vx * bx + vy * by + vz * bz
     scale = max(1.0, abs(px), abs(py), abs(pz), abs(qx), abs(qy), abs(qz))
     if pq2 <= 1e-24 * scale * scale:
         return NONE, np.inf
-    sp = math.sqrt((vy * az - vz * ay) ** 2 + (vz * ax - vx * az) ** 2
-                   + (vx * ay - vy * ax) ** 2)
-    sq = math.sqrt((vy * bz - vz * by) ** 2 + (vz * bx - vx * bz) ** 2
-                   + (vx * by - vy * bx) ** 2)
+    cp, sp, cq, sq, ax, ay, az, bx, by, bz = _sides(vx, vy, vz, ax, ay, az, bx, by, bz,
+                                                    ax * ax + ay * ay + az * az,
+                                                    bx * bx + by * by + bz * bz)
     c = _verdict(cp, sp, cq, sq, mp, mq, T)
     # Corollary 3 is only sufficient in space unless the normals are antiparallel
-    inv_p = 1.0 / math.sqrt(np2)
-    inv_q = 1.0 / math.sqrt(nq2)
-    ax, ay, az, bx, by, bz = ax * inv_p, ay * inv_p, az * inv_p, bx * inv_q, by * inv_q, \
-        bz * inv_q
     antiparallel = (ax + bx) ** 2 + (ay + by) ** 2 + (az + bz) ** 2 <= 1e-18
     screened = UNDECIDED
     if antiparallel:
@@ -333,55 +340,24 @@ def _conditioned_pair(d, px, py, pz, qx, qy, qz, ax, ay, az, bx, by, bz, mp, mq,
                          bz, mp, mq, T, tol, atan_p, atan_q)
 
 
-@nb.njit(parallel=True, cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True)
 def pair_verdict_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, hard, max_coordinate, code,
                         least):  # pragma: no cover - compiled
     """Fill ``code`` (int8) and ``least`` (float64) for ``(N, d)`` pairs as a user gives
-    them, ``d`` = 2 or 3, in one pass: each row conditioned (points beyond ``2**64`` in
-    units of a power of two, extreme normals made unit) and checked, bad rows flagged
-    (``NON_FINITE``, ``TOO_LARGE`` beyond ``max_coordinate``, ``ZERO_NORMAL``), then
-    decided by :func:`_planar_pair` or :func:`_spatial_pair` (``hard`` spatial pairs never
-    closed). ``mu_p`` and ``mu_q`` have a value per pair, or one value for all. Returns how
-    many pairs have a code other than the three verdicts. Parallel;
-    :func:`pair_verdict_serial` is the same pass on the calling thread, for small batches
-    (no thread pool to wake, nor its scheduling)."""
+    them, ``d`` = 2 or 3, in one pass on the calling thread (it releases the GIL:
+    :func:`pair_verdicts` runs it on slices in threads): each row conditioned (points
+    beyond ``2**64`` in units of a power of two, extreme normals made unit) and checked,
+    bad rows flagged (``NON_FINITE``, ``TOO_LARGE`` beyond ``max_coordinate``,
+    ``ZERO_NORMAL``), then decided by :func:`_planar_pair` or :func:`_spatial_pair`
+    (``hard`` spatial pairs never closed). ``mu_p`` and ``mu_q`` have a value per pair,
+    or one value for all. Returns how many pairs have a code other than the three
+    verdicts."""
     T = math.tan(tol)
     flagged = 0
     step_p = 1 if mu_p.shape[0] > 1 else 0
     step_q = 1 if mu_q.shape[0] > 1 else 0
     if p.shape[1] == 2:  # the dimension outside the loops, scalars only inside: measured
-        for i in nb.prange(p.shape[0]):  # 1.4x faster serially than a row function's loop
-            c, m = _conditioned_pair(2, p[i, 0], p[i, 1], 0.0, q[i, 0], q[i, 1], 0.0,
-                                     n_p[i, 0], n_p[i, 1], 0.0, n_q[i, 0], n_q[i, 1], 0.0,
-                                     mu_p[i * step_p], mu_q[i * step_q], -1.0, -1.0, T, tol,
-                                     False, max_coordinate)
-            code[i] = c
-            least[i] = m
-            if c > CLOSURE:
-                flagged += 1
-        return flagged
-    for i in nb.prange(p.shape[0]):
-        c, m = _conditioned_pair(3, p[i, 0], p[i, 1], p[i, 2], q[i, 0], q[i, 1], q[i, 2],
-                                 n_p[i, 0], n_p[i, 1], n_p[i, 2], n_q[i, 0], n_q[i, 1],
-                                 n_q[i, 2], mu_p[i * step_p], mu_q[i * step_q], -1.0, -1.0, T,
-                                 tol, hard, max_coordinate)
-        code[i] = c
-        least[i] = m
-        if c > CLOSURE:
-            flagged += 1
-    return flagged
-
-
-@nb.njit(cache=True, nogil=True)
-def pair_verdict_serial(p, n_p, q, n_q, mu_p, mu_q, tol, hard, max_coordinate, code,
-                        least):  # pragma: no cover - compiled
-    """:func:`pair_verdict_kernel` on the calling thread."""
-    T = math.tan(tol)
-    flagged = 0
-    step_p = 1 if mu_p.shape[0] > 1 else 0
-    step_q = 1 if mu_q.shape[0] > 1 else 0
-    if p.shape[1] == 2:
-        for i in range(p.shape[0]):
+        for i in range(p.shape[0]):  # 1.4x faster than a row function's loop
             c, m = _conditioned_pair(2, p[i, 0], p[i, 1], 0.0, q[i, 0], q[i, 1], 0.0,
                                      n_p[i, 0], n_p[i, 1], 0.0, n_q[i, 0], n_q[i, 1], 0.0,
                                      mu_p[i * step_p], mu_q[i * step_q], -1.0, -1.0, T, tol,
@@ -403,23 +379,72 @@ def pair_verdict_serial(p, n_p, q, n_q, mu_p, mu_q, tol, hard, max_coordinate, c
     return flagged
 
 
+#: The code :func:`_common_rows` gives a row it leaves to the scalar path (never returned).
+_REDO = 7
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def _common_rows(points, normals, mu, T, tol, mu_max, max_coordinate, code,
+                 least):  # pragma: no cover - compiled
+    """The common case of :func:`pair_labels_kernel` without branches, so that the compiler
+    vectorises it: spatial soft pairs whose inputs need no conditioning (finite, points
+    within ``2**64``, normals of lengths 1e-10 to 1e100), whose points are apart and
+    normals neither parallel nor antiparallel, and which Corollary 3 or :func:`_screen`
+    decides. Every step is the scalar path's (:func:`_conditioned_pair`,
+    :func:`_spatial_pair`), the same operations in the same order (no fast-math), so the
+    codes and μ* are the same bit for bit; every other row gets ``_REDO``. Measured:
+    about 4x faster than the scalar path on sampled jaw poses."""
+    for i in range(points.shape[0]):
+        px, py, pz = points[i, 0, 0], points[i, 0, 1], points[i, 0, 2]
+        qx, qy, qz = points[i, 1, 0], points[i, 1, 1], points[i, 1, 2]
+        ax, ay, az = normals[i, 0, 0], normals[i, 0, 1], normals[i, 0, 2]
+        bx, by, bz = normals[i, 1, 0], normals[i, 1, 1], normals[i, 1, 2]
+        na = ax * ax + ay * ay + az * az
+        nb_ = bx * bx + by * by + bz * bz
+        big = max(abs(px), abs(py), abs(pz), abs(qx), abs(qy), abs(qz))
+        # bitwise & (not and/or): no branches
+        common = ((abs(px + py + pz + qx + qy + qz + na + nb_) < np.inf) & (big <= 2.0**64)
+                  & (big <= max_coordinate) & (na > 1e-20) & (na < 1e200) & (nb_ > 1e-20)
+                  & (nb_ < 1e200))
+        vx, vy, vz = qx - px, qy - py, qz - pz
+        scale = max(1.0, big)
+        common &= vx * vx + vy * vy + vz * vz > 1e-24 * scale * scale
+        cp, sp, cq, sq, ax, ay, az, bx, by, bz = _sides(vx, vy, vz, ax, ay, az, bx, by, bz,
+                                                        na, nb_)
+        c = _verdict(cp, sp, cq, sq, mu, mu, T)
+        common &= ((ax + bx) ** 2 + (ay + by) ** 2 + (az + bz) ** 2 > 1e-18) & (
+            (ax - bx) ** 2 + (ay - by) ** 2 + (az - bz) ** 2 > 1e-18)
+        least_, tan_half_beta, well = _least_soft(vx, vy, vz, ax, ay, az, bx, by, bz)
+        if c != CLOSURE:
+            c = _screen(least_, tan_half_beta, mu, tol)
+            common &= well & (c != UNDECIDED)
+        code[i] = c if common else _REDO
+        least[i] = np.inf if least_ > mu_max else least_
+
+
 @nb.njit(cache=True, nogil=True)
 def pair_labels_kernel(points, normals, mu, tol, hard, mu_max, max_coordinate, code,
                        least):  # pragma: no cover - compiled
     """Fill ``code`` (int8) and ``least`` (float64, ``inf`` beyond ``mu_max``) for the
     ``(N, 2, d)`` contact pairs ``points``, ``normals`` (any lengths) at one friction ``mu``,
-    in one pass on the calling thread (it releases the GIL: :func:`pair_labels` runs it on
-    slices in threads): each row conditioned as :func:`_conditioned_pair` does (extreme
-    normals made unit, coordinates beyond ``2**64`` divided by a power of two), bad rows
-    flagged (``NON_FINITE``, ``TOO_LARGE`` beyond
-    ``max_coordinate``, ``ZERO_NORMAL``). ``hard`` spatial pairs are never closed.
+    on the calling thread (it releases the GIL: :func:`pair_labels` runs it on slices in
+    threads): spatial soft pairs first by :func:`_common_rows` (vectorised); the rows it
+    leaves, and all others, one at a time, each conditioned as :func:`_conditioned_pair`
+    does (extreme normals made unit, coordinates beyond ``2**64`` divided by a power of
+    two), bad rows flagged (``NON_FINITE``, ``TOO_LARGE`` beyond ``max_coordinate``,
+    ``ZERO_NORMAL``). ``hard`` spatial pairs are never closed.
     Returns how many pairs have a code other than the three verdicts."""
     T = math.tan(tol)
     atan_mu = math.atan(mu)
     flagged = 0
     planar = points.shape[2] == 2
+    common = not planar and not hard
+    if common:  # most rows, vectorised; the scalar loop below does the rest
+        _common_rows(points, normals, mu, T, tol, mu_max, max_coordinate, code, least)
     for i in range(points.shape[0]):  # scalars only in the loop (no row function taking
-        if planar:                    # the arrays: measured 1.4x slower in pair_verdict_serial)
+        if common and code[i] != _REDO:  # the arrays: measured 1.4x slower)
+            continue
+        if planar:
             c, m = _conditioned_pair(2, points[i, 0, 0], points[i, 0, 1], 0.0,
                                      points[i, 1, 0], points[i, 1, 1], 0.0, normals[i, 0, 0],
                                      normals[i, 0, 1], 0.0, normals[i, 1, 0], normals[i, 1, 1],
@@ -441,22 +466,40 @@ def pair_labels_kernel(points, normals, mu, tol, hard, mu_max, max_coordinate, c
 _POOL: list = []
 
 
-def pair_labels(points, normals, mu, tol, hard, mu_max, max_coordinate, code, least,
-                serial_below):
-    """:func:`pair_labels_kernel` on the calling thread for fewer than ``serial_below``
-    pairs; else on one contiguous slice per thread (numba's thread count), in a pool of
-    Python threads that sleep between calls (no spinning, no per-chunk wake-ups)."""
-    n = points.shape[0]
+def _in_slices(kernel, n, serial_below, *args):
+    """``kernel(*args)`` on the calling thread for fewer than ``serial_below`` rows; else on
+    one contiguous slice of every array of ``n`` rows per thread (numba's thread count): the
+    first on the calling thread, the others in a pool of Python threads that sleep between
+    calls (one wake-up per extra thread, no spinning). Returns the sum of the slices'
+    answers."""
+    if n < serial_below:
+        return kernel(*args)
     threads = max(1, int(nb.config.NUMBA_NUM_THREADS))
-    if n < serial_below or threads == 1:
-        return pair_labels_kernel(points, normals, mu, tol, hard, mu_max, max_coordinate,
-                                  code, least)
+    if threads == 1:
+        return kernel(*args)
     if not _POOL:
         from concurrent.futures import ThreadPoolExecutor
 
-        _POOL.append(ThreadPoolExecutor(threads, thread_name_prefix="forceclosure-pairs"))
+        _POOL.append(ThreadPoolExecutor(threads - 1, thread_name_prefix="forceclosure-pairs"))
     bounds = np.linspace(0, n, threads + 1).astype(np.int64)
-    jobs = [_POOL[0].submit(pair_labels_kernel, points[a:b], normals[a:b], mu, tol, hard,
-                            mu_max, max_coordinate, code[a:b], least[a:b])
-            for a, b in itertools.pairwise(bounds)]
-    return sum(job.result() for job in jobs)
+    slices = [[a[lo:hi] if isinstance(a, np.ndarray) and a.ndim and a.shape[0] == n else a
+               for a in args] for lo, hi in itertools.pairwise(bounds)]
+    jobs = [_POOL[0].submit(kernel, *part) for part in slices[1:]]
+    return kernel(*slices[0]) + sum(job.result() for job in jobs)
+
+
+def pair_labels(points, normals, mu, tol, hard, mu_max, max_coordinate, code, least,
+                serial_below):
+    """:func:`pair_labels_kernel` on the calling thread for fewer than ``serial_below``
+    pairs; else on one contiguous slice per thread (:func:`_in_slices`)."""
+    return _in_slices(pair_labels_kernel, points.shape[0], serial_below, points, normals, mu,
+                      tol, hard, mu_max, max_coordinate, code, least)
+
+
+def pair_verdicts(p, n_p, q, n_q, mu_p, mu_q, tol, hard, max_coordinate, code, least,
+                  serial_below):
+    """:func:`pair_verdict_kernel` on the calling thread for fewer than ``serial_below``
+    pairs; else on one contiguous slice per thread (:func:`_in_slices`; ``mu_p``, ``mu_q``
+    sliced when they have a value per pair)."""
+    return _in_slices(pair_verdict_kernel, p.shape[0], serial_below, p, n_p, q, n_q, mu_p,
+                      mu_q, tol, hard, max_coordinate, code, least)
