@@ -254,7 +254,7 @@ def test_layers_import_nothing_above_them():
     graph = import_graph(SRC, PACKAGE)
     # edges known to exist, so that a graph which lost its edges cannot pass
     assert "forceclosure.kernels.theorem1" in graph["forceclosure.analysis.batch"]
-    assert "forceclosure.analysis.closure" in graph["forceclosure.app.cli"]
+    assert "forceclosure.analysis.closure" in graph["forceclosure.app.cmd_demo"]
     assert "forceclosure.synthesis.spatial.patches" in graph["forceclosure.gripper.antipodal"]
     found = upward_imports(graph, PACKAGE, LAYERS)
     assert not found, "imports up the layers: " + "; ".join(found)

@@ -147,7 +147,7 @@ def test_grasps_option_fuzz(options, robust):
 
 
 def test_library_output_check_refuses_a_folder_spelling(tmp_path):
-    """io.atomic.check_output (every results file of the library): 'x.npz/' was taken as
+    """files.atomic.check_output (every results file of the library): 'x.npz/' was taken as
     x.npz (abspath drops the slash) and failed only at the rename, after the work."""
     from forceclosure.errors import OutputError
     from forceclosure.files.atomic import check_output

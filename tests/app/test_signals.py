@@ -20,7 +20,7 @@ SPIN = """
 import math, sys
 import numba
 import numpy as np
-from forceclosure.app import cli
+from forceclosure.app import cli, cmd_demo
 
 @numba.njit(nogil=True, cache=False)
 def spin(n, returned):
@@ -42,7 +42,7 @@ def busy(args):
     spin(3 * 10**9, returned)
     return 0
 
-cli._cmd_demo = busy
+cmd_demo.run = busy
 sys.exit(cli.main(["demo"]))
 """
 
@@ -79,7 +79,7 @@ SAVING = """
 import math, sys
 import numba
 import numpy as np
-from forceclosure.app import cli
+from forceclosure.app import cli, cmd_demo
 from forceclosure.app import interrupt
 from forceclosure.app.interrupt import holding
 
@@ -104,7 +104,7 @@ def save(args):
     spin(3 * 10**9, returned, 1)
     return 0
 
-cli._cmd_demo = save
+cmd_demo.run = save
 sys.exit(cli.main(["demo"]))
 """
 
@@ -147,7 +147,7 @@ def work(args):
         spin(2 * 10**8, returned)
     return 0
 
-cli._cmd_demo = work
+cmd_demo.run = work
 sys.exit(cli.main(["demo"]))
 """
 

@@ -39,7 +39,7 @@ import numpy as np
 
 from ..errors import InputError, OutputError
 from ..extras import require
-from ..verdicts import VERDICT_WORDS, VerdictCode
+from ..verdicts import VERDICT_WORDS
 from .dataset_options import EXPORTS_FILE
 
 __all__ = ["EXPORTS_FILE", "GRASP_COLUMNS", "GripperJob", "object_seed", "read_labels",
@@ -82,12 +82,6 @@ def object_seed(seed: int, stamp: str) -> int:
     """
     digest = hashlib.sha256(f"{int(seed)}:{stamp}".encode("ascii")).digest()
     return int.from_bytes(digest[:8], "big") >> 1
-
-
-def _finite_or_none(value: float) -> float | None:
-    """A JSON-ready number: None where it is not finite (a median μ* of "no friction closes")."""
-    value = float(value)
-    return value if np.isfinite(value) else None
 
 
 @dataclass(frozen=True)
@@ -371,80 +365,42 @@ class GripperJob:
     def label(self, obj: Any, path: Path) -> dict[str, Any]:
         """The record's fields for one loaded object, and its labels under ``"_labels"``
         (taken out and saved by :meth:`store`, in the driver)."""
-        from ..gripper.labels import grasp_labels
+        from ..gripper.labels import TASK_VERDICTS
+        from ..gripper.pipeline import label_poses
         from .dataset import fingerprint
 
         if obj.dim != 3:
             raise InputError(f"{path.name}: a polygon; a parallel-jaw gripper grasps meshes")
+        if self.task is not None and getattr(obj, "watertight", True) is False:
+            raise InputError(f"{path.name}: --task-mass needs a closed mesh for its centre "
+                             "of mass; this one is open")
         seed = object_seed(self.seed, fingerprint(path, self))
-        gripper = self.gripper()
         approaches, depths = self._search()
         support = None
         if self.support_plane:
             from ..gripper.support import support_plane
 
             support = support_plane(obj)
-        labels = grasp_labels(obj, gripper, self.mu, self.count, seed, self.contact,
-                              least_friction=self.least_friction, collision=self.collision,
-                              clearance=self.clearance, approaches=approaches or 1,
-                              depths=depths or 1, tilt=float(self.tilt), epsilon=self.epsilon,
-                              support=support)
-        extra = self._more_labels(obj, path, gripper, seed, labels)
-        labels = extra.pop("_labels")
-        closed = labels.epsilon[labels.code == VerdictCode.CLOSURE]
-        finite = labels.least_friction[np.isfinite(labels.least_friction)]
-        hit = labels.collides
-        return {"contact": self.contact, "mu": self.mu, "width": labels.meta["width_max"],
-                "pad_radius": self.pad_radius, "seed": seed, "grasps": len(labels),
-                **labels.counts(),
-                "epsilon_median": float(np.median(closed)) if len(closed) else None,
-                "least_friction_median": _finite_or_none(np.median(labels.least_friction))
-                if self.least_friction and len(finite) else None,
-                "collides": None if hit is None else int(hit.sum()),
-                "closure_clear": None if hit is None else int(
-                    np.sum(~hit & (labels.code == VerdictCode.CLOSURE))),
-                "attempts": int(labels.meta["attempts"]),
-                "rejected": int(sum(labels.meta["rejected"].values())),
-                "rejected_reasons": dict(labels.meta["rejected"]),
-                **extra, "_labels": labels}
-
-    def _more_labels(self, obj: Any, path: Path, gripper: Any, seed: int, labels: Any
-                     ) -> dict[str, Any]:
-        """Robustness, metrics and the task test, as asked: the record's extra fields, and
-        the labels with their arrays under ``"_labels"``."""
-        out: dict[str, Any] = {}
-        if self.robust is not None:
-            from ..gripper.robust import robust_labels
-
-            r = self.robust
-            rob = robust_labels(obj, labels, gripper, self.mu, samples=int(r["samples"]),
-                                seed=seed, pose_sigma=r["pose_sigma"],
-                                angle_sigma=r["angle_sigma"], mu_sigma=r["mu_sigma"],
-                                normal_sigma=r["normal_sigma"], contact=self.contact,
-                                confidence=r["confidence"], epsilon=bool(r["epsilon"]))
-            labels = labels.with_robustness(rob)
-            out["robust_probability_mean"] = (float(np.mean(rob.probability)) if len(rob)
-                                              else None)
-        if self.metrics:
-            from ..gripper.labels import label_metrics
-
-            labels = labels.with_metrics(label_metrics(labels))
-        if self.task is not None:
-            from ..analysis.task import gravity_wrench
-            from ..gripper.jaw import surface_mesh
-            from ..gripper.labels import TASK_VERDICTS, label_task
-
-            if getattr(obj, "watertight", True) is False:
-                raise InputError(f"{path.name}: --task-mass needs a closed mesh for its centre "
-                                 "of mass; this one is open")
-            t = self.task
-            com = [float(x) for x in surface_mesh(obj)[1].center_mass]
-            wrench = gravity_wrench(t["mass"], com, t["gravity"])
-            code, spare, upper = label_task(labels, wrench, t["f_max"], t["edges"])
-            labels = labels.with_task(code, spare, upper, {**t, "center_of_mass": com})
-            out["task_counts"] = {v: int(np.sum(code == c)) for c, v in enumerate(TASK_VERDICTS)}
-        out["_labels"] = labels
-        return out
+        found = label_poses(obj, self.gripper(), self.mu, self.count, seed, self.contact,
+                            least_friction=self.least_friction, collision=self.collision,
+                            clearance=self.clearance, approaches=approaches or 1,
+                            depths=depths or 1, tilt=float(self.tilt), epsilon=self.epsilon,
+                            support=support, robust=self.robust, metrics=self.metrics,
+                            task=self.task)
+        s = found.summary
+        extra: dict[str, Any] = {}
+        if found.robust is not None:
+            extra["robust_probability_mean"] = found.robust["probability_mean"]
+        if found.task is not None:
+            extra["task_counts"] = {v: found.task[v] for v in TASK_VERDICTS}
+        return {"contact": self.contact, "mu": self.mu, "width": s["width"],
+                "pad_radius": self.pad_radius, "seed": seed, "grasps": s["candidates"],
+                **{v: s[v] for v in VERDICT_WORDS},
+                "epsilon_median": s["epsilon_median"],
+                "least_friction_median": s["least_friction_median"],
+                "collides": s["collides"], "closure_clear": s["closure_clear"],
+                "attempts": int(s["attempts"]), "rejected": int(sum(s["rejected"].values())),
+                "rejected_reasons": dict(s["rejected"]), **extra, "_labels": found.labels}
 
     def warm_up(self) -> None:
         """Compile the kernels the job uses, on a few grasps of the bundled cube."""

@@ -7,10 +7,14 @@ is :class:`forceclosure.app.dataset_gripper.GripperJob`.
 
 from __future__ import annotations
 
+import argparse
+import math
 from typing import Any
 
-__all__ = ["EXPORTS_FILE", "GRASPS_OPTIONS", "add_grasps_options", "given_grasps_options",
-           "grasps_job_options"]
+from ..errors import InputError
+
+__all__ = ["DEFAULT_F_MAX", "EXPORTS_FILE", "GRASPS_OPTIONS", "add_grasps_options",
+           "given_grasps_options", "grasps_job_options", "robust_settings", "task_settings"]
 
 #: The report of a gripper dataset's exports (``--export``), in its folder.
 EXPORTS_FILE = "exports.json"
@@ -123,3 +127,65 @@ def given_grasps_options(args: Any) -> list[str]:
     """The flags of :func:`add_grasps_options` given on the command line."""
     return [flag for flag, name, switch in GRASPS_OPTIONS
             if (getattr(args, name) if switch else getattr(args, name) is not None)]
+
+
+#: ``grasps --f-max`` default: each jaw's normal force, N (a Franka Emika hand's
+#: continuous grip force, 70 N).
+DEFAULT_F_MAX = 70.0
+
+
+def robust_settings(args: argparse.Namespace) -> dict[str, Any] | None:
+    """The ``grasps --robust`` settings, checked (None without ``--robust``)."""
+    given = [f for f, v in (("--robust-samples", args.robust_samples),
+                            ("--pose-sigma", args.pose_sigma), ("--angle-sigma", args.angle_sigma),
+                            ("--mu-sigma", args.mu_sigma), ("--normal-sigma", args.normal_sigma),
+                            ("--robust-confidence", args.robust_confidence))
+             if v is not None] + (["--no-robust-epsilon"] if args.no_robust_epsilon else [])
+    if not args.robust:
+        if given:
+            raise InputError(f"{given[0]} needs --robust")
+        return None
+    settings = {"samples": 100 if args.robust_samples is None else args.robust_samples,
+                "pose_sigma": args.pose_sigma,  # None: 1 % of the opening, once the hand is known
+                "angle_sigma": 0.05 if args.angle_sigma is None else args.angle_sigma,
+                "mu_sigma": 0.05 if args.mu_sigma is None else args.mu_sigma,
+                "normal_sigma": 0.0 if args.normal_sigma is None else args.normal_sigma,
+                "confidence": 0.95 if args.robust_confidence is None else args.robust_confidence}
+    if settings["samples"] < 2:
+        raise InputError(f"--robust-samples must be a whole number >= 2 (an interval needs "
+                         f"two), got {settings['samples']}")
+    for flag in ("pose_sigma", "angle_sigma", "mu_sigma", "normal_sigma"):
+        if settings[flag] is not None and not (math.isfinite(settings[flag])
+                                               and settings[flag] >= 0):
+            raise InputError(f"--{flag.replace('_', '-')} must be finite and >= 0, got "
+                             f"{settings[flag]}")
+    if not 0 < settings["confidence"] < 1:
+        raise InputError(f"--robust-confidence must be strictly between 0 and 1, got "
+                         f"{settings['confidence']}")
+    return settings
+
+
+def task_settings(args: argparse.Namespace) -> dict[str, Any] | None:
+    """The ``grasps --task-mass`` settings, checked (None without ``--task-mass``)."""
+    if args.task_mass is None:
+        for flag, value in (("--gravity", args.gravity), ("--f-max", args.f_max)):
+            if value is not None:
+                raise InputError(f"{flag} needs --task-mass")
+        return None
+    if not (math.isfinite(args.task_mass) and args.task_mass > 0):
+        raise InputError(f"--task-mass must be a finite positive mass, got {args.task_mass}")
+    gravity = [0.0, 0.0, -9.81]
+    if args.gravity is not None:
+        try:
+            gravity = [float(x) for x in args.gravity.split(",")]
+        except ValueError:
+            gravity = []
+        if len(gravity) != 3 or not all(math.isfinite(x) for x in gravity):
+            raise InputError(f"--gravity must be three finite numbers GX,GY,GZ, got "
+                             f"{args.gravity!r}")
+        if not any(gravity):
+            raise InputError("--gravity is zero: there is no weight to resist")
+    f_max = DEFAULT_F_MAX if args.f_max is None else args.f_max
+    if not (math.isfinite(f_max) and f_max > 0):
+        raise InputError(f"--f-max must be a finite positive force, got {f_max}")
+    return {"mass": args.task_mass, "gravity": gravity, "f_max": f_max, "edges": 8}
