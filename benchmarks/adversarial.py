@@ -3,11 +3,12 @@
 Each case is one of a few dozen base grasps, built in rational arithmetic so that its true
 verdict (Theorem 1, exact circular cones) follows from its construction, then turned, scaled
 and moved *exactly*: a signed permutation of the axes (space) or an integer 3-4-5 rotation
-(the plane), a scale ``2**k`` with ``k`` in ``-13..10`` (about 1e-4 to 1e3) and a translation
-by integers of 1e4 to 1e8 where the coordinates stay exact in floating point. So the floats
-every tool receives are exactly the constructed grasp, and force closure being invariant under
-similarities, the truth carries over. Normals are integer vectors of rational length (axes,
-3-4-5 directions), not normalised: tools normalise them, as they must for a mesh's normals.
+(the plane), a scale ``2**k`` with ``k`` in ``-13..10`` (about 1e-4 to 1e3) and, three times in
+four, a translation by integers of 1e4 to 9e8 (divided by 10 until every coordinate is exact in
+floating point). So the floats every tool receives are exactly the constructed grasp, and
+force closure being invariant under similarities, the truth carries over. Normals are integer
+vectors of rational length (axes, 3-4-5 directions), not normalised: tools normalise them, as
+they must for a mesh's normals.
 
 The families (``BASES``) sit where fast tests fail:
 

@@ -4,7 +4,7 @@
 
 Runs every test on the cases of :mod:`adversarial` (798 by default: grasps on the friction
 cone's edge, just inside and outside it, rank-deficient, scaled by 2**-13..2**10 and moved by
-up to 1e8, each exactly the constructed grasp in floating point, so its truth is known) and
+up to 9e8, each exactly the constructed grasp in floating point, so its truth is known) and
 counts, per test, its **wrong closures** (``closure`` where the truth is not) split by what
 the truth is, its **missed closures** (not ``closure`` where the truth is; ours may say
 ``marginal`` near the edge, which counts here as missed), and its speed in cases per
