@@ -14,6 +14,7 @@ from exact import (
     planar_hard_wrenches,
     positively_spans,
     rank,
+    spatial_pyramid4_wrenches,
     spatial_square_pyramid_wrenches,
 )
 
@@ -33,8 +34,8 @@ CASES = adversarial_set(seed=3, copies=2)
 
 
 def exact_brackets(case):
-    """(inscribed closed, circumscribed closed, rank) of the floats a tool receives, in
-    rationals: the planar cones are exact, so there both pyramids are the cone itself."""
+    """(inscribed closed, circumscribed closed, rank, circumscribed wrenches) of the floats a
+    tool receives, in rationals: the planar cones are exact, so there both are the cone."""
     P, N, mu = case.arrays()
     P = [[Fraction(x) for x in p] for p in P]
     N = [[Fraction(x) for x in n] for n in N]
@@ -45,6 +46,23 @@ def exact_brackets(case):
         inner, outer = (spatial_square_pyramid_wrenches(P, N, mus, case.model, circumscribed=c)
                         for c in (False, True))
     return positively_spans(inner), positively_spans(outer), rank(outer), outer
+
+
+def test_square_pyramids_of_an_axis_and_of_a_3_4_5_normal():
+    """The inscribed pyramid of an axis normal is the 4-edge one of tests/exact.py; a 3-4-5
+    normal's edges make the same angle with it, on the circle (inscribed) or its tangent
+    square (circumscribed)."""
+    p, n = [[1, 2, 3]], [[0, 0, -1]]
+    inner = spatial_square_pyramid_wrenches(p, n, [Fraction(3, 4)])
+    assert sorted(map(tuple, inner)) == sorted(map(tuple, spatial_pyramid4_wrenches(
+        p, n, [Fraction(3, 4)])))
+    for circumscribed, reach in ((False, 1), (True, 2)):
+        for w in spatial_square_pyramid_wrenches([[0, 0, 0]], [[3, 4, 0]], [Fraction(1, 2)],
+                                                 circumscribed=circumscribed):
+            f = w[:3]
+            along = -(3 * f[0] + 4 * f[1]) / 5  # the force's part along -n, and across it:
+            across2 = sum(x * x for x in f) - along * along
+            assert along == 5 and across2 == reach * (Fraction(1, 2) * 5) ** 2
 
 
 def test_every_truth_is_used_and_the_floats_are_the_exact_grasp():
@@ -59,18 +77,40 @@ def test_every_truth_is_used_and_the_floats_are_the_exact_grasp():
         assert Fraction(mu) == c.mu
 
 
+def line_side(case) -> int:
+    """A pair's line against its friction cones, exactly: -1 strictly inside both, 0 inside
+    both and on the edge of one, 1 outside one (or leaving a finger on the wrong side)."""
+    P, N, _ = case.arrays()
+    (p, q), (n_p, n_q) = ([[Fraction(x) for x in v] for v in a] for a in (P, N))
+    sides = []
+    for here, there, n in ((p, q, n_p), (q, p, n_q)):
+        d = [b - a for a, b in zip(here, there, strict=True)]
+        along = -sum(x * y for x, y in zip(n, d, strict=True))  # |n| |d| cos
+        if along <= 0:
+            return 1
+        tan2 = (sum(x * x for x in d) * sum(x * x for x in n) - along**2) / along**2
+        sides.append((tan2 > case.mu**2) - (tan2 < case.mu**2))
+    return max(sides)
+
+
 def check_truth(case) -> None:
     """Assert the case's truth exactly (also run by ``bench_adversarial.py --check``)."""
     inner, outer, r, W = exact_brackets(case)
     full = 3 if case.dim == 2 else 6
+    assert outer or not inner, case  # the circumscribed pyramid contains the inscribed one
     if case.truth == "closure":
         assert inner, case
     else:
         assert not outer, case
         assert (r < full) == (case.truth == "rank-deficient"), case
-    if case.dim == 2 and case.truth in ("boundary", "outside"):
-        # on the edge: some non-trivial equilibrium (a -w_j in the cone), outside: none
-        assert any(in_cone(W, [-x for x in w]) for w in W) == (case.truth == "boundary"), case
+    if case.truth in ("boundary", "outside"):
+        if len(case.points) == 2:
+            assert line_side(case) == (0 if case.truth == "boundary" else 1), case
+        if case.dim == 2 or len(case.points) > 2:
+            # on the edge: a non-trivial equilibrium (some -w_j in the cone), outside: none
+            # (a soft pair always has one, its two torques about the normals)
+            equilibrium = any(in_cone(W, [-x for x in w]) for w in W)
+            assert equilibrium == (case.truth == "boundary"), case
 
 
 @pytest.mark.parametrize("case", CASES, ids=lambda c: f"{c.family} ({c.truth})")
