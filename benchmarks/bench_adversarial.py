@@ -151,8 +151,9 @@ def graspnet_pairs(cases: list[Case]) -> np.ndarray:
     return out
 
 
-def per_case(test: Callable[[np.ndarray], bool], wrenches: list[np.ndarray]):
-    return lambda cases: np.array([test(W) for W in wrenches])
+def on_wrenches(test: Callable[[np.ndarray], bool], wrenches: dict[int, np.ndarray]):
+    """``test`` run case by case on the wrenches built beforehand (by ``id`` of the case)."""
+    return lambda cases: np.array([test(wrenches[id(c)]) for c in cases], dtype=bool)
 
 
 def by_family(cases: list[Case], verdicts: dict[str, np.ndarray]) -> None:
@@ -192,33 +193,28 @@ def main() -> None:
         print(f"every truth checked exactly in rationals ({time.process_time() - cpu:.1f} CPU-s)")
     truth = np.array([c.truth for c in cases])
     pairs = np.array([len(c.points) == 2 for c in cases])
-    wrenches = [tool_wrenches(c) for c in cases]
+    wrenches = {id(c): tool_wrenches(c) for c in cases}
     rows = [
         ("ours: `analyze` (one at a time)", None, ours_analyze),
         ("ours: `analyze_batch`", None, ours_batch),
         ("ours: `two_finger_closure`", pairs, ours_pairs),
         ("Dex-Net pair angle test", pairs, lambda cs: np.array([dexnet_pair(c) for c in cs])),
         ("GraspNet pair angle test (vectorised)", pairs, graspnet_pairs),
-        ("Dex-Net QP (min-norm < 1e-3)", None, None),
-        ("GraspIt!-style Qhull hull", None, None),
-        ("Qhull with joggle (QJ)", None, None),
+        ("Dex-Net QP (min-norm < 1e-3)", None, on_wrenches(min_norm_qp_closure, wrenches)),
+        ("GraspIt!-style Qhull hull", None, on_wrenches(qhull_closure, wrenches)),
+        ("Qhull with joggle (QJ)", None, on_wrenches(qhull_joggle_closure, wrenches)),
     ]
-    tests = {"Dex-Net QP (min-norm < 1e-3)": min_norm_qp_closure,
-             "GraspIt!-style Qhull hull": qhull_closure,
-             "Qhull with joggle (QJ)": qhull_joggle_closure}
     ours_wrong, verdicts = [], {}
     load = os.getloadavg()
     print(f"{len(cases)} adversarial cases (seed {args.seed}, "
           + ", ".join(f"{(truth == t).sum()} {t}" for t in TRUTHS) + "), "
-          f"{(pairs).sum()} of them pairs; load average {load[0]:.1f}, {os.cpu_count()} CPUs\n")
+          f"{pairs.sum()} of them pairs; load average {load[0]:.1f}, {os.cpu_count()} CPUs\n")
     print("| test | cases | wrong closures | on the edge | rank-deficient | outside "
           "| missed closures | cases per CPU-s | wall s |")
     print("|---|---|---|---|---|---|---|---|---|")
     for name, mask, fn in rows:
         idx = np.flatnonzero(np.ones(len(cases), bool) if mask is None else mask)
         sub = [cases[i] for i in idx]
-        if fn is None:
-            fn = per_case(tests[name], [wrenches[i] for i in idx])
         fn(sub[:len(sub) // 20 or 1])  # warm: kernels loaded, imports done
         wall, cpu = time.perf_counter(), time.process_time()
         said = fn(sub)
