@@ -177,3 +177,51 @@ def hull_distance_squared(points: list[list[Fraction]], metric: list[Fraction]) 
         dist2 = b * b / sum(w * ai * ai for w, ai in zip(metric, a, strict=True))
         best = dist2 if best is None else min(best, dist2)
     return best
+
+
+def _rational_sqrt(x: Fraction) -> Fraction:
+    from math import isqrt
+
+    num, den = isqrt(x.numerator), isqrt(x.denominator)
+    if num * num != x.numerator or den * den != x.denominator:
+        raise ValueError(f"{x} is not the square of a rational")
+    return Fraction(num, den)
+
+
+def spatial_square_pyramid_wrenches(points, normals, mu, model="hard",
+                                    circumscribed=False) -> list[list[Fraction]]:
+    """Spatial contacts with a square pyramid inscribed in, or circumscribing, each cone.
+
+    Each normal ``n`` needs a zero coordinate ``e`` and a rational length ``L`` (axes,
+    3-4-5 directions); its tangents are ``t2 = L e`` and ``t1 = n x e``, both of length
+    ``L``. The edges are ``-n + mu t`` for ``t`` in ``±t1, ±t2`` (inscribed: the square's
+    corners on the circle) or ``±t1 ± t2`` (circumscribed: its sides touch the circle), so
+    an inscribed pyramid that is closed proves closure of the circular cones and a
+    circumscribed one that is not proves the opposite. ``mu = 0`` gives the single force
+    ``-n``; ``model="soft"`` adds the pure torques ``(0, ±n)`` (the paper's soft finger).
+    """
+    cols = []
+    for p, n, m in zip(points, normals, mu, strict=True):
+        p = [Fraction(v) for v in p]
+        n = [Fraction(v) for v in n]
+        m = Fraction(m)
+        zero = next(i for i in range(3) if n[i] == 0)
+        length = _rational_sqrt(sum(v * v for v in n))
+        e = [Fraction(int(i == zero)) for i in range(3)]
+        t1 = [n[1] * e[2] - n[2] * e[1], n[2] * e[0] - n[0] * e[2], n[0] * e[1] - n[1] * e[0]]
+        t2 = [length * v for v in e]
+        if m == 0:
+            dirs = [[Fraction(0)] * 3]
+        elif circumscribed:
+            dirs = [[a * x + b * y for x, y in zip(t1, t2, strict=True)]
+                    for a in (1, -1) for b in (1, -1)]
+        else:
+            dirs = [[s * v for v in t] for t in (t1, t2) for s in (1, -1)]
+        for t in dirs:
+            f = [-n[i] + m * t[i] for i in range(3)]
+            tau = [p[1] * f[2] - p[2] * f[1], p[2] * f[0] - p[0] * f[2],
+                   p[0] * f[1] - p[1] * f[0]]
+            cols.append(f + tau)
+        if model == "soft":
+            cols += [[Fraction(0)] * 3 + [s * v for v in n] for s in (1, -1)]
+    return cols

@@ -59,3 +59,22 @@ def test_robust_benchmark_runs():
     for text in ("duck_vhacd.urdf (panda", "bunny.obj", "per CPU-second", "load ",
                  "pad_contacts", "pair_codes"):
         assert text in run.stdout
+
+
+@pytest.mark.long
+def test_adversarial_benchmark_runs():
+    """The adversarial benchmark on two placements of each case, truths checked exactly: every
+    row printed, ours without a wrong closure (it exits 1 and names the case otherwise)."""
+    pytest.importorskip("cvxopt")
+    bench = Path(__file__).parents[1] / "benchmarks" / "bench_adversarial.py"
+    run = subprocess.run([sys.executable, str(bench), "--copies", "2", "--check"],
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr[-2000:] + run.stdout[-2000:]
+    out = run.stdout
+    assert "every truth checked exactly" in out and "load average after" in out
+    for row in ("| ours: `analyze` (one at a time) | 76 | **0** |",
+                "| ours: `analyze_batch` | 76 | **0** |",
+                "| ours: `two_finger_closure` | 44 | **0** |", "Dex-Net QP", "GraspIt!-style",
+                "Qhull with joggle", "Dex-Net pair", "GraspNet pair"):
+        assert row in out
+    assert "WRONG CLOSURE OF OURS" not in out
