@@ -30,20 +30,20 @@ ROOT = Path(__file__).resolve().parents[1]
 # name: (the documented arguments, the --quick arguments); the script is bench_NAME.py
 SCRIPTS: dict[str, tuple[list[str], list[str]]] = {
     "targets": ([], ["--quick"]),
-    "startup": (["--repeat", "3"], ["--repeat", "1"]),
-    "analysis": (["--grasps", "100"], ["--grasps", "3"]),
-    "batch": (["--quick"], ["--quick", "--plot", str(Path(tempfile.gettempdir()) / "b.png")]),
-    "objects": ([], ["--quick"]),
-    "least_friction": (["--grasps", "8"], ["--grasps", "1", "--batch", "1000"]),
     "calls": (["--grasps", "20", "--repeats", "3"], ["--grasps", "2", "--repeats", "1"]),
-    "mesh_synthesis": ([], ["--quick"]),
+    "analysis": (["--grasps", "100"], ["--grasps", "3"]),
+    "least_friction": (["--grasps", "8"], ["--grasps", "1", "--batch", "1000"]),
     "planar": ([], ["--random", "2", "--edges", "8", "--whole", "60"]),
-    "spatial": (["--exhaustive", "100"], ["--faces", "60", "--exhaustive", "5"]),
-    "dataset": (["--objects", "50"], ["--objects", "3", "--samples", "200"]),
-    "robust": (["--grasps", "100", "--samples", "50"], ["--grasps", "5", "--samples", "4"]),
-    "hands": (["--count", "300"], ["--count", "20", "--objects", "2"]),
+    "mesh_synthesis": ([], ["--quick"]),
+    "batch": (["--quick"], ["--quick", "--plot", str(Path(tempfile.gettempdir()) / "b.png")]),
+    "startup": (["--repeat", "3"], ["--repeat", "1"]),
+    "objects": ([], ["--quick"]),
     "constructions": ([], ["--repeat", "1"]),
     "epsilon_frame": (["--pad-radius", "0", "0.01"], ["--grasps", "5"]),
+    "robust": (["--grasps", "100", "--samples", "50"], ["--grasps", "5", "--samples", "4"]),
+    "hands": (["--count", "300"], ["--count", "20", "--objects", "2"]),
+    "spatial": (["--exhaustive", "100"], ["--faces", "60", "--exhaustive", "5"]),
+    "dataset": (["--objects", "50"], ["--objects", "3", "--samples", "200"]),
 }
 
 BLOCK = re.compile(r"<!-- table: (?P<name>[\w.-]+) -->\n.*?<!-- /table -->\n", re.S)

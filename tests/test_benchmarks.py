@@ -92,9 +92,9 @@ def test_regenerate_replaces_tables_and_refuses_stale_or_unknown_ones():
                              "*stamp*")
     assert "old" not in new and "| kept |" in new and new.count("*stamp*") == 2
     assert new.startswith("intro\n") and "middle\n" in new
-    with pytest.raises(regenerate.RegenerateError, match="no longer prints.*calls.pairs"):
+    with pytest.raises(regenerate.RegenerateError, match=r"no longer prints.*calls\.pairs"):
         regenerate.replace(page, "calls", {"calls.single": "| new |"}, "*stamp*")
-    with pytest.raises(regenerate.RegenerateError, match="no marker.*calls.extra"):
+    with pytest.raises(regenerate.RegenerateError, match=r"no marker.*calls\.extra"):
         regenerate.replace(page, "calls", {"calls.single": "x", "calls.pairs": "y",
                                            "calls.extra": "z"}, "*stamp*")
 
