@@ -57,7 +57,7 @@ def commit() -> str:
     def git(*args: str) -> str:
         return subprocess.run(["git", *args], cwd=ROOT, capture_output=True,
                               text=True).stdout.strip()
-    dirty = git("status", "--porcelain", "--untracked-files=no")
+    dirty = git("status", "--porcelain", "--untracked-files=no", "--", "src", "benchmarks")
     return git("rev-parse", "--short", "HEAD") + (" with local changes" if dirty else "")
 
 
