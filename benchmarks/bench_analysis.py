@@ -4,7 +4,8 @@ The baseline is what a user writes by hand: one ``scipy.optimize.linprog``
 per grasp asking for a combination of the wrenches with every weight >= 1
 summing to zero (the second half of Theorem 1 only; no rank check, no
 certificate, no exact cones). Both run in the same process, on the same
-grasps; ratios, not absolute times, are the result on a shared machine.
+grasps, timed in CPU time; ratios, not absolute times, are the result on a shared
+machine.
 ``analyze`` is timed twice: the verdict, rank and margin (what it computes
 at once, compiled), and with its explanation read too (the reference path's
 linear programs, worked out on first reading).
@@ -18,6 +19,7 @@ import argparse
 import time
 
 import numpy as np
+from _tables import parse, table
 from scipy.optimize import linprog
 
 from forceclosure import Cone, analyze, generating_wrenches, kernels, point_contact
@@ -42,16 +44,17 @@ def grasps(rng, n, k, d, model, mu):
 
 
 def timed(fn, items):
-    t = time.perf_counter()
+    """CPU seconds (``time.process_time``: every thread of the process) per item."""
+    t = time.process_time()
     for item in items:
         fn(item)
-    return (time.perf_counter() - t) / len(items)
+    return (time.process_time() - t) / len(items)
 
 
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--grasps", type=int, default=200)
-    n = ap.parse_args().grasps
+    n = parse(ap).grasps
     rng = np.random.default_rng(0)
     cases = [
         ("planar, 2 hard fingers", grasps(rng, n, 2, 2, "hard", 0.3), "exact"),
@@ -63,24 +66,25 @@ def main() -> None:
     for gs in (cases[0][1], cases[2][1]):  # compiled (or loaded from the cache) before timing
         for _ in range(kernels.COMPILE_AFTER + 1):
             analyze(gs[0])
-    print(f"{'case':34} {'analyze':>10} {'explained':>10} {'linprog':>10} "
-          f"{'linprog / analyze':>18}")
+    rows = []
     for name, gs, cone in cases:
         ws = [generating_wrenches(g, cone if isinstance(cone, Cone) else Cone(8)).wrenches
               for g in gs]
         ours = timed(lambda g, cone=cone: analyze(g, cone=cone), gs)
         explained = timed(lambda g, cone=cone: analyze(g, cone=cone).reason, gs)
         base = timed(baseline, ws)
-        print(f"{name:34} {ours * 1e6:7.0f} us {explained * 1e3:7.2f} ms {base * 1e3:7.2f} ms "
-              f"{base / ours:17.0f}x")
+        rows.append([name, f"{ours * 1e6:.0f} µs", f"{explained * 1e3:.1f} ms",
+                     f"{base * 1e3:.2f} ms", f"{base / ours:.0f}×"])
+    table("analysis", ["case (CPU a grasp)", "analyze", "explained", "linprog",
+                       "linprog / analyze"], rows)
     m = 100_000
     p, q = rng.normal(size=(m, 2)), rng.normal(size=(m, 2))
-    t = time.perf_counter()
+    t = time.process_time()
     two_finger_closure(p, p, q, q, 0.3)
-    vec = (time.perf_counter() - t) / m
+    vec = (time.process_time() - t) / m
     loop = timed(lambda i: analyze([point_contact(p[i], p[i], "hard", 0.3),
                                     point_contact(q[i], q[i], "hard", 0.3)]), range(200))
-    print(f"Corollary 3, vectorised: {1 / vec / 1e6:.1f} M pairs/s; "
+    print(f"Corollary 3, vectorised: {1 / vec / 1e6:.1f} M pairs per CPU-second; "
           f"{loop / vec:.0f}x the per-pair general test")
 
 

@@ -37,6 +37,7 @@ import statistics
 import time
 
 import numpy as np
+from _tables import block, parse
 from scipy.optimize import linprog
 from scipy.optimize._highspy import _core as highs
 from scipy.spatial import ConvexHull
@@ -256,16 +257,18 @@ def main() -> None:
     parser.add_argument("--grasps", type=int, default=40)
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--only", choices=("single", "pairs"), default=None)
-    args = parser.parse_args()
+    args = parse(parser)
     import numba
 
     print(f"load average before: {os.getloadavg()}; numba threads: "
           f"{numba.config.NUMBA_NUM_THREADS}; CPUs: {os.cpu_count()}")
     rng = np.random.default_rng(0)
     if args.only != "pairs":
-        single_calls(rng, args.grasps, args.repeats)
+        with block("calls.single"):
+            single_calls(rng, args.grasps, args.repeats)
     if args.only != "single":
-        pair_calls(rng, args.repeats)
+        with block("calls.pairs"):
+            pair_calls(rng, args.repeats)
     print(f"\nload average after: {os.getloadavg()}")
 
 

@@ -3,7 +3,7 @@
 For each case (one per construction of the table, on bundled objects; and a regular
 400-gon, whose edge pairs all tie for branch and bound),
 ``synthesize()`` is called once to warm up (compiling kernels on a fresh
-install), then timed as the best of ``--repeat`` calls. With ``--against
+install), then timed as the best of ``--repeat`` calls, in CPU time. With ``--against
 REV`` the same cases run, in the same run, with the package as it was at git
 revision ``REV`` (exported to a temporary folder, first on PYTHONPATH); the
 script prints the ratio and whether the ranked grasps (their edges or faces
@@ -21,6 +21,8 @@ import subprocess
 import sys
 import tempfile
 from pathlib import Path
+
+from _tables import parse, table
 
 #: (label, object, synthesize keyword arguments; ``vertices``: the vertex construction, which
 #: a revision before issue 27 reached by ``vertex_grasps``)
@@ -69,9 +71,9 @@ for label, name, kwargs in cases:
     run()
     best = float("inf")
     for _ in range(repeat):
-        t = time.perf_counter()
+        t = time.process_time()
         found = run()
-        best = min(best, time.perf_counter() - t)
+        best = min(best, time.process_time() - t)
     sig = []
     for r in found:
         d = r.to_dict()
@@ -95,7 +97,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--against", metavar="REV", help="git revision to compare with")
     parser.add_argument("--repeat", type=int, default=3)
-    args = parser.parse_args()
+    args = parse(parser)
     env = dict(os.environ)
     with tempfile.TemporaryDirectory() as tmp:
         old = None
@@ -106,6 +108,7 @@ def main() -> None:
             subprocess.run(["tar", "-x", "-C", tmp], input=archive, check=True)
             old = run(dict(env, PYTHONPATH=str(Path(tmp) / "src")), args.repeat)
         now = run(env, args.repeat)
+    rows = []
     for label, name, _ in CASES:
         seconds, sig = now[label]
         line = f"{label:26s} {name:12s} {seconds * 1e3:9.1f} ms  {len(sig)} found"
@@ -113,7 +116,16 @@ def main() -> None:
             then, old_sig = old[label]
             line += (f"   {args.against}: {then * 1e3:9.1f} ms  {then / seconds:5.2f}x  "
                      f"same grasps: {sig == old_sig}")
+            rows.append([label, name, ms(seconds), ms(then), "yes" if sig == old_sig else "**no**"])
+        else:
+            rows.append([label, name, ms(seconds), f"{len(sig)}"])
         print(line, flush=True)
+    table("constructions", ["case", "object", "CPU, best of " + str(args.repeat)] + (
+        [args.against, "same grasps"] if old is not None else ["found"]), rows)
+
+
+def ms(seconds: float) -> str:
+    return f"{seconds * 1e3:.1f} ms" if seconds < 1 else f"{seconds:.2f} s"
 
 
 if __name__ == "__main__":

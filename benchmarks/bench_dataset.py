@@ -25,6 +25,7 @@ import time
 from pathlib import Path
 
 import pybullet_data
+from _tables import parse, table
 
 from forceclosure.app.dataset import Job, run_dataset
 from forceclosure.errors import InputError
@@ -40,7 +41,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--objects", type=int, default=1000)
     ap.add_argument("--samples", type=int, default=2000)
-    args = ap.parse_args()
+    args = parse(ap)
     urdfs = Path(pybullet_data.getDataPath()) / "random_urdfs"
     paths = [urdfs / f"{i:03d}" / f"{i:03d}.urdf" for i in range(args.objects)]
     job = Job(fingers=3, contact="hard", mu=0.5, top=1, samples=args.samples)
@@ -61,12 +62,16 @@ def main() -> None:
     print(f"  baseline loop, 1 process:        {base:7.1f} s  {len(paths) / base:6.2f} obj/s  "
           f"({len(kept)} done, {failed} failed)")
     rates = {}
+    rows = [["baseline: a plain loop, `synthesize` + `to_dict` per object", f"{base:.1f}",
+             f"{len(paths) / base:.2f}", f"{len(kept)} done, {failed} failed"]]
     scratch = Path(tempfile.mkdtemp())
     try:
         for label, kwargs in (("run_dataset, 1 worker", {"workers": 1}),
                               ("run_dataset, local pool of 2", {"workers": 2})):
             s = run_dataset(paths, scratch / label, job, progress=False, log=_quiet, **kwargs)
             rates[label] = s.throughput
+            rows.append([f"`{label}`", f"{s.seconds:.1f}", f"{s.throughput:.2f}",
+                         f"{s.done} done, {s.failed} failed"])
             print(f"  {label + ':':32s} {s.seconds:7.1f} s  {s.throughput:6.2f} obj/s  "
                   f"({s.done} done, {s.failed} failed)")
         from distributed import Client, LocalCluster
@@ -80,10 +85,14 @@ def main() -> None:
             s = run_dataset(paths, scratch / "dask", job, executor=client.get_executor(),
                             workers=2, progress=False, log=_quiet)
         rates["dask"] = s.throughput
+        rows.append(["`run_dataset`, Dask `LocalCluster` of 2", f"{s.seconds:.1f}",
+                     f"{s.throughput:.2f}", f"{s.done} done, {s.failed} failed; "
+                     f"cluster start {startup:.1f} s more"])
         print(f"  {'Dask LocalCluster of 2:':32s} {s.seconds:7.1f} s  {s.throughput:6.2f} obj/s"
               f"  ({s.done} done, {s.failed} failed; cluster start {startup:.1f} s more)")
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
+    table("dataset", ["run", "seconds (wall)", "objects/s", "objects"], rows)
     one = rates["run_dataset, 1 worker"]
     pool = rates["run_dataset, local pool of 2"]
     print(f"  records and table cost {100 * (1 - one * base / len(paths)):+.1f} % against "

@@ -29,6 +29,7 @@ import time
 
 import numpy as np
 import pybullet_data
+from _tables import parse, table
 
 from forceclosure.analysis.two_finger import pair_codes
 from forceclosure.gripper.antipodal import sample_antipodal
@@ -63,15 +64,16 @@ def main() -> None:
     p.add_argument("--count", type=int, default=2000)
     p.add_argument("--mu", type=float, default=0.5)
     p.add_argument("--objects", type=int, default=len(OBJECTS), help="the first K objects")
-    args = p.parse_args()
+    args = parse(p)
     print(f"load {os.getloadavg()[0]:.2f}; {args.count} poses an object, mu {args.mu}")
     print(f"{'object':32} {'before: poses clear closed&clear  cpu':>40} "
           f"{'now: poses clear closed&clear  cpu':>38}")
     totals = np.zeros((2, 3), dtype=np.int64)
     cpu = np.zeros(2)
+    rows = []
     for name in OBJECTS[:args.objects]:
         obj = load_object(os.path.join(D, name), allow_open=True)
-        row = []
+        row, cells = [], []
         for k, run in enumerate((before, now)):
             start = time.process_time()
             counts = run(obj, args.count, args.mu)
@@ -79,9 +81,15 @@ def main() -> None:
             totals[k] += counts
             cpu[k] += seconds
             row.append(f"{counts[0]:6d} {counts[1]:6d} {counts[2]:8d} {seconds:6.1f}s")
+            cells += [f"{counts[1]:,}", f"{counts[2]:,}", f"{seconds:.1f} s"]
         print(f"{name:32} {row[0]:>40} {row[1]:>38}")
+        rows.append([f"`{name}`", *cells])
     print(f"{'total':32} {totals[0][0]:6d} {totals[0][1]:6d} {totals[0][2]:8d} {cpu[0]:6.1f}s"
           f"   {totals[1][0]:6d} {totals[1][1]:6d} {totals[1][2]:8d} {cpu[1]:6.1f}s")
+    rows.append(["**total**", *(f"{c:,}" for c in totals[0][1:]), f"{cpu[0]:.1f} s",
+                 *(f"{c:,}" for c in totals[1][1:]), f"{cpu[1]:.1f} s"])
+    table("hands", ["object", "before: clear", "before: closure and clear", "before: CPU",
+                    "now: clear", "now: closure and clear", "now: CPU"], rows)
     ratio = totals[1][2] / max(1, totals[0][2])
     print(f"closure and clear: {ratio:.1f} x before; clear share now "
           f"{totals[1][1] / max(1, totals[1][0]):.2f}; load {os.getloadavg()[0]:.2f}")

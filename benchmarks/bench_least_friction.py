@@ -5,7 +5,7 @@ the cone half-angle (each step a Theorem 1 verdict in the kernel);
 ``quality.least_friction_reference`` is the same bisection over full
 analyses (what every grasp paid before). Both with exact cones, one grasp at
 a time, as the command line computes it for each grasp of a file; the same
-grasps in the same run:
+grasps in the same run, in CPU time:
 
 * three hard fingers around a ball's equator (Fig. 9: any positive friction
   closes it, so the bisection runs to the tolerance band);
@@ -22,6 +22,7 @@ import argparse
 import time
 
 import numpy as np
+from _tables import parse, table
 
 from forceclosure import Cone, point_contact
 from forceclosure.analysis.batch import least_friction_batch
@@ -43,18 +44,19 @@ def grasps(kind: str, count: int, rng: np.random.Generator) -> list:
 
 
 def timed(fn, cases) -> tuple[float, list[float]]:
-    start = time.perf_counter()
+    start = time.process_time()
     values = [fn(g) for g in cases]
-    return (time.perf_counter() - start) / len(cases), values
+    return (time.process_time() - start) / len(cases), values
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--grasps", type=int, default=20)
-    args = parser.parse_args()
+    parser.add_argument("--batch", type=int, default=200_000, help="soft pairs in the batch")
+    args = parse(parser)
     rng = np.random.default_rng(0)
     least_friction(grasps("equator", 1, rng)[0])  # compile or load the kernels first
-    print(f"{'grasps':<28} {'compiled':>10} {'reference':>10} {'ratio':>7}  agree (rel 1e-4)")
+    rows = []
     for kind in ("equator", "three hard", "two soft"):
         cases = grasps(kind, args.grasps, rng)
         least_friction(cases[0])  # this kind's kernel loaded
@@ -66,9 +68,11 @@ def main() -> None:
         ref, b = timed(before, cases)
         agree = sum((x == y) or (np.isfinite(y) and abs(x - y) <= 1e-4 * y) or
                     (x < 1e-4 and y < 1e-4) for x, y in zip(a, b, strict=True))
-        print(f"{kind:<28} {fast * 1e3:>8.2f}ms {ref * 1e3:>8.1f}ms {ref / fast:>6.0f}x  "
-              f"{agree}/{len(cases)}", flush=True)
-    batch(200_000, rng)
+        rows.append([kind, f"{fast * 1e3:.2f} ms", f"{ref * 1e3:.0f} ms", f"{ref / fast:.0f}×",
+                     f"{agree}/{len(cases)}"])
+    table("least_friction", ["grasps (CPU a grasp)", "now", "before (reference)", "ratio",
+                             "agree (rel 1e-4)"], rows)
+    batch(args.batch, rng)
 
 
 def batch(count: int, rng: np.random.Generator) -> None:
@@ -81,15 +85,17 @@ def batch(count: int, rng: np.random.Generator) -> None:
                  axis=1)
     least_friction_batch(P[:2], N[:2], model="soft")
     least_friction_batch(P[:2], N[:2], model="soft", torsion=0.01)
-    start = time.perf_counter()
+    start = time.process_time()
     least_friction_batch(P, N, model="soft")
-    each = (time.perf_counter() - start) / count
+    each = (time.process_time() - start) / count
     m = min(count, 200)
-    start = time.perf_counter()
+    start = time.process_time()
     least_friction_batch(P[:m], N[:m], model="soft", torsion=0.01)
-    coupled = (time.perf_counter() - start) / m
-    print(f"batch, {count:,} spatial soft pairs: {each * 1e9:,.0f} ns a pair (closed form); "
-          f"with coupled torsion 0.01: {coupled * 1e3:.2f} ms a pair (bisection)")
+    coupled = (time.process_time() - start) / m
+    table("least_friction.batch", ["`least_friction_batch`, spatial soft pairs", "CPU a pair"],
+          [[f"{count:,} pairs, the paper's torque (closed form)", f"{each * 1e9:,.0f} ns"],
+           [f"{m:,} pairs, torsion coupled to the normal force, 0.01 (bisection)",
+            f"{coupled * 1e3:.2f} ms"]])
 
 
 if __name__ == "__main__":

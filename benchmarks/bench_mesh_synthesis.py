@@ -35,6 +35,7 @@ import time
 from pathlib import Path
 
 import trimesh
+from _tables import parse, table
 
 COMMANDS = {
     "3 hard, mu 0.5, top 3": ["synthesize", "--fingers", "3", "--contact", "hard", "--mu",
@@ -83,15 +84,18 @@ def stages(path: Path) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--against", metavar="REV", help="git revision to compare with")
-    args = parser.parse_args()
+    parser.add_argument("--quick", action="store_true", help="small meshes: a smoke run")
+    args = parse(parser)
     env = dict(os.environ)
     old_env = None
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         meshes = {
-            "icosphere": trimesh.creation.icosphere(subdivisions=6),
-            "subdivided box": trimesh.creation.box(extents=(2, 2, 2)).subdivide_to_size(0.035),
+            "icosphere": trimesh.creation.icosphere(subdivisions=2 if args.quick else 6),
+            "subdivided box": trimesh.creation.box(extents=(2, 2, 2)).subdivide_to_size(
+                0.5 if args.quick else 0.035),
         }
+        rows = []
         paths = {}
         for name, mesh in meshes.items():
             paths[name] = tmp / f"{name.replace(' ', '-')}.stl"
@@ -111,12 +115,18 @@ def main() -> None:
                 run = [sys.executable, "-m", "forceclosure", *command, str(path)]
                 now, out = cpu_of(run, env)
                 line = f"  {label:24} {now:7.2f} s"
+                rows.append([f"{name} ({len(meshes[name].faces):,} triangles)",
+                             f"`{' '.join(command)}`", f"{now:.2f} s"])
                 if old_env is not None:
                     then, old_out = cpu_of(run, old_env)
                     line += (f"   {args.against}: {then:7.2f} s   {then / now:5.1f}x   same "
                              f"output: {out == old_out}")
+                    rows[-1] += [f"{then:.2f} s", f"{then / now:.1f}×",
+                                 "yes" if out == old_out else "**no**"]
                 print(line, flush=True)
             stages(path)
+    table("mesh_synthesis", ["mesh", "command", "CPU"] + (
+        [args.against, "ratio", "same output"] if args.against else []), rows)
 
 
 if __name__ == "__main__":

@@ -10,13 +10,15 @@ and checks no flatness) is timed in the same run for reference.
 Then the convex decompositions of pybullet_data (several overlapping
 shells each, reduced to their outer surface by a manifold3d union): the
 first 100 ``random_urdfs`` and ``duck_vhacd.obj``, against trimesh's plain
-load of the same files (which keeps the shells, inner faces and all).
+load of the same files (which keeps the shells, inner faces and all). CPU time,
+best of three (decompositions: one run).
 
-    uv run python benchmarks/bench_objects.py
+    uv run python benchmarks/bench_objects.py [--quick]
 """
 
 from __future__ import annotations
 
+import argparse
 import tempfile
 import time
 from contextlib import suppress
@@ -24,6 +26,7 @@ from pathlib import Path
 
 import pybullet_data
 import trimesh
+from _tables import parse, table
 
 from forceclosure.errors import InputError
 from forceclosure.objects.io import load_object
@@ -32,33 +35,40 @@ from forceclosure.objects.io import load_object
 def best_of(fn, repeat=3):
     times = []
     for _ in range(repeat):
-        t = time.perf_counter()
+        t = time.process_time()
         result = fn()
-        times.append(time.perf_counter() - t)
+        times.append(time.process_time() - t)
     return min(times), result
 
 
 def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="small meshes: a smoke run")
+    quick = parse(parser).quick
     meshes = {
-        "sphere (curved)": trimesh.creation.icosphere(subdivisions=6),
-        "subdivided box": trimesh.creation.box(extents=(2, 2, 2)).subdivide_to_size(0.035),
+        "icosphere (curved)": trimesh.creation.icosphere(subdivisions=3 if quick else 6),
+        "subdivided box": trimesh.creation.box(extents=(2, 2, 2)).subdivide_to_size(
+            0.5 if quick else 0.035),
     }
-    print(f"{'mesh':18} {'triangles':>9} {'faces':>7} {'forceclosure':>13} {'trimesh':>9}")
+    rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for name, mesh in meshes.items():
             path = Path(tmp) / "mesh.stl"
             mesh.export(path)
             ours, poly = best_of(lambda path=path: load_object(path))
             theirs, _ = best_of(lambda path=path: trimesh.load(path, process=True).facets)
-            print(f"{name:18} {len(poly.triangles):9d} {len(poly.faces):7d} {ours:11.2f} s "
-                  f"{theirs:7.2f} s")
+            rows.append([name, f"{len(poly.triangles):,}", f"{len(poly.faces):,}",
+                         f"{ours:.2f} s", f"{theirs:.2f} s"])
+    table("objects", ["mesh (best of 3, CPU time)", "triangles", "faces", "forceclosure",
+                      "trimesh load + `facets`"], rows)
     data = Path(pybullet_data.getDataPath())
     decompositions = {
-        "random_urdfs x100": [data / "random_urdfs" / f"{i:03d}" / f"{i:03d}.obj"
-                              for i in range(100)],
-        "duck_vhacd": [data / "duck_vhacd.obj"],
+        "`random_urdfs` 000–" + ("009" if quick else "099"): [
+            data / "random_urdfs" / f"{i:03d}" / f"{i:03d}.obj"
+            for i in range(10 if quick else 100)],
+        "`duck_vhacd.obj`": [data / "duck_vhacd.obj"],
     }
-    print(f"\n{'decomposition':18} {'files':>9} {'shells':>7} {'forceclosure':>13} {'trimesh':>9}")
+    rows = []
     for name, paths in decompositions.items():
         def ours(paths=paths):
             loaded = []
@@ -71,7 +81,11 @@ def main() -> None:
         t_theirs, _ = best_of(lambda paths=paths: [trimesh.load(p, force="mesh")
                                                    for p in paths], repeat=1)
         shells = sum(p.shells for p in loaded)
-        print(f"{name:18} {len(paths):9d} {shells:7d} {t_ours:11.2f} s {t_theirs:7.2f} s")
+        rows.append([name, f"{len(paths):,}", f"{shells:,}", f"{t_ours:.2f} s",
+                     f"{t_theirs:.2f} s"])
+    table("objects.decompositions", ["convex decomposition (CPU time)", "files",
+                                     "shells after the union", "forceclosure", "trimesh load"],
+          rows)
 
 
 if __name__ == "__main__":

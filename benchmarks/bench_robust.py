@@ -23,6 +23,8 @@ import os
 import time
 from dataclasses import replace
 
+from _tables import parse, table
+
 
 def _timed(module, name: str, spent: dict[str, float]) -> None:
     """Wrap ``module.name`` to add its CPU time to ``spent[name]``."""
@@ -53,7 +55,7 @@ def main() -> None:
     parser.add_argument("--grasps", type=int, default=300)
     parser.add_argument("--samples", type=int, default=100)
     parser.add_argument("--epsilon", action="store_true", help="also the expected epsilon")
-    args = parser.parse_args()
+    args = parse(parser)
     data = pybullet_data.getDataPath()
     mu = 0.5
     # warm the kernels
@@ -67,6 +69,7 @@ def main() -> None:
     print(f"{args.grasps} grasps x {args.samples} samples, soft pads, mu {mu}, pose sigma 1% "
           "of the opening, angle sigma 0.05 rad, mu sigma 0.05")
     bunny_hand = replace(ParallelJaw(1.5), pad_length=0.3, pad_height=0.3)
+    rows = []
     for name, hand in (("duck_vhacd.urdf", gripper_named("panda")), ("bunny.obj", bunny_hand)):
         obj = load_object(os.path.join(data, name))
         labels = grasp_labels(obj, hand, mu, args.grasps, seed=0, least_friction=False,
@@ -81,6 +84,10 @@ def main() -> None:
         print(f"{name} ({hand.name}, {len(labels)} poses): {total / cpu:,.0f} grasp-samples per "
               f"CPU-second ({cpu:.2f} CPU-s, {wall:.2f} s wall, load {load:.2f}); mean P(FC) "
               f"{r.probability.mean():.3f}\n  CPU us per sample: {stages}")
+        rows.append([f"{name}, `{hand.name}`", f"{total / cpu / 1e3:,.1f}k",
+                     stages])
+    table("robust", ["object, hand", "grasp-samples per CPU-second",
+                     "CPU µs a sample, by stage"], rows)
 
 
 if __name__ == "__main__":

@@ -23,6 +23,8 @@ import time
 from importlib import resources
 from pathlib import Path
 
+from _tables import parse, table
+
 BIN = Path(sys.executable).parent
 
 
@@ -38,7 +40,7 @@ def timed(cmd: list[str], repeat: int) -> tuple[float, float]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=7)
-    args = parser.parse_args()
+    args = parse(parser)
     example = str(resources.files("forceclosure") / "examples" / "planar.json")
     cli = [str(BIN / "forceclosure")]
     cases = [
@@ -51,10 +53,11 @@ def main() -> None:
                                                            "--no-quality"]),
         ("forceclosure analyze planar.json", [*cli, "analyze", example]),
     ]
-    print(f"{'command':<50} {'best':>8} {'median':>8}")
+    rows = []
     for label, cmd in cases:
         best, median = timed(cmd, args.repeat)
-        print(f"{label:<50} {best:>7.3f}s {median:>7.3f}s", flush=True)
+        rows.append([f"`{label}`", f"{best:.2f} s", f"{median:.2f} s"])
+    table("startup", ["command (a fresh process, wall time)", "best", "median"], rows)
 
 
 if __name__ == "__main__":

@@ -78,3 +78,58 @@ def test_adversarial_benchmark_runs():
                 "Qhull with joggle", "Dex-Net pair", "GraspNet pair"):
         assert row in out
     assert "WRONG CLOSURE OF OURS" not in out
+
+
+def _regenerate():
+    import importlib.util
+
+    path = Path(__file__).parents[1] / "benchmarks" / "regenerate.py"
+    spec = importlib.util.spec_from_file_location("regenerate", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_every_table_of_the_benchmarks_page_has_its_script():
+    """Each table marker of docs/benchmarks.md names a script regenerate.py runs (or the
+    gripper's, written by hand), so no table there is left without a command."""
+    regenerate = _regenerate()
+    page = (Path(__file__).parents[1] / "docs" / "benchmarks.md").read_text()
+    names = [m["name"] for m in regenerate.BLOCK.finditer(page)]
+    assert "targets" in names and "calls.pairs" in names
+    for name in names:
+        assert name.split(".")[0] in regenerate.SCRIPTS, name
+        assert (BENCH.parent / f"bench_{name.split('.')[0]}.py").exists()
+
+
+def test_regenerate_replaces_tables_and_refuses_stale_or_unknown_ones():
+    regenerate = _regenerate()
+    page = ("intro\n<!-- table: calls.single -->\n| old | 1 s |\n<!-- /table -->\nmiddle\n"
+            "<!-- table: calls.pairs -->\n| old |\n<!-- /table -->\n"
+            "<!-- table: calling -->\n| kept |\n<!-- /table -->\n")
+    new = regenerate.replace(page, "calls", {"calls.single": "| new |", "calls.pairs": "| p |"},
+                             "*stamp*")
+    assert "old" not in new and "| kept |" in new and new.count("*stamp*") == 2
+    assert new.startswith("intro\n") and "middle\n" in new
+    with pytest.raises(regenerate.RegenerateError, match=r"no longer prints.*calls\.pairs"):
+        regenerate.replace(page, "calls", {"calls.single": "| new |"}, "*stamp*")
+    with pytest.raises(regenerate.RegenerateError, match=r"no marker.*calls\.extra"):
+        regenerate.replace(page, "calls", {"calls.single": "x", "calls.pairs": "y",
+                                           "calls.extra": "z"}, "*stamp*")
+
+
+@pytest.mark.long
+def test_regenerate_quick_rewrites_every_table(tmp_path):
+    """``regenerate.py --quick`` runs every script at small sizes and stamps every table it
+    owns: no table of the page keeps its old rows."""
+    regenerate = _regenerate()
+    page = tmp_path / "benchmarks.md"
+    original = (Path(__file__).parents[1] / "docs" / "benchmarks.md").read_text()
+    page.write_text(original)
+    run = subprocess.run([sys.executable, str(BENCH.parent / "regenerate.py"), "--quick",
+                          "--docs", str(page)], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr[-2000:]
+    for block in regenerate.BLOCK.finditer(page.read_text()):
+        if block["name"].split(".")[0] in regenerate.SCRIPTS:
+            assert "(--quick)" in block[0] and "load average" in block[0], block["name"]
+            assert block[0].count("\n|") >= 3, block["name"]  # header, rule, a row at least
