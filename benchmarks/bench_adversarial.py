@@ -19,8 +19,11 @@ about the normal, planar cones exact.
 * **Dex-Net pair**: Dex-Net's ``force_closure`` for two contacts, one pair at a time: each
   inward normal within ``atan(mu)`` of the line to the other contact, the projection taken in
   absolute value (its default ``use_abs_value=True``), ``alpha > atan(mu)`` rejecting.
-* **GraspNet pair**: GraspNet-1Billion's antipodal angle test vectorised over all pairs
-  (``bench_gripper.graspnet_labels``: both on the right side, ``<= atan(mu)`` passing).
+* **GraspNet pair**: GraspNet-1Billion's antipodal angle test vectorised over all pairs, in
+  its own arccos form (:func:`graspnet_passes`: both on the right side, ``<= atan(mu)``
+  passing; ``bench_gripper.graspnet_labels`` compares cosines instead, which is faster and
+  gives the same labels at GraspNet's ten μ values away from the cone's edge, but on the
+  edge it is the arccos rounding that a GraspNet user gets).
 * **Dex-Net QP**: Dex-Net's ``force_closure_qp``: the point of the wrenches' convex hull
   nearest the origin by a ``cvxopt`` QP, closure when its norm is below 1e-3.
 * **GraspIt!-style hull**: Qhull's hull of the wrenches (scipy's default options), closure
@@ -48,7 +51,6 @@ from scipy.spatial import ConvexHull, QhullError
 sys.path.insert(0, str(Path(__file__).parent))
 from adversarial import BASES, TRUTHS, Case, adversarial_set
 from bench_batch import min_norm_qp_closure, qhull_closure
-from bench_gripper import graspnet_labels
 
 from forceclosure import analyze, point_contact
 from forceclosure.analysis.batch import analyze_batch
@@ -147,8 +149,24 @@ def graspnet_pairs(cases: list[Case]) -> np.ndarray:
             if idx:
                 P, N = (np.array(v) for v in zip(*(cases[i].arrays()[:2] for i in idx),
                                                    strict=True))
-                out[idx] = graspnet_labels(P, N, np.array([mu]))[1][:, 0]
+                out[idx] = graspnet_passes(P, N, mu)
     return out
+
+
+def graspnet_passes(P: np.ndarray, N: np.ndarray, mu: float) -> np.ndarray:
+    """GraspNet's antipodal test of ``(n, 2, d)`` contact pairs at friction ``mu``, as its
+    loop writes it, vectorised: each inward normal's angle to the line to the other contact
+    (``arccos`` of the normalised projection) at most ``atan(mu)``, both projections
+    positive."""
+    d = P[:, 1] - P[:, 0]
+    length = np.linalg.norm(d, axis=1)
+    proj_1 = -np.einsum("ij,ij->i", N[:, 0], d) / np.linalg.norm(N[:, 0], axis=1)
+    proj_2 = np.einsum("ij,ij->i", N[:, 1], d) / np.linalg.norm(N[:, 1], axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        a1 = np.arccos(np.clip(proj_1 / length, -1, 1))
+        a2 = np.arccos(np.clip(proj_2 / length, -1, 1))
+    worst = np.where((proj_1 < 0) | (proj_2 < 0) | (length == 0), np.inf, np.maximum(a1, a2))
+    return worst <= np.arctan(mu)
 
 
 def on_wrenches(test: Callable[[np.ndarray], bool], wrenches: dict[int, np.ndarray]):
