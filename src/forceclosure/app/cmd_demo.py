@@ -50,8 +50,9 @@ def _demo_objects() -> None:
 
     from ..analysis.closure import analyze
     from ..contacts import point_contact
-    from ..objects import POLYGONS, POLYHEDRA, bundled
+    from ..objects import POLYGONS, POLYHEDRA, Polyhedron, bundled
     from ..synthesis.best import synthesize
+    from ..synthesis.regions import Regions
 
     print("== bundled polygons: the best two-finger grasp, mu 0.3, and its independent "
           "regions ==")
@@ -61,12 +62,14 @@ def _demo_objects() -> None:
             print(f"  {name:17} no force-closure grasp with two fingers at mu 0.3")
             continue
         r = found[0]
+        assert isinstance(r, Regions)  # segments: synthesize's region sets on a polygon
         print(f"  {name:17} edges {r.edges[0]} + {r.edges[1]}: segments "
               f"{r.lengths[0]:.3g} and {r.lengths[1]:.3g} long, certified {r.certify().holds}")
     print("== bundled polyhedra: two soft fingers, mu 0.3, at the middles of the most opposed "
           "faces ==")
     for name in POLYHEDRA:
         obj = bundled(name)
+        assert isinstance(obj, Polyhedron)  # POLYHEDRA names only polyhedra
         sites = [(f.to_world(np.asarray(f.polygon.centroid)), f.normal) for f in obj.faces]
         normals = np.array([n for _, n in sites])
         i, j = np.unravel_index(np.argmin(normals @ normals.T), (len(sites),) * 2)

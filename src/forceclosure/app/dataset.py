@@ -75,7 +75,7 @@ from concurrent.futures import TimeoutError as FutureTimeout
 from contextlib import contextmanager, suppress
 from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal, Protocol
 
 import numpy as np
 
@@ -97,6 +97,7 @@ __all__ = [
     "OBJECT_SUFFIXES",
     "STALL_SECONDS",
     "Job",
+    "LabelJob",
     "ObjectTimeout",
     "Summary",
     "deadline",
@@ -161,7 +162,7 @@ class Job:
         by default (:func:`forceclosure.objects.urdf.check_mesh_inside`).
     """
 
-    mode: str = "synthesize"
+    mode: Literal["synthesize", "analyze"] = "synthesize"
     fingers: int | None = None
     contact: str = "hard"
     mu: float = 0.3
@@ -198,6 +199,45 @@ class Job:
         record = asdict(self)
         record.pop("timeout")
         return record
+
+
+class LabelJob(Protocol):
+    """A job that labels each object itself, as
+    :class:`forceclosure.app.dataset_gripper.GripperJob` does: what :func:`run_dataset`
+    asks of a job other than a :class:`Job` (its optional ``store``, ``write_tables``,
+    ``check`` and ``output_folders`` are looked up when there)."""
+
+    @property
+    def mode(self) -> Literal["gripper"]:
+        """The dispatch key of :func:`process_object`."""
+        ...
+
+    @property
+    def timeout(self) -> float | None:
+        """Seconds one object may take; None for no limit."""
+        ...
+
+    @property
+    def allow_open(self) -> bool:
+        """Accept open and non-manifold meshes (as :class:`Job`'s)."""
+        ...
+
+    @property
+    def allow_outside_meshes(self) -> bool:
+        """Let a URDF name meshes outside its folder (as :class:`Job`'s)."""
+        ...
+
+    def identity(self) -> dict[str, Any]:
+        """The options that decide the results (``job.json``'s content)."""
+        ...
+
+    def label(self, obj: Any, path: Path) -> dict[str, Any]:
+        """The record's fields for one loaded object."""
+        ...
+
+    def warm_up(self) -> None:
+        """Run its compiled kernels once (a pool worker, before its first object)."""
+        ...
 
 
 def _check_pattern(pattern: str) -> None:
@@ -462,11 +502,12 @@ def _timed_out(error: BaseException) -> bool:
     into compiled code (a numba kernel's dispatcher) comes out of it as ``SystemError: ...
     returned a result with an exception set``, the :class:`ObjectTimeout` its cause."""
     seen: set[int] = set()
-    while error is not None and id(error) not in seen:
-        if isinstance(error, ObjectTimeout):
+    link: BaseException | None = error  # then its cause or context, to the chain's end
+    while link is not None and id(link) not in seen:
+        if isinstance(link, ObjectTimeout):
             return True
-        seen.add(id(error))
-        error = error.__cause__ or error.__context__
+        seen.add(id(link))
+        link = link.__cause__ or link.__context__
     return False
 
 
@@ -507,7 +548,7 @@ def grasp_file_of(path: Path, pattern: str) -> Path:
                      f"{path.stem}.grasps.json beside it (or give --grasps PATTERN)")
 
 
-def fingerprint(path: str | Path, job: Job) -> str:
+def fingerprint(path: str | Path, job: Job | LabelJob) -> str:
     """The SHA-256 of everything an object's result is computed from: the object file, the
     mesh files a URDF names, and in analysis the grasp file (or that it is missing).
 
@@ -575,6 +616,7 @@ def _analyze(obj, path: Path, job: Job) -> dict[str, Any]:
         if info.dim != obj.dim:
             raise InputError(f"{source.name}: {info.dim}-D grasps for a {obj.dim}-D object")
         results = analyze_npz(str(source), epsilon=True)
+        assert results.epsilon is not None  # asked for (epsilon=True): an array, NaN where none
         # the contacts of the grasps analysed: a truncated member keeps the chunks before it,
         # as analyze_npz (and 'forceclosure analyze') do
         parts = []
@@ -598,13 +640,16 @@ def _analyze(obj, path: Path, job: Job) -> dict[str, Any]:
         eps = [r["epsilon"] for r in per_grasp if r.get("verdict") == "closure"
                and r.get("epsilon") is not None]
         eps_median = float(np.median(eps)) if eps else None
-        good = [e for e in grasp_file.grasps if e.error is None]
-        for e in good:
-            if any(len(c.point) != obj.dim for c in e.contacts):
-                raise InputError(f"{source.name}: {e.label}: "
-                                 f"{len(e.contacts[0].point)}-D contacts for a {obj.dim}-D "
+        # an entry has its contacts exactly when it has no error (parse_grasp_file)
+        good = [(e.label, e.contacts) for e in grasp_file.grasps
+                if e.error is None and e.contacts is not None]
+        for label, contacts in good:
+            if any(len(c.point) != obj.dim for c in contacts):
+                raise InputError(f"{source.name}: {label}: "
+                                 f"{len(contacts[0].point)}-D contacts for a {obj.dim}-D "
                                  "object")
-        points = np.array([c.point for e in good for c in e.contacts]).reshape(-1, obj.dim)
+        points = np.array([c.point for _, contacts in good for c in contacts]).reshape(
+            -1, obj.dim)
     finite = points[np.all(np.isfinite(points), axis=1)]
     off = int(np.sum(surface_distance(obj, finite) > SURFACE_RTOL * obj.size)) if len(
         finite) else 0
@@ -613,7 +658,7 @@ def _analyze(obj, path: Path, job: Job) -> dict[str, Any]:
             "grasp_errors": errors, "results": per_grasp}
 
 
-def process_object(path: str | Path, job: Job) -> dict[str, Any]:
+def process_object(path: str | Path, job: Job | LabelJob) -> dict[str, Any]:
     """Run the job on one object and return its record; never raises for a bad object.
 
     Examples
@@ -756,7 +801,7 @@ def _differences(held: dict[str, Any], wanted: dict[str, Any], within: str = "")
     return phrases or nested
 
 
-def _check_job(out: Path, job: Job, warn: Callable[[str], object] | None = None) -> None:
+def _check_job(out: Path, job: Job | LabelJob, warn: Callable[[str], object] | None = None) -> None:
     path = out / "job.json"
     wanted = job.identity()
     warn = warn or (lambda line: print(printable(line), file=sys.stderr))
@@ -922,7 +967,7 @@ class _Run:
     crashes: dict[str, int] = field(default_factory=dict)
 
 
-def run_dataset(inputs: Sequence[str | Path], out: str | Path, job: Job = Job(), *,
+def run_dataset(inputs: Sequence[str | Path], out: str | Path, job: Job | LabelJob = Job(), *,
                 executor: Executor | None = None, workers: int | None = None,
                 retry_failed: bool = False, progress: bool | None = None,
                 log: Callable[[str], object] | None = None,
@@ -1016,7 +1061,7 @@ def _terminal() -> bool:
         return False
 
 
-def _run_locked(paths: list[Path], out: Path, job: Job, executor: Executor | None,
+def _run_locked(paths: list[Path], out: Path, job: Job | LabelJob, executor: Executor | None,
                 workers: int | None, retry_failed: bool, progress: bool | None,
                 log: Callable[[str], object] | None,
                 progress_every: float | None = None) -> Summary:
@@ -1069,7 +1114,7 @@ def _run_locked(paths: list[Path], out: Path, job: Job, executor: Executor | Non
         if record["status"] != "done":
             say(f"forceclosure: {record['status']}: {record['error']}")
 
-    table = None
+    table: OSError | None = None
     try:
         if executor is None and workers == 1 and job.timeout is None:
             from ..kernels import on_compiling
@@ -1097,8 +1142,8 @@ def _run_locked(paths: list[Path], out: Path, job: Job, executor: Executor | Non
                     job.write_tables(out, records.values())
         except OSError as e:
             table = e
-    if failure is not None or table is not None:
-        error = failure or table
+    error = failure or table
+    if error is not None:
         kept = (f"the {len(records)} records written are kept"
                 + ("" if table is None else "; results.parquet is not updated"))
         raise InputError(f"--out {out}: cannot write ({error.strerror or error}): {kept}; "
@@ -1119,14 +1164,14 @@ def _failed(path: Path, error: str, status: str = "failed") -> dict[str, Any]:
             "seconds": None}
 
 
-def _on_executor(path: Path, job: Job) -> dict[str, Any]:
+def _on_executor(path: Path, job: Job | LabelJob) -> dict[str, Any]:
     """:func:`process_object` on an executor's worker; a Dask worker first arranges to tell
     the run when it compiles the kernels (:func:`forceclosure.app.workers.tell_dask_run`)."""
     tell_dask_run()
     return process_object(path, job)
 
 
-def _drain(executor: Executor, run: _Run, job: Job,
+def _drain(executor: Executor, run: _Run, job: Job | LabelJob,
            finish: Callable[[str, dict[str, Any]], None],
            say: Callable[[str], object] | None = None) -> None:
     """Submit every pending object to ``executor`` and finish each as its result arrives.
@@ -1136,21 +1181,21 @@ def _drain(executor: Executor, run: _Run, job: Job,
     tell the run (compiling the kernels) is said with ``say``.
     """
     client = getattr(executor, "_client", None)  # Dask's Client.get_executor()
-    listening = say is not None and callable(getattr(client, "subscribe_topic", None))
-    if listening:
-        from .workers import TOPIC
+    if say is None or client is None or not callable(getattr(client, "subscribe_topic", None)):
+        _drain_futures(executor, run, job, finish)  # nothing to listen to, or no one to tell
+        return
+    from .workers import TOPIC
 
-        with suppress(Exception):
-            client.subscribe_topic(TOPIC, lambda event: say(str(event[1])))
+    with suppress(Exception):
+        client.subscribe_topic(TOPIC, lambda event: say(str(event[1])))
     try:
         _drain_futures(executor, run, job, finish)
     finally:
-        if listening:
-            with suppress(Exception):
-                client.unsubscribe_topic(TOPIC)
+        with suppress(Exception):
+            client.unsubscribe_topic(TOPIC)
 
 
-def _drain_futures(executor: Executor, run: _Run, job: Job,
+def _drain_futures(executor: Executor, run: _Run, job: Job | LabelJob,
                    finish: Callable[[str, dict[str, Any]], None]) -> None:
     futures: dict[Future, str] = {executor.submit(_on_executor, run.todo[n], job): n
                                   for n in run.todo}
@@ -1174,7 +1219,7 @@ def _context() -> multiprocessing.context.BaseContext:
     return context
 
 
-def _worker_init(job: Job, dims: tuple[int, ...] = (2, 3), notices: Any = None,
+def _worker_init(job: Job | LabelJob, dims: tuple[int, ...] = (2, 3), notices: Any = None,
                  counter: Any = None) -> None:
     """A pool worker: dies with the run; its kernels run on one thread (the pool already
     uses every core); and they are loaded before its first object, whose time limit would
@@ -1211,10 +1256,11 @@ def _process_local_numba_lock() -> None:
         from numba.np.ufunc import parallel
 
         if getattr(parallel, "_backend_init_process_lock", False) is None:
-            parallel._backend_init_process_lock = threading.RLock()
+            # numba's module types it None (its first value); it holds a lock once set
+            parallel._backend_init_process_lock = threading.RLock()  # type: ignore[assignment]
 
 
-def _warm_up(job: Job, dims: tuple[int, ...]) -> None:
+def _warm_up(job: Job | LabelJob, dims: tuple[int, ...]) -> None:
     """Run the job's compiled kernels once on small bundled objects of the dimensions
     ``dims`` (errors ignored)."""
     from dataclasses import replace
@@ -1249,7 +1295,7 @@ def _dims(paths: Iterable[Path]) -> tuple[int, ...]:
                          else 3 for p in paths}))
 
 
-def _local_pool(workers: int, run: _Run, job: Job,
+def _local_pool(workers: int, run: _Run, job: Job | LabelJob,
                 finish: Callable[[str, dict[str, Any]], None],
                 say: Callable[[str], object]) -> None:
     """Everything on a local pool of killable worker processes (pebble's ``ProcessPool``).
@@ -1282,7 +1328,7 @@ def _local_pool(workers: int, run: _Run, job: Job,
         nonlocal pending
         future = pool.schedule(process_object, (run.todo[name], job), timeout=hard)
         pending += 1
-        future.add_done_callback(lambda f, name=name: arrived.put((name, f)))
+        future.add_done_callback(lambda f: arrived.put((name, f)))  # name: this call's
 
     watchdog = Watchdog(STALL_SECONDS, say)
     watchdog.start()

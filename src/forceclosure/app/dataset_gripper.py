@@ -33,7 +33,7 @@ import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 
@@ -203,7 +203,7 @@ class GripperJob:
                                                  "plot_top")
 
     #: The dataset's dispatch key (:func:`forceclosure.app.dataset.process_object`).
-    mode = "gripper"
+    mode: ClassVar[Literal["gripper"]] = "gripper"
 
     def __post_init__(self) -> None:
         import os

@@ -54,7 +54,7 @@ def with_source(labels: Any, args: argparse.Namespace) -> Any:
               "allow_open": bool(getattr(args, "allow_open", False)),
               "allow_outside_meshes": bool(getattr(args, "allow_outside_meshes", False))}
     meta = {**labels.meta, "object_source": source}
-    if dataclasses.is_dataclass(labels):
+    if dataclasses.is_dataclass(labels) and not isinstance(labels, type):  # an instance
         return dataclasses.replace(labels, meta=meta)
     labels.meta = meta
     return labels
@@ -193,10 +193,12 @@ def export_one(args: argparse.Namespace, labels_file: str, graspnet: str | None,
                              "with --object FILE")
         found = acronym_object(source, acronym, args.mesh_root, **options)
     if graspnet:
+        assert array is not None  # computed above whenever graspnet is given
         with atomic_write(graspnet) as f:
             np.save(f, array)
         entry["graspnet"] = {"file": graspnet, "scored": int(np.sum(array[:, 0] >= 0))}
     if acronym:
+        assert found is not None  # found above whenever acronym is given (or raised)
         save_acronym(acronym, labels, found)
         entry["acronym"] = {"file": acronym, "object_file": found.file, "scale": found.scale,
                             "mesh_root": found.mesh_root,

@@ -233,5 +233,6 @@ def check_options(args: argparse.Namespace) -> None:
             check_path_spelling(f"--{flag}", get(flag), folder=True)
         for kind, path in get("export") or []:
             check_path_spelling(f"--export {printable(kind, 40)}", path)
-    if get("count") is not None and get("count") >= 0:
+    count = get("count")
+    if count is not None and count >= 0:
         _grasps_memory(args)

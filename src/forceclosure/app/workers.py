@@ -152,7 +152,8 @@ def die_with_run() -> None:
     with suppress(Exception):  # a private attribute of multiprocessing.forkserver
         from multiprocessing import forkserver
 
-        server = forkserver._forkserver
+        # Any: typeshed's ForkServer stub leaves out its private attributes
+        server: Any = forkserver._forkserver
         if server._forkserver_alive_fd is not None:
             os.close(server._forkserver_alive_fd)
             server._forkserver_alive_fd = None

@@ -312,6 +312,10 @@ class RegionSet:
     def certify(self) -> Certificate:  # pragma: no cover - every subclass defines it
         raise NotImplementedError
 
+    def to_dict(self) -> dict[str, builtins.object]:  # pragma: no cover - every subclass
+        """The JSON record: the construction's own keys and :meth:`_common`'s."""
+        raise NotImplementedError
+
     def _common(self) -> dict[str, builtins.object]:
         """The keys every region set's JSON record has (``to_dict`` adds its own)."""
         cert = self.certify()
