@@ -110,7 +110,7 @@ def test_grown_regions_hold_on_a_curved_mesh(fingers, model):
     assert cert.holds, cert.detail
     assert r.certify() is cert  # proved once
     model_, mu, every = finger_generators(r.model, r.mu, r.margin, r.edges)
-    failed, counted = _zone_conditions_one_by_one(r, model_, mu, every)
-    assert failed is None and counted == _zone_conditions(r, model_, mu, every) > 0
+    failed, counted = _zone_conditions_one_by_one(r, r.zones, model_, mu, every)
+    assert failed is None and counted == _zone_conditions(r, r.zones, model_, mu, every) > 0
     check = sampling_check(r, samples=1000)
     assert check.holds, check.detail
