@@ -110,3 +110,70 @@ def test_the_notch_gives_bottom_and_top_first_at_every_margin():
         assert best.edges == (0, 5)
         # the segments are x in [0, 1.5] on both edges, less what the margin takes
         assert best.min_length == pytest.approx(1.5 * math.tan(math.pi / 4 - margin), abs=1e-7)
+
+
+def _corners_hold_in_rationals(polygon, regions):
+    """Corollary 3 at the four corners, in fractions only, from the polygon's vertices and the
+    points as floats (this test's own arithmetic, not the library's)."""
+    from fractions import Fraction as F
+
+    from forceclosure.synthesis.regions import narrowed
+
+    e1, e2 = (polygon.edges[k] for k in regions.edges)
+
+    def inward(e):
+        return [-(F(float(e.end[1])) - F(float(e.start[1]))),
+                F(float(e.end[0])) - F(float(e.start[0]))]
+
+    def cone(m, mu, w):
+        dot, cross = m[0] * w[0] + m[1] * w[1], m[0] * w[1] - m[1] * w[0]
+        return mu * dot > cross and mu * dot > -cross
+
+    mus = [F(float(narrowed(m, polygon.spread))) for m in regions.mu]
+    for t1 in regions.segments[0]:
+        for t2 in regions.segments[1]:
+            p, q = ([F(float(x)) for x in e.point(t)] for e, t in ((e1, t1), (e2, t2)))
+            w = [q[0] - p[0], q[1] - p[1]]
+            if regions.spreading:
+                w = [-w[0], -w[1]]
+            if not (cone(inward(e1), mus[0], w) and cone(inward(e2), mus[1], [-w[0], -w[1]])):
+                return False
+    return True
+
+
+@pytest.mark.parametrize("offset", [0.0, 1e8])
+def test_corner_proof_agrees_with_rationals_a_few_doubles_from_the_boundary(offset):
+    """The corner proof decides in doubles where an error bound allows and in rationals
+    elsewhere. On a square of side 1.5 turned by a random angle, whole opposite sides at
+    friction ``1 + k 2^-52`` put the diagonal between the far corners within a few doubles
+    of the cone's boundary, where doubles alone get the sign wrong: the proof must give the
+    rationals' answer every time, near the origin and far from it."""
+    from fractions import Fraction as F
+
+    from forceclosure.synthesis.planar.edge_pair import IndependentRegions
+
+    rng = np.random.default_rng(3)
+    both = set()
+    for _ in range(400):
+        turn = rng.uniform(0, 2 * np.pi)
+        c, s = np.cos(turn), np.sin(turn)
+        square = Polygon.from_points(np.array(POLYGONS["square-gap"]) @ [[c, s], [-s, c]]
+                                     + offset)
+        whole = ((0.0, square.edges[0].length), (0.0, square.edges[2].length))
+        # the friction that puts the far corners' diagonal on the first cone's boundary,
+        # in rationals, then a few doubles either side of it
+        e1, e2 = square.edges[0], square.edges[2]
+        m = [-(F(float(e1.end[1])) - F(float(e1.start[1]))),
+             F(float(e1.end[0])) - F(float(e1.start[0]))]
+        p, q = ([F(float(x)) for x in e.point(t)] for e, t in ((e1, 0.0), (e2, 0.0)))
+        w = [q[0] - p[0], q[1] - p[1]]
+        edge = abs(m[0] * w[1] - m[1] * w[0]) / (m[0] * w[0] + m[1] * w[1])
+        mu = float(edge)
+        for _ in range(int(rng.integers(-3, 4))):
+            mu = float(np.nextafter(mu, np.inf if mu < 2 else 0))
+        mu = float(np.nextafter(mu, 0)) if rng.uniform() < 0.3 else mu  # below it too
+        r = IndependentRegions(square, (0, 2), whole, "test", (mu, mu))
+        want = _corners_hold_in_rationals(square, r)
+        assert r.certify().holds is want, (turn, mu)
+        both.add(want)
+    assert both == {True, False}  # the cases straddle the boundary

@@ -7,10 +7,11 @@ constructions' tolerances and linear programs see an object about 1 across at th
 wherever and however large the user's is. Its edges keep their indices and their unit
 normals (the very floats of the user's polygon), so a moved or scaled copy is searched on
 the same numbers up to the rounding of the move. Each region set found is mapped back
-(edge parameters times the scale, points moved back) and proved again on the user's
-polygon, at the floats that are printed and returned; where those round off a proof, the
-regions are cut a little (:data:`~forceclosure.synthesis.regions.TRIMS`), and a site whose
-regions cannot be proved at all is reported undecided.
+(edge parameters times the scale, points moved back, :meth:`Frame.cut_on`) and, when the
+search ranks it among the best, proved again on the user's polygon, at the floats that are
+printed and returned; where those round off a proof, the regions are cut a little
+(:data:`~forceclosure.synthesis.regions.TRIMS`), and a site whose regions cannot be proved
+at all is reported undecided.
 
 A polyhedron is searched the same way: its faces keep their indices, unit normals and in-plane
 axes (the user's floats), their origins and vertices are moved and scaled; a region set's
@@ -40,6 +41,7 @@ A polyhedron keeps its faces (indices, normals), moved and scaled:
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -48,11 +50,15 @@ import numpy as np
 from ..geometry.placement import Placement
 from ..objects.polygon import Edge, Polygon
 from ..objects.polyhedron import Polyhedron
-from .construction import Undecided
-from .regions import TRIMS, RegionSet, first_proved
+from .regions import TRIMS, RegionSet
 from .spatial.patches import FacePatch, SpatialRegions
 
-__all__ = ["Frame"]
+__all__ = ["UNPROVED", "Frame"]
+
+#: Why a site is undecided when its region set, found in the frame, fails every cut on the
+#: user's object.
+UNPROVED = ("regions found in object-centred coordinates could not be proved at the floats "
+            "of the coordinates given")
 
 #: Region set fields that are points in the object's coordinates (moved back, scaled).
 _POINTS = ("apex", "centre")
@@ -98,15 +104,20 @@ class Frame(Placement):
         return Polygon(to(polygon.outer), tuple(to(h) for h in polygon.holes), edges,
                        polygon.name, polygon.warnings, polygon.spread)
 
-    def to_user(self, regions: Any, polygon: Polygon) -> Any:
-        """A region set found in this frame, on the user's ``polygon``, proved there; cut by
-        :data:`~forceclosure.synthesis.regions.TRIMS` until its proof holds, or
-        :class:`~forceclosure.synthesis.construction.Undecided` when no cut does. Anything
-        but a region set (``None``, an Undecided) is returned as it is."""
+    def cut_on(self, regions: Any, polygon: Polygon | Polyhedron
+               ) -> tuple[Callable[[float], RegionSet], tuple[float, ...]] | None:
+        """The region set found in this frame, mapped onto the user's ``polygon`` (or
+        polyhedron) unproved: a function of the fraction by which each region is cut at each
+        end (``cut(0.0)``: not cut), and the cuts to try in turn
+        (:func:`~forceclosure.synthesis.regions.first_proved`); ``None`` for anything but a
+        region set. :func:`~forceclosure.synthesis.ranked_search.search` proves only the
+        region sets it ranks among the best."""
         if not (isinstance(regions, RegionSet) and dataclasses.is_dataclass(regions)):
-            return regions
+            return None
         if isinstance(regions, SpatialRegions):
-            return self._spatial_to_user(regions, polygon)
+            assert isinstance(polygon, Polyhedron)
+            return self._spatial_cut(regions, polygon), TRIMS
+        assert isinstance(polygon, Polygon)
         names = {f.name for f in dataclasses.fields(regions)}
         fixed: dict[str, Any] = {"polygon": polygon}
         for name in _POINTS:
@@ -134,11 +145,7 @@ class Frame(Placement):
                 fixed["segment"] = cut[0]
             return dataclasses.replace(regions, **fixed)
 
-        proved = first_proved(mapped, TRIMS if pieces else TRIMS[:1])  # no piece: no cut
-        if proved is not None:
-            return proved
-        return Undecided("regions found in object-centred coordinates could not be proved "
-                         "at the floats of the coordinates given")
+        return mapped, TRIMS if pieces else TRIMS[:1]  # no piece: no cut
 
     def _local_polyhedron(self, polyhedron: Polyhedron) -> Polyhedron:
         V = self.to_local_points(polyhedron.vertices)
@@ -154,7 +161,8 @@ class Frame(Placement):
                       for f in polyhedron.faces)
         return dataclasses.replace(polyhedron, vertices=V, faces=faces)
 
-    def _spatial_to_user(self, regions: SpatialRegions, polyhedron: Polyhedron) -> Any:
+    def _spatial_cut(self, regions: SpatialRegions, polyhedron: Polyhedron
+                     ) -> Callable[[float], SpatialRegions]:
         names = {f.name for f in dataclasses.fields(regions)}
         fixed: dict[str, Any] = {"polyhedron": polyhedron}
         for name in _POINTS_3D:
@@ -181,8 +189,4 @@ class Frame(Placement):
             fixed["regions"] = tuple(patches)
             return dataclasses.replace(regions, **fixed)
 
-        proved = first_proved(moved)
-        if proved is not None:
-            return proved
-        return Undecided("regions found in object-centred coordinates could not be proved "
-                         "at the floats of the coordinates given")
+        return moved

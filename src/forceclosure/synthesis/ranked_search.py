@@ -21,6 +21,7 @@ from __future__ import annotations
 import bisect
 import dataclasses
 import math
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -29,8 +30,8 @@ from ..errors import InputError
 from ..objects.polygon import Polygon
 from ..objects.polyhedron import Polyhedron
 from .construction import Construction, Hand, Undecided
-from .frame import Frame
-from .regions import RegionSet, tie_rounded
+from .frame import UNPROVED, Frame
+from .regions import TRIMS, RegionSet, first_proved, tie_rounded
 
 __all__ = ["SPACINGS", "TIE", "Found", "candidate_sites", "ranked", "search"]
 
@@ -78,6 +79,34 @@ def ranked(built: list[tuple[float, int, Any]], slack: float = 0.0, limit: int |
         out += sorted(rest[start:end], key=lambda b: b[1])
         start = end
     return out if limit is None else out[:limit]
+
+
+@dataclasses.dataclass(frozen=True)
+class _Pending:
+    """A region set built, on the object as given, with what proving it takes: ``cut(trim)``
+    is it with each region cut by ``trim`` at each end, tried for ``trims`` in turn
+    (:func:`~forceclosure.synthesis.regions.first_proved`); ``done`` once proved at
+    ``cut(0.0)``."""
+
+    cut: Callable[[float], RegionSet]
+    trims: tuple[float, ...]
+    reason: str
+    done: bool = False
+
+    @classmethod
+    def of(cls, regions: RegionSet, mapped: tuple[Callable[[float], RegionSet],
+                                                  tuple[float, ...]] | None) -> _Pending:
+        """``regions`` as built (no frame: proved as they are) or mapped by a frame."""
+        if mapped is None:
+            return cls(lambda trim: regions, TRIMS[:1],
+                       "a region set built on it failed its proof")
+        cut, trims = mapped
+        first = cut(0.0)  # the same object each time it is asked for: its proof is kept
+        return cls(lambda trim: first if trim == 0.0 else cut(trim), trims, UNPROVED)
+
+    @classmethod
+    def proved(cls, regions: RegionSet) -> _Pending:
+        return cls(lambda trim: regions, TRIMS[:1], "", done=True)
 
 
 class Found(list):
@@ -181,12 +210,30 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
     if construction.bound is not None and len(sites):
         bound = np.array([tie_rounded(b) for b in construction.bound(where, sites, hand)])
     order = range(len(sites)) if bound is None else np.argsort(-bound, kind="stable")
-    # (size, site, regions), by decreasing size then site; a region set keeps its proof
-    built: list[tuple[float, int, RegionSet]] = []
+    # (size, site, pending region set), by decreasing size then site
+    built: list[tuple[float, int, _Pending]] = []
     undecided: list[tuple[Any, str]] = []
 
-    def failed_proof(k: int) -> None:
-        undecided.append((sites[k], "a region set built on it failed its proof"))
+    def settled(entry: tuple[float, int, _Pending]) -> bool:
+        """Prove ``entry``'s region set (cut as its proof needs): True when it holds at its
+        size; otherwise it leaves ``built``, and comes back at its smaller size when a cut
+        of it was proved, or is undecided when none was."""
+        size, k, pending = entry
+        proved = first_proved(pending.cut, pending.trims)
+        built.remove(entry)
+        if proved is None:
+            undecided.append((sites[k], pending.reason))
+            return False
+        now = float(proved.relative_min_size)
+        bisect.insort(built, (now, k, _Pending.proved(proved)), key=_by_size)
+        return now == size
+
+    def proved_first() -> list[tuple[float, int, _Pending]]:
+        """The first ``top`` ranked region sets, each proved at the size it ranks by."""
+        while True:
+            first = ranked(built, slack, limit=top, presorted=True, areas=areas)
+            if all(b[2].done or settled(b) for b in first):
+                return first
 
     def beaten(size: float) -> bool:
         """Whether ``top`` proved region sets rank ahead of any site whose regions are at
@@ -196,15 +243,9 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
         # is not beaten, found without ranking (a run of thousands of ties stays linear)
         if len(built) < top or size >= _tied_floor(built[top - 1][0], slack, areas):
             return False
-        while len(built) >= top:
-            first = ranked(built, slack, limit=top, presorted=True, areas=areas)
-            failed = [b for b in first if not b[2].certify().holds]
-            if not failed:
-                return size < _tied_floor(min(b[0] for b in first), slack, areas)
-            for b in failed:
-                failed_proof(b[1])
-            built[:] = [b for b in built if all(b is not f for f in failed)]
-        return False
+        first = proved_first()
+        return len(first) == top and size < _tied_floor(min(b[0] for b in first), slack,
+                                                        areas)
 
     for k in order:
         if bound is not None and (not bound[k] > 0 or beaten(bound[k])):
@@ -212,23 +253,15 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
         if construction.enough is not None and len(built) >= construction.enough * top:
             break
         regions = construction.build(where, sites[k], hand)
-        if frame is not None:
-            regions = frame.to_user(regions, obj)
         if isinstance(regions, Undecided):
             undecided.append((sites[k], regions.reason))
             continue
         if regions is None:
             continue
-        if construction.enough is not None and not regions.certify().holds:
-            failed_proof(int(k))
-            continue
-        bisect.insort(built, (float(regions.relative_min_size), int(k), regions), key=_by_size)
-    proved: list[RegionSet] = []
-    for _, k, regions in ranked(built, slack, presorted=True, areas=areas):
-        if len(proved) == top:
-            break
-        if regions.certify().holds:
-            proved.append(regions)
-        else:
-            failed_proof(k)
+        pending = _Pending.of(regions, None if frame is None else frame.cut_on(regions, obj))
+        entry = (float(pending.cut(0.0).relative_min_size), int(k), pending)
+        bisect.insort(built, entry, key=_by_size)
+        if construction.enough is not None:  # counts proved region sets as they come
+            settled(entry)
+    proved = [b[2].cut(0.0) for b in proved_first()]
     return Found(proved, undecided)

@@ -18,7 +18,7 @@ from ..objects.polygon import Edge, Polygon
 
 __all__ = ["MARGIN", "TRIMS", "Certificate", "RegionSet", "Regions", "check_edges",
            "check_margin", "exact_inward", "exact_point", "face_middle", "first_proved",
-           "narrowed", "proved_once", "rounded", "tie_rounded"]
+           "narrowed", "proved_once", "rounded", "surely_positive", "tie_rounded"]
 
 _COUNT = {2: "two", 3: "three", 4: "four"}
 
@@ -155,6 +155,30 @@ def exact_inward(edge: Edge) -> list[Fraction]:
     dx, dy = (Fraction(float(b)) - Fraction(float(a)) for a, b in zip(edge.start, edge.end,
                                                                         strict=True))
     return [-dy, dx]
+
+
+def surely_positive(value: float, magnitude: float, roundings: int) -> bool:
+    """Whether an expression of sums and products, evaluated in doubles as ``value``, is
+    certainly positive in exact arithmetic: a static filter (as in exact geometric
+    predicates) that answers ``False`` when it cannot tell, so that the caller decides in
+    rationals.
+
+    ``magnitude`` is the same expression evaluated with every input and every product made
+    non-negative (``|a| |b| + |c| |d|`` for ``a b - c d``), and ``roundings`` the most
+    roundings on any path from an input to the result (inputs rounded once count one). The
+    error of ``value`` is then at most ``γ(roundings) · magnitude`` (Higham, *Accuracy and
+    Stability of Numerical Algorithms*, §3.1), ``γ(k) = k u / (1 − k u)``, ``u = 2⁻⁵³``; the
+    test asks for twice that, plus an absolute term for products that underflow.
+
+    Examples
+    --------
+    >>> surely_positive(1.0 - 0.5, 1.5, 2), surely_positive(1e-17, 1.0, 2)
+    (True, False)
+    """
+    if not (math.isfinite(value) and math.isfinite(magnitude) and magnitude < 1e300):
+        return False
+    u = 2.0 ** -53
+    return value > 4.0 * roundings * u * magnitude + 2.0 ** -1000
 
 
 def exact_point(edge: Edge, t: float) -> list[Fraction]:

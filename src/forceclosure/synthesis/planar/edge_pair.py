@@ -36,6 +36,7 @@ from ..regions import (
     exact_point,
     narrowed,
     proved_once,
+    surely_positive,
 )
 
 __all__ = ["ANGLE_MARGIN", "IndependentRegions", "Sector", "check_mu", "counter_overlapping_sector",
@@ -169,36 +170,63 @@ class IndependentRegions(Regions):
         The four Corollary 3 conditions are linear in ``w = q - p``, and ``w``
         is affine in the two edge parameters. So they hold on the whole box
         ``s1 x s2`` iff they hold at its four corners. The corners are
-        checked with ``fractions.Fraction`` at the very floating-point points
-        that are printed and returned, with each edge's normal taken exactly
-        from its two vertices: no rounding enters. Squeezing regions are
+        checked exactly at the very floating-point points that are printed and
+        returned, with each edge's normal taken exactly from its two vertices:
+        in doubles where a proved error bound settles the sign
+        (:func:`~forceclosure.synthesis.regions.surely_positive`), otherwise
+        with ``fractions.Fraction``; no rounding enters. Squeezing regions are
         checked with ``w = q - p``, spreading ones with ``w = p - q``
         (Corollary 3's two cases).
         """
         e1, e2 = (self.polygon.edges[k] for k in self.edges)
         F = Fraction
-        m_p, m_q = exact_inward(e1), exact_inward(e2)
         # narrowed by the outline's spread: then the cone holds for every normal the real
         # outline has along the edge
-        mu_p, mu_q = (F(narrowed(m, self.polygon.spread)) for m in self.mu)
+        nu_p, nu_q = (float(narrowed(m, self.polygon.spread)) for m in self.mu)
 
         def inside(m: list[Fraction], mu: Fraction, w: list[Fraction]) -> bool:
             dot = m[0] * w[0] + m[1] * w[1]
             cross = m[0] * w[1] - m[1] * w[0]
             return mu * dot - cross > 0 and mu * dot + cross > 0
 
+        def surely_inside(m: tuple[float, float], mu: float, w: tuple[float, float]) -> bool:
+            """``inside`` decided in doubles where their error bound allows: ``m`` and ``w``
+            are each rounded once from exact values, then a product, a sum, ``mu`` times
+            it and one more sum (six roundings on a path)."""
+            dot = m[0] * w[0] + m[1] * w[1]
+            cross = m[0] * w[1] - m[1] * w[0]
+            size = abs(mu) * (abs(m[0] * w[0]) + abs(m[1] * w[1])) + abs(m[0] * w[1]) \
+                + abs(m[1] * w[0])
+            return (surely_positive(mu * dot - cross, size, 6)
+                    and surely_positive(mu * dot + cross, size, 6))
+
+        def inward(e: Edge) -> tuple[float, float]:
+            return (-(float(e.end[1]) - float(e.start[1])), float(e.end[0]) - float(e.start[0]))
+
         for e, (u, v) in zip((e1, e2), self.segments, strict=True):
             if not 0 <= u <= v <= e.length:
                 return Certificate(False, "corner check (exact rationals)",
                                    f"the segment ({u:.17g}, {v:.17g}) is not within edge "
                                    f"{e.index} (length {e.length:.17g})")
+        f_p, f_q = inward(e1), inward(e2)
+        exact: list[list[Fraction]] = []  # the inward normals in rationals, if needed
         for t1 in self.segments[0]:
             for t2 in self.segments[1]:
+                pf, qf = e1.point(t1), e2.point(t2)  # the points printed and returned
+                wf = (float(qf[0]) - float(pf[0]), float(qf[1]) - float(pf[1]))
+                if self.spreading:
+                    wf = (-wf[0], -wf[1])
+                if surely_inside(f_p, nu_p, wf) and surely_inside(f_q, nu_q,
+                                                                  (-wf[0], -wf[1])):
+                    continue
+                if not exact:
+                    exact += [exact_inward(e1), exact_inward(e2)]
+                m_p, m_q = exact
                 p, q = exact_point(e1, t1), exact_point(e2, t2)
                 w = [q[0] - p[0], q[1] - p[1]]
                 if self.spreading:
                     w = [-w[0], -w[1]]
-                if not (inside(m_p, mu_p, w) and inside(m_q, mu_q, [-w[0], -w[1]])):
+                if not (inside(m_p, F(nu_p), w) and inside(m_q, F(nu_q), [-w[0], -w[1]])):
                     return Certificate(False, "corner check (exact rationals)",
                                        f"the grasp at t = ({t1:.6g}, {t2:.6g}) is not "
                                        "strictly inside both friction cones")

@@ -443,11 +443,13 @@ def largest_segments_bound(polygon: Polygon, sites: NDArray, hand: Hand) -> NDAr
     much as of two thousand)."""
     mu = narrowed(hand.mu, hand.margin)
     z, u1, u2 = solve_sites(polygon, sites, mu)
-    hand.memo[_SOLVED] = (polygon, mu, sites, z, u1, u2)
+    rows = {tuple(site): k for k, site in enumerate(np.asarray(sites).tolist())}
+    hand.memo[_SOLVED] = (polygon, mu, rows, z, u1, u2)
     return z / polygon.size
 
 
-#: The key of the bound's solve, ``(polygon, mu, sites, z, u1, u2)``, in a search's memo.
+#: The key of the bound's solve, ``(polygon, mu, rows, z, u1, u2)`` (``rows``: each site's row,
+#: by its tuple), in a search's memo.
 _SOLVED = "two_fingers.solved"
 
 
@@ -455,10 +457,10 @@ def _build_maximal(polygon: Polygon, site: NDArray, hand: Hand,
                    ) -> IndependentRegions | Undecided | None:
     mu = narrowed(hand.mu, hand.margin)
     solved = hand.memo.get(_SOLVED)
-    row = (np.flatnonzero((solved[2] == site).all(axis=1))
-           if solved is not None and solved[0] is polygon and solved[1] == mu else ())
-    if solved is not None and len(row):
-        z, u1, u2 = (a[row[:1]] for a in solved[3:])
+    row = (solved[2].get(tuple(np.asarray(site).tolist()))
+           if solved is not None and solved[0] is polygon and solved[1] == mu else None)
+    if solved is not None and row is not None:
+        z, u1, u2 = (a[row:row + 1] for a in solved[3:])
     else:
         z, u1, u2 = solve_sites(polygon, site[None], mu)
     i, j, way = (int(x) for x in site)
