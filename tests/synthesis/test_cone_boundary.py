@@ -103,6 +103,41 @@ def test_top_and_ranking_match_a_reference_lp(name, margin):
     assert all(a >= b - 1e-7 * size for a, b in itertools.pairwise(sizes))
 
 
+def _tangential(n, turn):
+    """A polygon of ``n`` (a multiple of 4) sides tangent to the unit circle, the angles
+    between its points of contact ``2 pi / n`` less, less, more, more ``turn``, in turn:
+    opposite sides parallel and 2 apart, sides of three lengths (``turn`` 0: regular)."""
+    gaps = 2 * np.pi / n + turn * np.resize([-1.0, -1.0, 1.0, 1.0], n)
+    phi = np.r_[0.0, np.cumsum(gaps)[:-1]]
+    a, b = phi, np.roll(phi, -1)  # the corner between the tangents at a and b
+    r = 1 / np.cos((b - a) / 2)
+    return np.c_[r * np.cos((a + b) / 2), r * np.sin((a + b) / 2)]
+
+
+@pytest.mark.parametrize("n,turn,grow,mu,top", [
+    (24, 0.0, 0.0, 0.3, 5), (24, 0.0, 2e-8, 0.3, 4),
+    (16, 0.1, 0.0, 0.1, 3), (8, 0.15, 0.0, 0.1, 2)])
+def test_ties_go_to_the_lowest_edge_pairs(n, turn, grow, mu, top):
+    """Many pairs of equal regions: whole edges on a regular polygon (with ``grow``, each
+    corner ``grow`` farther out than the one before: edges longer by ~1e-7 of their length
+    as their index grows, so that the bound, the shorter edge, puts the highest pairs
+    first, while their regions tie); on one with sides of three lengths, opposite sides at
+    low friction give regions as long as the cone allows, equal for all. The search stops
+    early on ties; it must still return the reference's largest, and among equal sizes the
+    lowest pairs (i, j, spreading) in that order, the rule of ties."""
+    points = _tangential(n, turn) * (1 + grow * np.arange(n))[:, None]
+    polygon = Polygon.from_points(points)
+    margin = 1e-3
+    ref = _reference(points, mu, margin)
+    best = max(ref.values())
+    # equal within 1e-6 of their length: the library's rule of ties, far wider than the
+    # reference LP's error
+    tied = sorted(k for k in ref if ref[k] >= best * (1 - 1e-6) + 1e-12)
+    assert len(tied) > top  # the case is one of ties
+    found = synthesize(polygon, 2, "hard", mu, top=top, margin=margin).found
+    assert [(*r.edges, r.spreading) for r in found] == tied[:top]
+
+
 def test_the_notch_gives_bottom_and_top_first_at_every_margin():
     polygon = Polygon.from_points(NOTCH, name="notch")
     for margin in (1e-13, 1e-9, 1e-6, 1e-3):

@@ -105,9 +105,15 @@ class Undecided:
     ----------
     reason : str
         Why, in words.
+    size : float or None
+        The most the site's regions could measure, relative to the object (as
+        :attr:`~forceclosure.synthesis.regions.RegionSet.relative_min_size`), when the
+        construction knows it: a site that could not rank among the best then does not make
+        the search incomplete. None: unknown.
     """
 
     reason: str
+    size: float | None = None
 
 
 @dataclass(frozen=True)

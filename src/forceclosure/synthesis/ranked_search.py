@@ -212,7 +212,8 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
     order = range(len(sites)) if bound is None else np.argsort(-bound, kind="stable")
     # (size, site, pending region set), by decreasing size then site
     built: list[tuple[float, int, _Pending]] = []
-    undecided: list[tuple[Any, str]] = []
+    # (site, why, the most its regions could measure or None)
+    undecided: list[tuple[Any, str, float | None]] = []
 
     def settled(entry: tuple[float, int, _Pending]) -> bool:
         """Prove ``entry``'s region set (cut as its proof needs): True when it holds at its
@@ -222,7 +223,7 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
         proved = first_proved(pending.cut, pending.trims)
         built.remove(entry)
         if proved is None:
-            undecided.append((sites[k], pending.reason))
+            undecided.append((sites[k], pending.reason, None))
             return False
         now = float(proved.relative_min_size)
         bisect.insort(built, (now, k, _Pending.proved(proved)), key=_by_size)
@@ -235,26 +236,41 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
             if all(b[2].done or settled(b) for b in first):
                 return first
 
-    def beaten(size: float) -> bool:
-        """Whether ``top`` proved region sets rank ahead of any site whose regions are at
-        most ``size``: the best the sites left can do (they come by decreasing bound)."""
-        # the top ranked are whole runs of ties and the lowest sites of one more, so the
-        # smallest of them is at most the top-th largest size: a size that ties with that
-        # is not beaten, found without ranking (a run of thousands of ties stays linear)
-        if len(built) < top or size >= _tied_floor(built[top - 1][0], slack, areas):
-            return False
-        first = proved_first()
-        return len(first) == top and size < _tied_floor(min(b[0] for b in first), slack,
-                                                        areas)
+    tie_check = [top]  # how many built before ties are next looked at (doubling)
 
-    for k in order:
-        if bound is not None and (not bound[k] > 0 or beaten(bound[k])):
+    def beaten(size: float, site: int) -> bool:
+        """Whether ``top`` proved region sets rank ahead of any site whose regions are at
+        most ``size`` and whose index is at least ``site``: the best the sites left can do
+        (they come by decreasing bound)."""
+        if len(built) < top:
+            return False
+        if size < _tied_floor(built[top - 1][0], slack, areas):
+            first = proved_first()
+            return len(first) == top and size < _tied_floor(min(b[0] for b in first),
+                                                            slack, areas)
+        # a size that ties with the top: beaten when a site as large as the bound allows
+        # (its rounding included) with the least index left still ranks after the top;
+        # looked at each time the number built doubles, so a run of ties stays linear
+        if len(built) < tie_check[0]:
+            return False
+        tie_check[0] = 2 * len(built)
+        if len(proved_first()) < top:
+            return False
+        trial: list[tuple[float, int, _Pending | None]] = [*built]
+        bisect.insort(trial, (size * (1 + 1e-7), site, None), key=_by_size)
+        return all(b[2] is not None for b in ranked(trial, slack, limit=top, presorted=True,
+                                                    areas=areas))
+
+    # the least site index from each place in the order on
+    least = np.minimum.accumulate(np.asarray(order)[::-1])[::-1] if len(sites) else ()
+    for at, k in enumerate(order):
+        if bound is not None and (not bound[k] > 0 or beaten(bound[k], int(least[at]))):
             break
         if construction.enough is not None and len(built) >= construction.enough * top:
             break
         regions = construction.build(where, sites[k], hand)
         if isinstance(regions, Undecided):
-            undecided.append((sites[k], regions.reason))
+            undecided.append((sites[k], regions.reason, regions.size))
             continue
         if regions is None:
             continue
@@ -263,5 +279,9 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
         bisect.insort(built, entry, key=_by_size)
         if construction.enough is not None:  # counts proved region sets as they come
             settled(entry)
-    proved = [b[2].cut(0.0) for b in proved_first()]
-    return Found(proved, undecided)
+    first = proved_first()
+    # a site whose regions could not have ranked among the best does not make it incomplete
+    floor = _tied_floor(min(b[0] for b in first), slack, areas) if len(first) == top \
+        else -math.inf
+    return Found([b[2].cut(0.0) for b in first],
+                 [(site, why) for site, why, size in undecided if size is None or size >= floor])

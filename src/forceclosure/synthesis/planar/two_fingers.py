@@ -373,7 +373,7 @@ def _certified(polygon: Polygon, i: int, j: int, z: float, u1: float, u2: float,
         return regions
     return Undecided(f"segments {z:.6g} long on edges {i} and {j} by the linear program, "
                      "none of them proved force-closure in the coordinates given (even cut by "
-                     f"{TRIMS[-1]:.1%})")
+                     f"{TRIMS[-1]:.1%})", size=z / polygon.size)
 
 
 def edge_pair_sites(polygon: Polygon, hand: Hand):
@@ -437,40 +437,93 @@ def solve_sites(polygon: Polygon, sites: NDArray, mu: float) -> tuple[NDArray, N
 
 def largest_segments_bound(polygon: Polygon, sites: NDArray, hand: Hand) -> NDArray:
     """Step 3: the largest shorter segment of each pair over the object's size, solved for
-    all pairs at once (exact: the regions built are these, trimmed at most by 2e-9). The
-    solve is left in the search's :attr:`~forceclosure.synthesis.construction.Hand.memo`:
-    the few pairs built read their segments from it (a solve of one pair alone costs as
-    much as of two thousand)."""
-    mu = narrowed(hand.mu, hand.margin)
-    z, u1, u2 = solve_sites(polygon, sites, mu)
-    rows = {tuple(site): k for k, site in enumerate(np.asarray(sites).tolist())}
-    hand.memo[_SOLVED] = (polygon, mu, rows, z, u1, u2)
-    return z / polygon.size
+    all pairs at once (exact: the regions built are these, trimmed at most by 2e-9)."""
+    return solve_sites(polygon, sites, narrowed(hand.mu, hand.margin))[0] / polygon.size
 
 
-#: The key of the bound's solve, ``(polygon, mu, rows, z, u1, u2)`` (``rows``: each site's row,
-#: by its tuple), in a search's memo.
-_SOLVED = "two_fingers.solved"
+@dataclass
+class _Solves:
+    """The linear program of the pairs a search builds, solved block by block in the order
+    of their bound (:func:`shorter_edge_bound`), kept in the search's
+    :attr:`~forceclosure.synthesis.construction.Hand.memo`: a solve of one pair alone costs
+    as much as of a few hundred, and the pairs built come in that order."""
+
+    polygon: Polygon
+    mu: float
+    sites: NDArray
+    keys: NDArray  # each site's (i n + j) 2 + spreading, sorted
+    rows: NDArray  # the sites' rows in that sorted order
+    order: NDArray  # the sites' rows by decreasing bound
+    place: NDArray  # each row's place in ``order``
+    z: NDArray
+    u1: NDArray
+    u2: NDArray
+
+    @classmethod
+    def of(cls, polygon: Polygon, sites: NDArray, mu: float, bound: NDArray) -> _Solves:
+        n = len(polygon.edges)
+        keys = (sites[:, 0] * n + sites[:, 1]) * 2 + sites[:, 2]
+        rows = np.argsort(keys, kind="stable")
+        order = np.argsort(-bound, kind="stable")
+        place = np.empty(len(sites), dtype=np.int64)
+        place[order] = np.arange(len(sites))
+        nan = np.full(len(sites), np.nan)
+        return cls(polygon, mu, sites, keys[rows], rows, order, place, nan, nan.copy(),
+                   nan.copy())
+
+    def segments(self, site: NDArray) -> tuple[float, float, float] | None:
+        """``(z, u1, u2)`` of ``site``, solving it with the next :data:`BLOCK` sites in
+        the bound's order when it is not yet solved; None for a site not searched."""
+        n = len(self.polygon.edges)
+        key = (int(site[0]) * n + int(site[1])) * 2 + int(site[2])
+        at = int(np.searchsorted(self.keys, key))
+        if at == len(self.keys) or self.keys[at] != key:
+            return None
+        row = int(self.rows[at])
+        if np.isnan(self.z[row]):
+            block = self.order[self.place[row]:self.place[row] + BLOCK]
+            block = block[np.isnan(self.z[block])]
+            self.z[block], self.u1[block], self.u2[block] = solve_sites(
+                self.polygon, self.sites[block], self.mu)
+        return float(self.z[row]), float(self.u1[row]), float(self.u2[row])
+
+
+#: Pairs solved at once when a search builds one whose linear program is not yet solved.
+BLOCK = 512
+#: The key of a search's :class:`_Solves` in its memo.
+_SOLVES = "two_fingers.solves"
+
+
+def shorter_edge_bound(polygon: Polygon, sites: NDArray, hand: Hand) -> NDArray:
+    """Step 3 of the maximal construction: a pair's regions are no longer than its shorter
+    edge (over the object's size). Cheap, so the search solves the linear program
+    (:func:`max_min_segments`) only of the pairs it builds, in this order, block by block
+    (:class:`_Solves`), rather than of every pair the prune keeps."""
+    length = polygon.edge_arrays.length
+    bound = np.minimum(length[sites[:, 0]], length[sites[:, 1]]) / polygon.size
+    hand.memo[_SOLVES] = _Solves.of(polygon, np.asarray(sites), narrowed(hand.mu, hand.margin),
+                                    bound)
+    return bound
 
 
 def _build_maximal(polygon: Polygon, site: NDArray, hand: Hand,
                    ) -> IndependentRegions | Undecided | None:
     mu = narrowed(hand.mu, hand.margin)
-    solved = hand.memo.get(_SOLVED)
-    row = (solved[2].get(tuple(np.asarray(site).tolist()))
-           if solved is not None and solved[0] is polygon and solved[1] == mu else None)
-    if solved is not None and row is not None:
-        z, u1, u2 = (a[row:row + 1] for a in solved[3:])
+    solves = hand.memo.get(_SOLVES)
+    found = (solves.segments(site) if solves is not None and solves.polygon is polygon
+             and solves.mu == mu else None)
+    if found is None:
+        z, u1, u2 = (float(a[0]) for a in solve_sites(polygon, np.asarray(site)[None], mu))
     else:
-        z, u1, u2 = solve_sites(polygon, site[None], mu)
+        z, u1, u2 = found
     i, j, way = (int(x) for x in site)
-    return _certified(polygon, i, j, z[0], u1[0], u2[0], (hand.mu, hand.mu), bool(way))
+    return _certified(polygon, i, j, z, u1, u2, (hand.mu, hand.mu), bool(way))
 
 
 MAXIMAL = Construction(
     dim=2, fingers=2, contact="hard", name="maximal", paper="§5.1, Corollary 3",
     method="edges", sites=edge_pair_sites, prune=counter_overlap_prune,
-    bound=largest_segments_bound, build=_build_maximal,
+    bound=shorter_edge_bound, build=_build_maximal,
     searched="every pair of edges, the fingers squeezing or pushing apart", complete=True,
     completeness="Lemma 1 gives every two-finger grasp")
 
