@@ -14,7 +14,7 @@ from typing import Any
 from ..errors import InputError, printable
 from ..extras import require
 from .common import outside_meshes_option
-from .dataset_options import DEFAULT_F_MAX, robust_settings, task_settings
+from .dataset_options import DEFAULT_F_MAX, add_robust_options, robust_settings, task_settings
 from .progress import bar_size
 
 __all__ = ["add_parser", "run", "shared_js"]
@@ -66,26 +66,7 @@ def add_parser(sub: Any) -> None:
     g.add_argument("--out", metavar="FILE.npz", help="save the poses, contacts and labels, "
                                                       "atomically")
     g.add_argument("--json", action="store_true", help="print the summary as JSON")
-    # robustness (issue 17): Monte Carlo over pose, friction and normal noise
-    g.add_argument("--robust", action="store_true",
-                   help="also the probability of force closure and the expected epsilon "
-                        "under noise, with confidence intervals (saved as robust_* arrays)")
-    g.add_argument("--robust-samples", type=int, metavar="K",
-                   help="noise samples per grasp (default 100; at least 2)")
-    g.add_argument("--pose-sigma", type=float, metavar="S",
-                   help="jaw translation noise per axis, object units (default 1%% of --width)")
-    g.add_argument("--angle-sigma", type=float, metavar="RAD",
-                   help="closing-axis rotation noise about each perpendicular axis, radians "
-                        "(default 0.05)")
-    g.add_argument("--mu-sigma", type=float, metavar="S",
-                   help="friction noise, absolute, clipped at 0 (default 0.05)")
-    g.add_argument("--normal-sigma", type=float, metavar="RAD",
-                   help="contact normal noise per tangent axis, radians (default 0)")
-    g.add_argument("--robust-confidence", type=float, metavar="C",
-                   help="confidence of the intervals (default 0.95)")
-    g.add_argument("--no-robust-epsilon", action="store_true",
-                   help="skip the expected epsilon (saved as NaN): the probability alone, "
-                        "about ten times faster")
+    add_robust_options(g)
     # collision, export and picture (docs/gripper.md)
     g.add_argument("--no-collision", action="store_true",
                    help="skip checking the opened hand (fingers and palm as boxes) against the "

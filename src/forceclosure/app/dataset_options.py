@@ -14,7 +14,8 @@ from typing import Any
 from ..errors import InputError
 
 __all__ = ["DEFAULT_F_MAX", "EXPORTS_FILE", "GRASPS_OPTIONS", "add_grasps_options",
-           "given_grasps_options", "grasps_job_options", "robust_settings", "task_settings"]
+           "add_robust_options", "given_grasps_options", "grasps_job_options", "robust_settings",
+           "task_settings"]
 
 #: The report of a gripper dataset's exports (``--export``), in its folder.
 EXPORTS_FILE = "exports.json"
@@ -63,22 +64,7 @@ def add_grasps_options(parser: Any) -> None:
                         "of the friction cone's half-angle (default 0)")
     p.add_argument("--no-epsilon", action="store_true",
                    help="with --gripper: skip the Ferrari-Canny epsilon (saved as NaN)")
-    p.add_argument("--robust", action="store_true",
-                   help="with --gripper: also the probability of force closure and expected "
-                        "epsilon under noise (as grasps --robust; robust_* arrays in each .npz)")
-    p.add_argument("--robust-samples", type=int, metavar="K",
-                   help="noise samples per grasp (default 100)")
-    p.add_argument("--pose-sigma", type=float, metavar="S",
-                   help="jaw translation noise (default 1%% of the opening)")
-    p.add_argument("--angle-sigma", type=float, metavar="RAD",
-                   help="closing-axis rotation noise (default 0.05)")
-    p.add_argument("--mu-sigma", type=float, metavar="S", help="friction noise (default 0.05)")
-    p.add_argument("--normal-sigma", type=float, metavar="RAD",
-                   help="contact normal noise (default 0)")
-    p.add_argument("--robust-confidence", type=float, metavar="C",
-                   help="confidence of the intervals (default 0.95)")
-    p.add_argument("--no-robust-epsilon", action="store_true",
-                   help="skip the expected epsilon under noise")
+    add_robust_options(p, "with --gripper: ")
     p.add_argument("--metrics", action="store_true",
                    help="with --gripper: also the grasp-matrix metrics (arrays in each .npz)")
     p.add_argument("--task-mass", type=float, metavar="M",
@@ -104,6 +90,33 @@ def add_grasps_options(parser: Any) -> None:
                         "all loading one FOLDER/plotly.min.js; keep them together)")
     p.add_argument("--plot-top", type=int, metavar="K",
                    help="how many of the best poses the pictures and pages draw (default 10)")
+
+
+def add_robust_options(group: Any, note: str = "") -> None:
+    """The options of ``grasps --robust`` (issue 17: Monte Carlo over pose, friction and
+    normal noise), on ``grasps`` and ``dataset`` alike; ``note`` begins the help of
+    ``--robust``."""
+    group.add_argument("--robust", action="store_true",
+                       help=f"{note}also the probability of force closure and the expected "
+                            "epsilon under noise, with confidence intervals (saved as "
+                            "robust_* arrays)")
+    group.add_argument("--robust-samples", type=int, metavar="K",
+                       help="noise samples per grasp (default 100; at least 2)")
+    group.add_argument("--pose-sigma", type=float, metavar="S",
+                       help="jaw translation noise per axis, object units (default 1%% of the "
+                            "opening)")
+    group.add_argument("--angle-sigma", type=float, metavar="RAD",
+                       help="closing-axis rotation noise about each perpendicular axis, "
+                            "radians (default 0.05)")
+    group.add_argument("--mu-sigma", type=float, metavar="S",
+                       help="friction noise, absolute, clipped at 0 (default 0.05)")
+    group.add_argument("--normal-sigma", type=float, metavar="RAD",
+                       help="contact normal noise per tangent axis, radians (default 0)")
+    group.add_argument("--robust-confidence", type=float, metavar="C",
+                       help="confidence of the intervals (default 0.95)")
+    group.add_argument("--no-robust-epsilon", action="store_true",
+                       help="skip the expected epsilon (saved as NaN): the probability alone, "
+                            "about ten times faster")
 
 
 def grasps_job_options(args: Any, robust: dict[str, Any] | None,
