@@ -103,3 +103,46 @@ def test_single_grasps_take_the_reference_path_until_the_kernels_are_compiled(tm
     assert kernels.use_compiled(missing)
     assert [r.getMessage().split(",")[0] for r in caplog.records] == [
         "forceclosure: warning: compiling the batch kernels for this machine"]
+
+
+def test_a_small_first_batch_takes_the_reference_path_until_the_kernel_is_compiled(monkeypatch):
+    """On a machine where the batch kernel is not compiled, analyze_batch answers the first
+    COMPILE_AFTER grasps of a process from the reference path (the same answers as
+    engine="reference", and the kernel is not called); a batch past that budget runs the
+    kernel. A compiled kernel is used from the first grasp."""
+    import numpy as np
+
+    from forceclosure import kernels
+    from forceclosure.analysis.batch_analysis import analyze_batch
+    from forceclosure.kernels import theorem1
+
+    calls = []
+    real = theorem1.closure_serial
+
+    def spy(*args):
+        calls.append(len(args[0]))
+        return real(*args)
+
+    rng = np.random.default_rng(0)
+    p = rng.normal(size=(40, 3, 3))
+    n = p + 0.2 * rng.normal(size=p.shape)
+    want = analyze_batch(p, n, mu=0.5, engine="reference")
+    monkeypatch.setattr(theorem1, "closure_serial", spy)
+    monkeypatch.setattr(kernels, "COMPILE_AFTER", 100)
+    monkeypatch.setattr(kernels, "_uncompiled_uses", 0)
+    monkeypatch.setattr(kernels, "_announced", True)  # no notice in the test's output
+    monkeypatch.setattr(kernels, "cached", lambda kernel: False)
+    for _ in range(2):  # 80 grasps: within the budget
+        got = analyze_batch(p, n, mu=0.5)
+        assert not calls
+        assert got.code.tolist() == want.code.tolist()
+        assert got.rank.tolist() == want.rank.tolist()
+        np.testing.assert_array_equal(got.margin, want.margin)
+    assert len(set(want.code.tolist())) >= 2  # closed grasps and others
+    got = analyze_batch(p, n, mu=0.5)  # 120: past it
+    assert calls == [40]
+    assert got.code.tolist() == want.code.tolist()
+    monkeypatch.setattr(kernels, "cached", lambda kernel: True)
+    monkeypatch.setattr(kernels, "_uncompiled_uses", 0)
+    analyze_batch(p[:1], n[:1], mu=0.5)
+    assert calls == [40, 1]

@@ -86,9 +86,16 @@ def _demo_objects() -> None:
     print(f"  three hard fingers, one on top, two below (§5.3, class "
           f"{three.grasp_class.number}): smallest region {three.min_area:.3g}; certified: "
           f"{three.certify().holds} ({three.certify().method})")
+    from .. import kernels
+    from ..analysis.batch import analyze_batch
     from ..gripper.jaw import ParallelJaw
     from ..gripper.pipeline import label_poses
 
+    # the last part compiles the batch kernels for this machine, once (the README's quick
+    # start): the Theorem 1 verdict of batches too, not only after its first grasps
+    kernels.COMPILE_AFTER = 0
+    analyze_batch(np.array([[[1.0, 0, 0], [-1, 0.5, 0], [-1, -0.5, 0.1]]]),
+                  np.array([[[1.0, 0, 0], [-1, 0, 0], [-1, 0, 0]]]), mu=0.5)
     jaw = label_poses(cube, ParallelJaw(3.0), 0.5, 20, seed=0).summary
     print(f"== the cube in a parallel-jaw hand opening 3 (docs/gripper.md), mu 0.5 ==\n"
           f"  20 poses the hand can take: closure and clear {jaw['closure_clear']}, least "

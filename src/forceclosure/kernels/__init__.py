@@ -64,22 +64,31 @@ def cached(kernel) -> bool:
     return os.path.exists(index)
 
 
-#: Single grasps left to the reference path (milliseconds each) on a machine with no compiled
-#: kernel cached yet, before :func:`use_compiled` has them compiled (about a minute, once per
-#: installation): a first answer at once, the kernels' microseconds for longer runs.
+#: Grasps left to the reference path (milliseconds each) on a machine with no compiled kernel
+#: cached yet, before :func:`use_compiled` has them compiled (about a minute, once per
+#: installation): single grasps and small batches get a first answer at once, longer runs
+#: the kernels' microseconds. 0: compile at the first use (``forceclosure warmup``, tests).
 COMPILE_AFTER = 100
 _uncompiled_uses = 0
 
 
-def use_compiled(*kernels) -> bool:
-    """Whether a single-grasp call should run these kernels: yes once they are compiled (on
-    disk or in this process); before that, no for the first :data:`COMPILE_AFTER` calls of
-    the process (the caller takes its reference path), then yes, with the compile notice."""
+def use_compiled(*kernels, grasps: int = 1) -> bool:
+    """Whether a call deciding ``grasps`` grasps should run these kernels: yes once they are
+    compiled (on disk or in this process); before that, no while the process has left at
+    most :data:`COMPILE_AFTER` grasps to the reference path, these included (the caller
+    takes its reference path), then yes, with the compile notice.
+
+    Examples
+    --------
+    >>> from forceclosure.kernels import theorem1
+    >>> use_compiled(theorem1.closure_serial) in (True, False)
+    True
+    """
     global _uncompiled_uses
     if all(cached(kernel) for kernel in kernels):
         return True
-    _uncompiled_uses += 1
-    if _uncompiled_uses <= COMPILE_AFTER:
+    if _uncompiled_uses + grasps <= COMPILE_AFTER:
+        _uncompiled_uses += grasps
         return False
     announce_compiling(*kernels)
     return True
