@@ -294,7 +294,8 @@ def test_time_limit_on_the_pool_then_retry(tmp_path):
     labels file and no rows; --retry-failed with room to spare labels it, and the rows
     then equal its labels file."""
     out = tmp_path / "out"
-    slow = GripperJob(width=WIDTH, mu=MU, count=20_000, seed=SEED, timeout=0.05)
+    # 3,000 poses with epsilon: far over 0.05 s, and a retry that takes seconds, not minutes
+    slow = GripperJob(width=WIDTH, mu=MU, count=3_000, seed=SEED, timeout=0.05)
     first = run_dataset(["cube", str(MESH)], out, slow, workers=2, progress=False,
                         log=lambda line: None)
     assert first.timeout >= 1
@@ -304,11 +305,11 @@ def test_time_limit_on_the_pool_then_retry(tmp_path):
     assert not set(late.path) & set(pd.read_parquet(out / "grasps.parquet").path)
     npz = list((out / "objects").glob("*.npz"))
     assert len(npz) == first.done
-    again = run_dataset(["cube", str(MESH)], out, GripperJob(width=WIDTH, mu=MU, count=20_000,
+    again = run_dataset(["cube", str(MESH)], out, GripperJob(width=WIDTH, mu=MU, count=3_000,
                                                              seed=SEED),
                         workers=2, progress=False, retry_failed=True)
     assert (again.done, again.computed) == (2, first.timeout)
     grasps = pd.read_parquet(out / "grasps.parquet")
     z = _npz(out, MESH)
     mine = grasps[grasps.path == str(MESH.resolve())]
-    assert np.array_equal(mine.epsilon.to_numpy(), z["epsilon"]) and len(mine) == 20_000
+    assert np.array_equal(mine.epsilon.to_numpy(), z["epsilon"]) and len(mine) == 3_000
