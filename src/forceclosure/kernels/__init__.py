@@ -76,14 +76,8 @@ def use_compiled(*kernels, grasps: int = 1) -> bool:
     """Whether a call deciding ``grasps`` grasps should run these kernels: yes once they are
     compiled (on disk or in this process); before that, no while the process has left at
     most :data:`COMPILE_AFTER` grasps to the reference path, these included (the caller
-    takes its reference path), then yes, with the compile notice.
-
-    Examples
-    --------
-    >>> from forceclosure.kernels import theorem1
-    >>> use_compiled(theorem1.closure_serial) in (True, False)
-    True
-    """
+    takes its reference path), then yes, with the compile notice (tested in
+    ``tests/test_startup.py``)."""
     global _uncompiled_uses
     if all(cached(kernel) for kernel in kernels):
         return True
