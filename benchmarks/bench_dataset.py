@@ -27,7 +27,7 @@ from pathlib import Path
 import pybullet_data
 from _tables import parse, table
 
-from forceclosure.app.dataset import Job, run_dataset
+from forceclosure.datasets import Job, run_dataset
 from forceclosure.errors import InputError
 from forceclosure.objects.io import load_object
 from forceclosure.synthesis.best import synthesize

@@ -1,6 +1,6 @@
 """The package's layering (docs: DESIGN §5, issue 16): no import cycles, layers that import
-nothing above them (geometry → contacts → analysis → synthesis/gripper → pictures/io → app), and
-a declared public surface (``__all__``) in every public module.
+nothing above them (geometry → contacts → analysis → synthesis/gripper → io → pictures →
+datasets → app), and a declared public surface (``__all__``) in every public module.
 
 The import graph is read from the source with :mod:`ast`, counting every ``import`` and
 ``from ... import`` wherever it stands (module level, inside functions, under
@@ -190,6 +190,7 @@ LAYERS = [
     ["gripper"],  # may use synthesis (antipodal sampling uses its patches), never the reverse
     ["io"],
     ["pictures"],  # draws grasps as the exports write them (io.export)
+    ["datasets"],  # one job over many objects: synthesis, analysis, gripper labels, pictures
     ["app"],
 ]
 

@@ -42,10 +42,9 @@ def test_lone_surrogates_are_escaped_and_plain_text_is_left_alone():
 def test_the_dataset_logs_with_the_same_rule(tmp_path):
     """A file whose name holds a right-to-left override and an escape fails to load; its log
     line shows both escaped (the dataset's own rule once let the override through)."""
-    from forceclosure.app import dataset
-    from forceclosure.app.dataset import Job, run_dataset
+    from forceclosure.datasets import Job, run, run_dataset
 
-    assert dataset.printable is printable
+    assert run.printable is printable
     evil = tmp_path / "a\u202eltsx.\x1b[31m.stl"
     evil.write_bytes(b"solid nothing\n garbage \x00\n")
     lines: list[str] = []

@@ -20,7 +20,7 @@ import pybullet_data
 import pytest
 
 from forceclosure.app.cli import main
-from forceclosure.app.dataset import (
+from forceclosure.datasets import (
     Job,
     ObjectTimeout,
     deadline,
@@ -251,7 +251,7 @@ def test_a_time_limit_inside_compiled_code_is_a_timeout(monkeypatch):
     ``SystemError: ... returned a result with an exception set``, caused by the
     ObjectTimeout (seen on the pool with the compiled pad kernels): the record says
     'timeout', as for the limit anywhere else, not 'internal error'."""
-    from forceclosure.app import dataset
+    from forceclosure.datasets import one_object
 
     def compiled_call(obj, job):
         try:
@@ -260,10 +260,10 @@ def test_a_time_limit_inside_compiled_code_is_a_timeout(monkeypatch):
             raise SystemError("CPUDispatcher(<function line_pairs>) returned a result with "
                               "an exception set") from limit
 
-    monkeypatch.setattr(dataset, "_synthesize", compiled_call)
+    monkeypatch.setattr(one_object, "_synthesize", compiled_call)
     record = process_object("cube", Job(mu=0.5, top=1, timeout=60))
     assert record["status"] == "timeout" and "time limit of 60 s" in record["error"]
-    monkeypatch.setattr(dataset, "_synthesize", lambda obj, job: 1 / 0)
+    monkeypatch.setattr(one_object, "_synthesize", lambda obj, job: 1 / 0)
     record = process_object("cube", Job(mu=0.5, top=1, timeout=60))
     assert record["status"] == "failed" and "internal error: ZeroDivisionError" in \
         record["error"]

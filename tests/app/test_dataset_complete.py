@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 
 from forceclosure.app.cli import main
-from forceclosure.app.dataset import COLUMNS, Job, record_name, row_of, run_dataset
+from forceclosure.datasets import COLUMNS, Job, record_name, row_of, run_dataset
 from forceclosure.synthesis import best
 
 # an L of exact integer corners: at the origin Lemma 1 gives its three grasps for mu 0.4,

@@ -21,9 +21,8 @@ import psutil
 import pybullet_data
 import pytest
 
-import forceclosure.app.dataset as dataset
 from forceclosure.app.cli import main
-from forceclosure.app.dataset import Job, process_object, record_name, run_dataset
+from forceclosure.datasets import Job, pool, process_object, record_name, run_dataset
 from forceclosure.errors import InputError
 from forceclosure.objects.io import load_object
 
@@ -407,7 +406,7 @@ def test_concurrent_run_refused_and_killed_driver(tmp_path, urdf_truth, capsys):
 
 STUCK = '''
 import itertools
-import forceclosure.app.dataset as d
+import forceclosure.datasets.one_object as d
 
 _original = d._synthesize
 
@@ -451,7 +450,7 @@ def test_worker_stuck_in_compiled_code(tmp_path):
 def test_stopped_worker(tmp_path, monkeypatch, urdf_truth):
     """A worker stopped (SIGSTOP) mid-run is killed by the watchdog, its object run again;
     every object ends with its correct record."""
-    monkeypatch.setattr(dataset, "STALL_SECONDS", 1.0)
+    monkeypatch.setattr(pool, "STALL_SECONDS", 1.0)
     out = tmp_path / "out"
     me = psutil.Process()
     stopped: list[int] = []

@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 from forceclosure.app.cli import main
-from forceclosure.app.dataset import fingerprint, record_name, run_dataset
-from forceclosure.app.dataset_gripper import GripperJob, object_seed
+from forceclosure.datasets import GripperJob, fingerprint, record_name, run_dataset
+from forceclosure.datasets.gripper_job import object_seed
 from forceclosure.errors import InputError
 from forceclosure.gripper.jaw import ParallelJaw
 from forceclosure.gripper.labels import GraspLabels, grasp_labels

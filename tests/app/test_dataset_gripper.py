@@ -24,8 +24,7 @@ import pytest
 import trimesh
 
 from forceclosure.app.cli import main
-from forceclosure.app.dataset import fingerprint, record_name, run_dataset
-from forceclosure.app.dataset_gripper import GRASP_COLUMNS, GripperJob
+from forceclosure.datasets import GRASP_COLUMNS, GripperJob, fingerprint, record_name, run_dataset
 from forceclosure.gripper.jaw import ParallelJaw
 from forceclosure.gripper.labels import grasp_labels
 from forceclosure.objects.io import load_object

@@ -10,7 +10,7 @@ import pandas as pd
 import pytest
 
 from forceclosure.app.cli import main
-from forceclosure.app.dataset import expand_inputs
+from forceclosure.datasets import expand_inputs
 
 ARGS = ["--contact", "soft", "--mu", "0.5", "--top", "1", "--workers", "1", "--json"]
 

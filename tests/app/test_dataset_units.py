@@ -12,7 +12,7 @@ from pathlib import Path
 import pandas as pd
 import pyarrow.parquet as pq
 
-from forceclosure.app.dataset import COLUMNS, Job, record_name, run_dataset
+from forceclosure.datasets import COLUMNS, Job, record_name, run_dataset
 
 NS = 'xmlns="http://www.w3.org/2000/svg"'
 PLATE = "M10 10 H90 V40 H60 V30 H40 V40 H10 Z"  # a U-shaped plate, 80 x 30 user units

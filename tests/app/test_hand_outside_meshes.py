@@ -14,8 +14,7 @@ import pybullet_data
 import pytest
 
 from forceclosure.app.cli import main
-from forceclosure.app.dataset import run_dataset
-from forceclosure.app.dataset_gripper import GripperJob
+from forceclosure.datasets import GripperJob, run_dataset
 from forceclosure.errors import InputError
 from forceclosure.gripper.grippers import make_gripper
 

@@ -14,9 +14,13 @@ from types import SimpleNamespace
 import pytest
 
 from forceclosure import kernels
-from forceclosure.app import dataset, workers
-from forceclosure.app.dataset import Job, run_dataset
-from forceclosure.app.progress import ENVIRONMENT, ProgressLines, duration, every_from_environment
+from forceclosure.datasets import Job, one_object, pool, run, run_dataset, workers
+from forceclosure.datasets.progress import (
+    ENVIRONMENT,
+    ProgressLines,
+    duration,
+    every_from_environment,
+)
 from forceclosure.errors import InputError
 
 SOFT = Job(contact="soft", mu=0.5, top=1)
@@ -29,7 +33,7 @@ UNCACHED = SimpleNamespace(_cache=SimpleNamespace(_cache_file=SimpleNamespace(
 
 def done(path, job):
     """An object's record, at once (the driver's progress is what is tested)."""
-    return dataset._failed(Path(path), None, "done")
+    return one_object.failed_record(Path(path), None, "done")
 
 
 class Clock:
@@ -111,7 +115,7 @@ class FakeStderr(io.StringIO):
 def test_a_piped_run_prints_progress_lines(tmp_path, monkeypatch, terminal, progress, every,
                                            expected):
     monkeypatch.setattr(sys, "stderr", FakeStderr(terminal))
-    monkeypatch.setattr(dataset, "process_object", done)
+    monkeypatch.setattr(run, "process_object", done)
     said: list[str] = []
     summary = run_dataset(["square", "cube"], tmp_path, QUICK, workers=1,
                           progress=progress, progress_every=every, log=said.append)
@@ -134,7 +138,7 @@ def test_a_run_in_this_process_says_when_it_compiles(tmp_path, monkeypatch):
         order.append(f"object {path}")
         return done(path, job)
 
-    monkeypatch.setattr(dataset, "process_object", first_use)
+    monkeypatch.setattr(run, "process_object", first_use)
     summary = run_dataset(["cube", "square"], tmp_path, QUICK, workers=1, progress=False,
                           log=order.append)
     assert summary.done == 2
@@ -148,7 +152,7 @@ def test_a_pool_worker_tells_its_run_through_a_process_queue(monkeypatch):
     line naming the worker, however many kernels announce."""
     monkeypatch.setattr(kernels, "_announced", False)
     monkeypatch.setattr(kernels, "_tell", [])
-    context = dataset._context()
+    context = pool.pool_context()
     notices, counter = context.Queue(), context.Value("i", 0)
     said: list[str] = []
     relay = workers.Relay(notices, said.append)
@@ -171,13 +175,13 @@ def test_a_dask_worker_tells_its_run(tmp_path, monkeypatch):
     monkeypatch.setattr(kernels, "_announced", False)
     monkeypatch.setattr(kernels, "_tell", [])
     monkeypatch.setattr(workers, "_dask_told", [])
-    real = dataset.process_object
+    real = run.process_object
 
     def first_use(path, job):
         kernels.announce_compiling(UNCACHED)
         return real(path, job)
 
-    monkeypatch.setattr(dataset, "process_object", first_use)
+    monkeypatch.setattr(run, "process_object", first_use)
     said: list[str] = []
     with LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
                       dashboard_address=None) as cluster, Client(cluster) as client:

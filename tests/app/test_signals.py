@@ -81,7 +81,7 @@ import numba
 import numpy as np
 from forceclosure.app import cli, cmd_demo
 from forceclosure.app import interrupt
-from forceclosure.app.interrupt import holding
+from forceclosure.files.saves import holding
 
 interrupt.GRACE = 0.1  # the save's call below outlasts it
 
@@ -135,7 +135,7 @@ def test_ctrl_c_during_a_save_waits_for_it(tmp_path):
 #: call of seconds inside patient(), which marks its return in argv[1].
 PATIENT = SPIN + """
 from forceclosure.app import interrupt
-from forceclosure.app.interrupt import patient
+from forceclosure.files.saves import patient
 
 interrupt.GRACE = 0.1  # the call below outlasts it
 
@@ -233,14 +233,15 @@ def test_ctrl_c_stops_synthesize_within_seconds():
 
 WORKER_KILLED = """
 import os, signal, sys
-from forceclosure.app.dataset import Job, _context, _worker_init
+from forceclosure.datasets import Job
+from forceclosure.datasets.pool import pool_context, worker_init
 
 def work():
-    _worker_init(Job(), ())  # a pool worker's start: numba's threads, one of them
+    worker_init(Job(), ())  # a pool worker's start: numba's threads, one of them
     os.kill(os.getpid(), signal.SIGKILL)  # then ended as a pool ends one: no exit handlers
 
 if __name__ == "__main__":
-    worker = _context().Process(target=work)
+    worker = pool_context().Process(target=work)
     worker.start()
     worker.join()
     print("worker exit", worker.exitcode, file=sys.stderr)

@@ -18,7 +18,8 @@ import trimesh
 from test_outer_surface import distance_to_triangles, original_pieces, winding_number
 
 from forceclosure.app.cli import main
-from forceclosure.app.dataset import Job, _check_job, process_object
+from forceclosure.datasets import Job, process_object
+from forceclosure.datasets.records import check_job
 from forceclosure.errors import InputError
 from forceclosure.objects import Polyhedron
 from forceclosure.objects.io import load_object
@@ -172,9 +173,9 @@ def test_dataset_jobs_opt_in(tmp_path):
     old = Job().identity()
     del old["allow_open"]
     (tmp_path / "job.json").write_text(json.dumps(old))
-    _check_job(tmp_path, Job())
+    check_job(tmp_path, Job())
     with pytest.raises(InputError, match="allow_open False there, True here"):
-        _check_job(tmp_path, Job(allow_open=True))
+        check_job(tmp_path, Job(allow_open=True))
     out = tmp_path / "run"
     assert main(["dataset", MUG, "--out", str(out), "--allow-open", "--contact", "soft",
                  "--mu", "0.5", "--top", "1", "--samples", "2000", "--workers", "1"]) == 0

@@ -14,12 +14,12 @@ import signal
 import sys
 from typing import Any
 
+from ..datasets.progress import bar_size
 from ..errors import InputError, clip, printable
 from ..files.read import read_text
 from ..tolerance import TOLERANCE
 from ..verdicts import VerdictCode
 from .common import error
-from .progress import bar_size
 
 __all__ = ["ANY_POSITIVE", "add_parser", "analyze_file", "run"]
 
@@ -127,8 +127,8 @@ def _analyze_arrays(args: argparse.Namespace) -> int:
     import numpy as np
     from tqdm import tqdm
 
+    from ..files.saves import patient
     from ..io.grasp_arrays import ERROR, AnalysisInterrupted, analyze_npz, open_npz
-    from .interrupt import patient
 
     if args.chunk < 1:
         raise InputError(f"--chunk must be a positive number of grasps, got {args.chunk}")
@@ -228,7 +228,7 @@ def _partial_results(out: str, source: str, epsilon: bool):
 
 def _save(results, out: str) -> None:
     """Save with Ctrl-C held off: a second Ctrl-C must not lose what the first one saves."""
-    from .interrupt import holding
+    from ..files.saves import holding
 
     try:
         previous = signal.signal(signal.SIGINT, signal.SIG_IGN)

@@ -1,5 +1,5 @@
 """``forceclosure dataset INPUT... --out DIR``: synthesis, analysis or labelled jaw poses over
-many objects, resumably (:func:`forceclosure.app.dataset.run_dataset`)."""
+many objects, resumably (:func:`forceclosure.datasets.run.run_dataset`)."""
 
 from __future__ import annotations
 
@@ -79,8 +79,8 @@ def add_parser(sub: Any) -> None:
 def _dataset_job(args: argparse.Namespace):
     """The dataset's job: regions (synthesis or analysis; options not given take Job's
     defaults, those of synthesize) or, with --gripper, labelled jaw poses."""
-    from .dataset import Job
-    from .dataset_gripper import GripperJob
+    from ..datasets.gripper_job import GripperJob
+    from ..datasets.job import Job
     from .dataset_options import given_grasps_options, grasps_job_options
 
     regions = {"--fingers": args.fingers, "--top": args.top, "--margin": args.margin,
@@ -125,7 +125,7 @@ def _dataset_job(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace) -> int:
-    from .dataset import run_dataset
+    from ..datasets.run import run_dataset
 
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers must be at least 1, got {args.workers}")
@@ -179,7 +179,7 @@ def _dataset_exports(out: str, job: Any) -> dict[str, Any] | None:
              *((k, getattr(job, k, None)) for k in ("plot", "html") if getattr(job, k, None))]
     if not kinds:
         return None
-    from .dataset_options import EXPORTS_FILE
+    from ..datasets.inputs import EXPORTS_FILE
 
     try:
         with open(os.path.join(out, EXPORTS_FILE), encoding="utf-8") as f:

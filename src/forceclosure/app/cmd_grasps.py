@@ -11,11 +11,11 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from typing import Any
 
+from ..datasets.progress import bar_size
 from ..errors import InputError, printable
 from ..extras import require
 from .common import outside_meshes_option
 from .dataset_options import DEFAULT_F_MAX, add_robust_options, robust_settings, task_settings
-from .progress import bar_size
 
 __all__ = ["add_parser", "run", "shared_js"]
 

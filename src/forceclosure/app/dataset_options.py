@@ -2,7 +2,7 @@
 
 Same names, meanings and defaults as ``grasps``'s; given without ``--gripper`` they are
 refused. Light to import (no numpy: ``forceclosure --help`` loads nothing heavy); the job
-is :class:`forceclosure.app.dataset_gripper.GripperJob`.
+is :class:`forceclosure.datasets.gripper_job.GripperJob`.
 """
 
 from __future__ import annotations
@@ -13,13 +13,9 @@ from typing import Any
 
 from ..errors import InputError
 
-__all__ = ["DEFAULT_F_MAX", "EXPORTS_FILE", "GRASPS_OPTIONS", "add_grasps_options",
+__all__ = ["DEFAULT_F_MAX", "GRASPS_OPTIONS", "add_grasps_options",
            "add_robust_options", "given_grasps_options", "grasps_job_options", "robust_settings",
            "task_settings"]
-
-#: The report of a gripper dataset's exports (``--export``), in its folder.
-EXPORTS_FILE = "exports.json"
-
 
 #: ``dataset`` options that are ``grasps``'s, with the same names, meanings and defaults
 #: (:func:`add_grasps_options`), as (flag, attribute, is a switch).

@@ -151,60 +151,16 @@ def run(args: argparse.Namespace) -> int:
     return _report(args, [entry], failed=0)
 
 
-def _source(labels: Any, args: argparse.Namespace, record: dict[str, Any] | None,
-            job: dict[str, Any]) -> tuple[Any, dict[str, Any]]:
-    """The object of ``labels`` and the options to read it with."""
-    from ..io.export import object_source
-
-    if args.object is not None:
-        return args.object, {"part": args.part,
-                             "allow_outside_meshes": args.allow_outside_meshes}
-    if record is not None:
-        return record.get("path"), {"allow_open": bool(job.get("allow_open", False)),
-                                    "allow_outside_meshes":
-                                        bool(job.get("allow_outside_meshes", False))}
-    found = object_source(labels)
-    where = labels.meta.get("object_source") or {}
-    options = {k: where[k] for k in ("part", "allow_open", "allow_outside_meshes")
-               if k in where} if found in (where.get("path"), where.get("name")) else {}
-    return found, options
-
-
 def export_one(args: argparse.Namespace, labels_file: str, graspnet: str | None,
                acronym: str | None, record: dict[str, Any] | None,
                job: dict[str, Any] | None = None) -> dict[str, Any]:
-    """Everything computed, then the files written: the object's summary entry."""
-    import numpy as np
+    """:func:`~forceclosure.io.label_files.export_labels_file` with the command's options."""
+    from ..io.label_files import export_labels_file
 
-    from ..files.atomic import atomic_write
-    from ..gripper.labels import GraspLabels
-    from ..io.export import acronym_object, graspnet_array, save_acronym
-
-    labels = GraspLabels.load(labels_file)
-    entry: dict[str, Any] = {"labels": labels_file, "poses": len(labels)}
-    array = found = None
-    if graspnet:
-        array = graspnet_array(labels, score=args.graspnet_score)
-    if acronym:
-        source, options = _source(labels, args, record, job or {})
-        if source is None:
-            raise InputError(f"{labels_file}: its meta does not locate the object the labels "
-                             f"were made on (object {labels.meta.get('object')!r}); name it "
-                             "with --object FILE")
-        found = acronym_object(source, acronym, args.mesh_root, **options)
-    if graspnet:
-        assert array is not None  # computed above whenever graspnet is given
-        with atomic_write(graspnet) as f:
-            np.save(f, array)
-        entry["graspnet"] = {"file": graspnet, "scored": int(np.sum(array[:, 0] >= 0))}
-    if acronym:
-        assert found is not None  # found above whenever acronym is given (or raised)
-        save_acronym(acronym, labels, found)
-        entry["acronym"] = {"file": acronym, "object_file": found.file, "scale": found.scale,
-                            "mesh_root": found.mesh_root,
-                            "surface_written": found.mesh if found.reason else None,
-                            "note": found.note}
-    return entry
+    return export_labels_file(labels_file, graspnet, acronym, score=args.graspnet_score,
+                              mesh_root=args.mesh_root, obj=args.object, part=args.part,
+                              allow_outside_meshes=args.allow_outside_meshes, record=record,
+                              job=job)
 
 
 def _run_folder(args: argparse.Namespace, folder: Path) -> int:

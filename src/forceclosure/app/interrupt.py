@@ -12,13 +12,15 @@ that SIGINT is handled at once; then it
 2. waits :data:`GRACE` seconds for the worker to take it (to run Python
    again), then as long as the worker ends on its own (its Ctrl-C path: a
    pool stopped, tables written); a second Ctrl-C ends the process then,
-   unless the worker is inside :func:`holding` (a save: never cut short);
+   unless the worker is inside :func:`~forceclosure.files.saves.holding` (a save:
+   never cut short);
 3. if the worker has not taken it (a compiled call that has not returned),
    prints ``forceclosure: interrupted``, flushes, and ends the process with
-   status 130 (``os._exit``) -- unless the command is inside :func:`patient`
-   (it saves its work when interrupted): then it says it waits for the call,
-   and a second Ctrl-C ends the process. Files are written atomically (a temporary,
-   then a rename), so a write the exit cuts short never replaces a good file.
+   status 130 (``os._exit``) -- unless the command is inside
+   :func:`~forceclosure.files.saves.patient` (it saves its work when interrupted):
+   then it says it waits for the call, and a second Ctrl-C ends the process. Files
+   are written atomically (a temporary, then a rename), so a write the exit cuts
+   short never replaces a good file.
 """
 
 from __future__ import annotations
@@ -28,71 +30,19 @@ import os
 import sys
 import threading
 import time
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager, suppress
+from collections.abc import Callable
+from contextlib import suppress
 from typing import Any
 
-__all__ = ["GRACE", "CommandInterrupted", "holding", "patient", "run_interruptible", "saving"]
+from ..files.saves import patient_blocks, saving
+
+__all__ = ["GRACE", "CommandInterrupted", "run_interruptible"]
 
 #: Seconds a command gets after Ctrl-C to end on its own (its compiled call to return and
 #: the saving to begin) before the process exits.
 GRACE = 1.5
 #: Seconds between two looks of the waiting main thread.
 SLICE = 0.05
-
-_held: list[object] = []  # one token per save in progress (list.append/remove: atomic)
-
-
-@contextmanager
-def holding() -> Iterator[None]:
-    """A block that Ctrl-C never cuts short (a save of work done): the process waits
-    for it before exiting on Ctrl-C.
-
-    Examples
-    --------
-    >>> with holding():
-    ...     saving()
-    True
-    >>> saving()
-    False
-    """
-    token = object()
-    try:
-        _held.append(token)  # inside the try: an exception after it still removes it
-        yield
-    finally:
-        with suppress(ValueError):
-            _held.remove(token)
-
-
-_patient: list[object] = []  # one token per block that saves its work when interrupted
-
-
-@contextmanager
-def patient() -> Iterator[None]:
-    """A block that saves the work done when interrupted (``analyze FILE.npz --out``):
-    on Ctrl-C the process waits for its compiled call to return, however long, saying so
-    in one line; a second Ctrl-C ends it at once, without that save.
-
-    Examples
-    --------
-    >>> with patient():
-    ...     bool(_patient)
-    True
-    """
-    token = object()
-    try:
-        _patient.append(token)
-        yield
-    finally:
-        with suppress(ValueError):
-            _patient.remove(token)
-
-
-def saving() -> bool:
-    """Whether a :func:`holding` block is running."""
-    return bool(_held)
-
 
 _received = threading.Event()
 
@@ -166,7 +116,7 @@ def run_interruptible(work: Callable[[], int], grace: float | None = None,
                 _raise_in(worker)
             if (deadline is not None and time.monotonic() > deadline and not saving()
                     and not _received.is_set()):  # still in a compiled call
-                if not _patient:
+                if not patient_blocks():
                     _exit(line)
                 if not told:
                     told = _say("forceclosure: stopping when the current step returns, "

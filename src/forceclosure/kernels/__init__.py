@@ -32,7 +32,7 @@ _tell: list[Callable[[str], object]] = []
 def on_compiling(tell: Callable[[str], object] | None) -> Callable[[str], object] | None:
     """Have :func:`announce_compiling` call ``tell`` with its line instead of logging it
     (None: log it again); returns the callback this replaces. A dataset's workers tell
-    their run this way (:mod:`forceclosure.app.workers`).
+    their run this way (:mod:`forceclosure.datasets.workers`).
 
     Examples
     --------

@@ -1,6 +1,6 @@
 """Datasets of labelled parallel-jaw grasps: ``forceclosure dataset --gripper NAME``.
 
-The gripper job of :func:`forceclosure.app.dataset.run_dataset`: on every
+The gripper job of :func:`forceclosure.datasets.run.run_dataset`: on every
 object of a set, :func:`forceclosure.gripper.labels.grasp_labels` samples ``count``
 jaw poses the hand (a built-in or the generic one) can take and
 labels them (verdict with exact cones, least friction μ*, Ferrari–Canny ε,
@@ -20,7 +20,7 @@ This job adds, in ``DIR``,
   every run, written atomically.
 
 Each object's sampling seed is :func:`object_seed` of the job's seed and
-the object's fingerprint (:func:`forceclosure.app.dataset.fingerprint`: a
+the object's fingerprint (:func:`forceclosure.datasets.inputs.fingerprint`: a
 SHA-256 of its file and of the meshes a URDF names): distinct objects get
 distinct seeds, whatever their order in the set or the other objects in
 it, and the seed changes exactly when the object does.
@@ -40,7 +40,7 @@ import numpy as np
 from ..errors import InputError, OutputError
 from ..extras import require
 from ..verdicts import VERDICT_WORDS
-from .dataset_options import EXPORTS_FILE
+from .inputs import EXPORTS_FILE
 
 __all__ = ["EXPORTS_FILE", "GRASP_COLUMNS", "GripperJob", "object_seed", "read_labels",
            "sha256_of", "write_exports", "write_grasp_table", "write_pictures"]
@@ -109,7 +109,7 @@ class GripperJob:
     least_friction : bool
         Compute μ* (closed form for soft pads; milliseconds a grasp with a pad radius); False: NaN.
     timeout, allow_open, allow_outside_meshes
-        As for :class:`forceclosure.app.dataset.Job`.
+        As for :class:`forceclosure.datasets.job.Job`.
     collision, clearance, approaches, depths, tilt, epsilon
         As ``forceclosure grasps`` takes them (``--no-collision``, ``--clearance``,
         ``--approaches``, ``--depths``, ``--tilt``, ``--no-epsilon``;
@@ -150,7 +150,7 @@ class GripperJob:
     Examples
     --------
     >>> import tempfile
-    >>> from forceclosure.app.dataset import run_dataset
+    >>> from forceclosure.datasets import run_dataset
     >>> out = tempfile.mkdtemp()
     >>> job = GripperJob(width=3.0, mu=0.5, count=20)
     >>> run_dataset(["cube"], out, job, workers=1, progress=False).done
@@ -189,7 +189,7 @@ class GripperJob:
     hand_links: str | None = None
 
     #: What a job file written before these options existed means by their absence (the
-    #: defaults then, and now): :func:`forceclosure.app.dataset._check_job` fills them in.
+    #: defaults then, and now): :func:`forceclosure.datasets.records.check_job` fills them in.
     IDENTITY_DEFAULTS: ClassVar[dict[str, Any]] = {
         "clearance": None, "approaches": 12, "depths": 3, "tilt": 0.0, "epsilon": True,
         "robust": None, "metrics": False, "task": None, "exports": [],
@@ -198,11 +198,11 @@ class GripperJob:
 
     #: The options that only choose the outputs redrawn at the end of every run (pictures,
     #: exports): recorded in job.json, but a resumed run may change them
-    #: (:func:`forceclosure.app.dataset._comparable`).
+    #: (:func:`forceclosure.datasets.records.comparable`).
     OUTPUT_OPTIONS: ClassVar[tuple[str, ...]] = ("exports", "graspnet_score", "plot", "html",
                                                  "plot_top")
 
-    #: The dataset's dispatch key (:func:`forceclosure.app.dataset.process_object`).
+    #: The dataset's dispatch key (:func:`forceclosure.datasets.one_object.process_object`).
     mode: ClassVar[Literal["gripper"]] = "gripper"
 
     def __post_init__(self) -> None:
@@ -315,7 +315,7 @@ class GripperJob:
 
     def output_folders(self) -> list[str]:
         """The folders this job writes besides the dataset's own: its exports and pictures
-        (never read as objects: :func:`forceclosure.app.dataset.expand_inputs`)."""
+        (never read as objects: :func:`forceclosure.datasets.inputs.expand_inputs`)."""
         return [f for _, f in self.exports] + [f for f in (self.plot, self.html) if f]
 
     def _search(self) -> tuple[int | None, int | None]:
@@ -367,7 +367,7 @@ class GripperJob:
         (taken out and saved by :meth:`store`, in the driver)."""
         from ..gripper.labels import TASK_VERDICTS
         from ..gripper.pipeline import label_poses
-        from .dataset import fingerprint
+        from .inputs import fingerprint
 
         if obj.dim != 3:
             raise InputError(f"{path.name}: a polygon; a parallel-jaw gripper grasps meshes")
@@ -534,17 +534,14 @@ def write_exports(out: str | Path, records: Iterable[dict[str, Any]],
     labels file is kept (unless ``keep`` is False). Returns, and writes to
     ``out/exports.json``, the files written or kept per kind and the objects that could not
     be exported (one line each)."""
-    import argparse
     import json
 
     from ..files.outdir import write_atomically
-    from .export_cmd import export_one
+    from ..io.label_files import export_labels_file
 
     out = Path(out)
     exports = list(exports)
     job = json.loads((out / "job.json").read_text(encoding="utf-8"))
-    args = argparse.Namespace(graspnet_score=score, mesh_root=None, object=None, part=None,
-                              allow_outside_meshes=False)
     report: dict[str, Any] = {"files": {kind: 0 for kind, _ in exports}, "errors": []}
     for _, folder in exports:
         Path(folder).mkdir(parents=True, exist_ok=True)
@@ -560,9 +557,10 @@ def write_exports(out: str | Path, records: Iterable[dict[str, Any]],
                         and target.stat().st_mtime_ns >= labels_file.stat().st_mtime_ns):
                     report["files"][kind] += 1
                     continue
-                export_one(args, str(labels_file),
-                           str(target) if kind == "graspnet" else None,
-                           str(target) if kind == "acronym" else None, record, job)
+                export_labels_file(str(labels_file),
+                                   str(target) if kind == "graspnet" else None,
+                                   str(target) if kind == "acronym" else None, score=score,
+                                   record=record, job=job)
                 report["files"][kind] += 1
             except (InputError, OSError) as e:
                 report["errors"].append(f"{kind} {target.name}: {str(e).splitlines()[0]}")
