@@ -5,7 +5,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 # A dataset run whose standard error is not a terminal (captured, as here) prints a progress
 # line every 10 s; tests that count stderr lines must not depend on how long a run takes.
-# tests/app/test_progress.py sets its own intervals.
+# tests/datasets/test_progress.py sets its own intervals.
 os.environ.setdefault("FORCECLOSURE_PROGRESS_SECONDS", "inf")
 
 from hypothesis import HealthCheck, settings

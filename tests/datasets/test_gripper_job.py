@@ -254,7 +254,7 @@ def test_polygons_fail_alone_and_another_job_is_refused(tmp_path, capsys):
 def test_killed_run_resumes(tmp_path):
     """The command killed mid-way with its pool (SIGKILL), then run again: one record and
     one labels file per object, equal to a single-process run's, no temporary files."""
-    from test_dataset_faults import _strip, _tmp_files, _urdfs, _wait_for
+    from test_faults import _strip, _tmp_files, _urdfs, _wait_for
 
     inputs = [str(p) for p in _urdfs(8)]
     out = tmp_path / "killed"
