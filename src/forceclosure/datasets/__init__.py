@@ -94,10 +94,10 @@ __all__ = ["COLUMNS", "GRASP_COLUMNS", "GripperJob", "Job", "LabelJob", "ObjectT
 __getattr__, __dir__ = lazy_names(__name__, _HOME)
 
 if TYPE_CHECKING:
-    from .time_limit import ObjectTimeout, deadline
     from .gripper_job import GRASP_COLUMNS, GripperJob, read_labels
     from .inputs import expand_inputs, fingerprint, record_name
     from .job import Job, LabelJob
     from .one_object import process_object
     from .records import COLUMNS, row_of, write_table
     from .run import Summary, run_dataset
+    from .time_limit import ObjectTimeout, deadline

@@ -14,9 +14,9 @@ import numpy as np
 
 from ..errors import InputError
 from ..verdicts import Verdict, VerdictCode
-from .time_limit import ObjectTimeout, deadline, timed_out
 from .inputs import grasp_file_of, object_key
 from .job import Job, LabelJob
+from .time_limit import ObjectTimeout, deadline, timed_out
 
 __all__ = ["SURFACE_RTOL", "failed_record", "process_object", "surface_distance"]
 
