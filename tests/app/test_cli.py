@@ -94,13 +94,22 @@ def test_every_bad_file_is_covered():
 
 
 @pytest.mark.parametrize("name", sorted(EXPECTED))
-def test_bad_input_is_one_line_and_exit_2(name):
+def test_bad_input_is_one_line_and_exit_2(name, capsys):
+    assert main(["analyze", str(DATA / "bad" / name)]) == 2
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1 and captured.out == "", captured
+    assert EXPECTED[name] in lines[0], lines[0]
+
+
+def test_bad_input_in_a_real_process_is_one_line_and_exit_2():
+    """The same through the installed entry point, as a shell runs it: no traceback."""
+    name = "nan_point.json"
     proc = subprocess.run([sys.executable, "-m", "forceclosure.app.cli", "analyze",
                            str(DATA / "bad" / name)], capture_output=True, text=True)
     assert proc.returncode == 2, proc.stderr
     lines = proc.stderr.strip().splitlines()
-    assert len(lines) == 1, proc.stderr
-    assert "Traceback" not in proc.stderr
+    assert len(lines) == 1 and "Traceback" not in proc.stderr, proc.stderr
     assert EXPECTED[name] in lines[0], lines[0]
 
 

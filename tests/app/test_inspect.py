@@ -71,22 +71,28 @@ def test_the_corpus_is_covered():
 
 
 @pytest.mark.parametrize("name", sorted(DESCRIBED))
-def test_open_and_non_manifold_meshes_are_described_and_refused_by_synthesize(name):
+def test_open_and_non_manifold_meshes_are_described_and_refused_by_synthesize(name, capsys):
     refusal, facts = DESCRIBED[name]
-    proc = subprocess.run([sys.executable, "-m", "forceclosure.app.cli", "inspect",
-                           str(BAD / name)], capture_output=True, text=True)
-    assert proc.returncode == 0, proc.stderr
-    assert facts in proc.stdout and "synthesize and dataset need --allow-open" in proc.stdout
-    proc = subprocess.run([sys.executable, "-m", "forceclosure.app.cli", "synthesize",
-                           str(BAD / name), "--contact", "soft"],
-                          capture_output=True, text=True)
-    assert proc.returncode == 2, proc.stderr
-    lines = proc.stderr.strip().splitlines()
+    assert main(["inspect", str(BAD / name)]) == 0
+    out = capsys.readouterr().out
+    assert facts in out and "synthesize and dataset need --allow-open" in out
+    assert main(["synthesize", str(BAD / name), "--contact", "soft"]) == 2
+    lines = capsys.readouterr().err.strip().splitlines()
     assert len(lines) == 1 and refusal in lines[0] and "--allow-open" in lines[0], lines
 
 
 @pytest.mark.parametrize("name", sorted(EXPECTED))
-def test_bad_objects_one_line_exit_2(name):
+def test_bad_objects_one_line_exit_2(name, capsys):
+    assert main(["inspect", str(BAD / name)]) == 2
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1 and captured.out == "", captured
+    assert EXPECTED[name] in lines[0], lines[0]
+
+
+def test_a_bad_object_in_a_real_process_is_one_line_and_exit_2():
+    """The same through the installed entry point, as a shell runs it: no traceback."""
+    name = "truncated.stl"
     proc = subprocess.run([sys.executable, "-m", "forceclosure.app.cli", "inspect",
                            str(BAD / name)], capture_output=True, text=True)
     assert proc.returncode == 2, proc.stderr
