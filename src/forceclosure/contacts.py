@@ -122,6 +122,12 @@ class Cone:
     ``fit="circumscribed"`` puts its faces tangent to the true cone (it holds
     the cone). Planar cones are exact and ignore this.
 
+    References
+    ----------
+    .. [1] V.-D. Nguyen, "Constructing force-closure grasps", *Int. J. Robotics
+       Research* 7(3):3-16, 1988, §2.1 (the 3D friction
+       cone approximated by a polyhedral convex)
+
     Examples
     --------
     >>> round(Cone(edges=8, fit="circumscribed").radius(0.5), 6)  # mu / cos(pi/8)
@@ -346,6 +352,11 @@ def point_contact(point: ArrayLike, normal: ArrayLike, model: Model = "hard", mu
 
     The normal is normalised; a zero normal is refused.
 
+    References
+    ----------
+    .. [1] V.-D. Nguyen, "Constructing force-closure grasps", *Int. J. Robotics
+       Research* 7(3):3-16, 1988, §2.1, Fig. 2 and 3
+
     Examples
     --------
     >>> c = point_contact([1.0, 0.0], [2.0, 0.0], "hard", mu=0.5)
@@ -362,6 +373,11 @@ def edge_contact(start: ArrayLike, end: ArrayLike, normal: ArrayLike, model: Mod
     Its wrench convex is the convex sum of the primitive contacts at the two
     ends.
 
+    References
+    ----------
+    .. [1] V.-D. Nguyen, "Constructing force-closure grasps", *Int. J. Robotics
+       Research* 7(3):3-16, 1988, §2.1, Fig. 2 and 3
+
     Examples
     --------
     >>> edge_contact([0, -1], [1, -1], [0, -1], "frictionless").points.shape
@@ -373,6 +389,11 @@ def edge_contact(start: ArrayLike, end: ArrayLike, normal: ArrayLike, model: Mod
 def face_contact(vertices: Sequence[ArrayLike], normal: ArrayLike, model: Model = "hard",
                  mu: float = 0.0, torsion: float | None = None) -> Contact:
     """A contact over a planar face, given by its (convex hull) vertices (§2.1).
+
+    References
+    ----------
+    .. [1] V.-D. Nguyen, "Constructing force-closure grasps", *Int. J. Robotics
+       Research* 7(3):3-16, 1988, §2.1, Fig. 2 and 3
 
     Examples
     --------
@@ -387,6 +408,11 @@ def vertex_contact(point: ArrayLike, normals: Sequence[ArrayLike], model: Model 
                    mu: float = 0.0, torsion: float | None = None) -> Contact:
     """A soft finger on a vertex: the union of the friction cones of the faces
     (3-D) or edges (2-D) meeting there, a cone with a wider sector (§2.1).
+
+    References
+    ----------
+    .. [1] V.-D. Nguyen, "Constructing force-closure grasps", *Int. J. Robotics
+       Research* 7(3):3-16, 1988, §2.1, Fig. 2 and 3
 
     Examples
     --------
@@ -699,6 +725,12 @@ def generating_wrenches(contacts: Sequence[Contact], cone: Cone = Cone(),
     grasp itself (:func:`forceclosure.geometry.cones.fill_frame`, over every
     (point, normal) pair of every contact), so that the wrenches turn, move
     and scale with the grasp.
+
+    References
+    ----------
+    .. [1] V.-D. Nguyen, "Constructing force-closure grasps", *Int. J. Robotics
+       Research* 7(3):3-16, 1988, §2.1-2.2, Fig. 2
+       and 3
 
     Examples
     --------

@@ -244,6 +244,13 @@ def vector_closure(W: ArrayLike, tol: float = TOLERANCE,
     -------
     VectorClosure
 
+    References
+    ----------
+    .. [1] V.-D. Nguyen, "Constructing force-closure grasps", *Int. J. Robotics
+       Research* 7(3):3-16, 1988, §2.2, Theorem 1
+    .. [2] A. J. Goldman and A. W. Tucker, "Polyhedral convex cones", in *Linear
+       Inequalities and Related Systems*, Annals of Math. Studies 38, 1956 (Lemma 6)
+
     Examples
     --------
     The vertices of a triangle around the origin positively span the plane;
@@ -386,6 +393,12 @@ def force_direction_closure(W: ArrayLike, tol: float = TOLERANCE) -> bool:
     True iff the force parts of the wrenches positively span the force space
     (with margin ``tol``). Pure torques (zero force part) do not count.
 
+    References
+    ----------
+    .. [1] V.-D. Nguyen, "Constructing force-closure grasps", *Int. J. Robotics
+       Research* 7(3):3-16, 1988, §3.1, Theorem 2
+       and Corollary 1
+
     Examples
     --------
     >>> W = [[1, -1, 0, 0], [0, 0, 1, -1], [0, 0, 0, 0]]   # (fx, fy, tau) columns
@@ -404,6 +417,12 @@ def torque_closure(W: ArrayLike) -> bool:
 
     True iff ``(0, +e_j)`` and ``(0, -e_j)`` lie in the cone of the wrenches
     for every torque axis ``e_j``.
+
+    References
+    ----------
+    .. [1] V.-D. Nguyen, "Constructing force-closure grasps", *Int. J. Robotics
+       Research* 7(3):3-16, 1988, §3.2, Theorem 3
+       and Corollary 2
 
     Examples
     --------
@@ -728,6 +747,14 @@ def analyze(contacts: Sequence[Contact], *, cone: str | Cone = "exact", tol: flo
     Returns
     -------
     Analysis
+
+    References
+    ----------
+    .. [1] V.-D. Nguyen, "Constructing force-closure grasps", *Int. J. Robotics
+       Research* 7(3):3-16, 1988, §2.2, Theorem 1 (the
+       verdict); §3, Theorems 2 and 3 (its explanation)
+    .. [2] A. J. Goldman and A. W. Tucker, "Polyhedral convex cones", in *Linear
+       Inequalities and Related Systems*, Annals of Math. Studies 38, 1956 (Lemma 6)
 
     Examples
     --------

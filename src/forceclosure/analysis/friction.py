@@ -66,6 +66,14 @@ def least_friction(contacts: Sequence[Contact], *, cone: str | Cone = "exact",
         0 when the grasp is force-closure without friction; ``inf`` when no
         friction up to :data:`MU_MAX` closes it. The grasp is force-closure for any larger value.
 
+    References
+    ----------
+    .. [1] V.-D. Nguyen, "Constructing force-closure grasps", *Int. J. Robotics
+       Research* 7(3):3-16, 1988, §4.1, Corollary 3
+       (two opposing fingers, in closed form)
+    .. [2] R. M. Murray, Z. Li and S. S. Sastry, *A Mathematical Introduction to Robotic
+       Manipulation*, CRC Press, 1994, ch. 5
+
     Examples
     --------
     >>> from forceclosure import point_contact

@@ -105,6 +105,13 @@ def grasp_matrix(points: ArrayLike, normals: ArrayLike,
     Columns per contact as in the module's docstring, contact after contact;
     torques about the contacts' centroid per their largest distance from it.
 
+    References
+    ----------
+    .. [1] R. M. Murray, Z. Li and S. S. Sastry, *A Mathematical Introduction to Robotic
+       Manipulation*, CRC Press, 1994, ch. 5
+    .. [2] Z. Li and S. S. Sastry, "Task-oriented optimal grasping by multifingered
+       robot hands", *IEEE J. Robotics and Automation* 4(1):32-44, 1988
+
     Examples
     --------
     Two hard fingers pinching the unit cube: six columns, rank 5 (nothing
@@ -160,6 +167,15 @@ def grasp_metrics(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
 
     The singular values take one batched SVD; the volume one Qhull call per
     grasp (about a millisecond for a spatial pair).
+
+    References
+    ----------
+    .. [1] Z. Li and S. S. Sastry, "Task-oriented optimal grasping by multifingered
+       robot hands", *IEEE J. Robotics and Automation* 4(1):32-44, 1988
+    .. [2] J. K. Salisbury and J. J. Craig, "Articulated hands: force control and
+       kinematic issues", *Int. J. Robotics Research* 1(1):4-17, 1982
+    .. [3] M. A. Roa and R. Suárez, "Grasp quality measures: review and performance",
+       *Autonomous Robots* 38(1):65-88, 2015
 
     Examples
     --------

@@ -129,6 +129,12 @@ def motion_of(twist: ArrayLike, *, both_ways: bool = False, length_scale: float 
     rtol : float
         The tolerance of the rule (default: :data:`forceclosure.tolerance.TOLERANCE`).
 
+    References
+    ----------
+    .. [1] V.-D. Nguyen, "Constructing force-closure grasps", *Int. J. Robotics
+       Research* 7(3):3-16, 1988, §2.2 (twists
+       reciprocal and repelling to the wrench convex)
+
     Examples
     --------
     >>> m = motion_of([1, 0, 0, 0, 0.2, -0.3])   # spin about x through (0, 0.3, 0.2)

@@ -106,6 +106,13 @@ def epsilon(contacts: Sequence[Contact], norm: Literal["L1", "Linf"] = "L1", *, 
         ``value`` is 0 for a grasp that is not force-closure (with exact
         cones, or with the pyramids it is measured on).
 
+    References
+    ----------
+    .. [1] C. Ferrari and J. Canny, "Planning optimal grasps", *Proc. IEEE ICRA*, 1992,
+       pp. 2290-2295
+    .. [2] A. T. Miller and P. K. Allen, "GraspIt! A versatile simulator for robotic
+       grasping", *IEEE Robotics & Automation Magazine* 11(4):110-122, 2004
+
     Examples
     --------
     Two fingers pinching head-on with friction 0.5: the hull of the four

@@ -225,6 +225,13 @@ def resist_wrench(points: ArrayLike, normals: ArrayLike, wrench: ArrayLike, *,
     -------
     TaskWrench
 
+    References
+    ----------
+    .. [1] C. Borst, M. Fischer and G. Hirzinger, "Grasp planning: how to choose a
+       suitable task wrench space", *Proc. IEEE ICRA*, 2004
+    .. [2] Z. Li and S. S. Sastry, "Task-oriented optimal grasping by multifingered
+       robot hands", *IEEE J. Robotics and Automation* 4(1):32-44, 1988
+
     Examples
     --------
     Two soft pads squeezing a 2-unit box across x, friction 0.5, at most 10 N

@@ -124,6 +124,14 @@ def sample_antipodal(obj: Any, mu: float, count: int, seed: int = 0,
         that reason in ``rejected``, as are rays entering an open mesh
         through a hole).
 
+    References
+    ----------
+    .. [1] J. Mahler et al., "Dex-Net 2.0: Deep learning to plan robust grasps with
+       synthetic point clouds and analytic grasp metrics", *Robotics: Science and
+       Systems*, 2017
+    .. [2] R. M. Murray, Z. Li and S. S. Sastry, *A Mathematical Introduction to Robotic
+       Manipulation*, CRC Press, 1994, ch. 5
+
     Examples
     --------
     >>> s = sample_antipodal("cube", mu=0.3, count=50, seed=1, width_max=3.0)

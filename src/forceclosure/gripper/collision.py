@@ -185,6 +185,11 @@ def collides(obj: Any, poses: Any, gripper: ParallelJaw, clearance: float | None
     -------
     bool for one JawPose, else an ``(N,)`` bool array.
 
+    References
+    ----------
+    .. [1] J. Pan, S. Chitta and D. Manocha, "FCL: A general purpose library for
+       collision and proximity queries", *Proc. IEEE ICRA*, 2012
+
     Examples
     --------
     The 2-unit cube pinched across its x faces 0.8 above its middle: coming

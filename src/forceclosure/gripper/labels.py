@@ -361,6 +361,13 @@ def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str 
     130 µs a closed soft pair) is most of the rest: ``epsilon=False`` skips
     it (NaN for every grasp).
 
+    References
+    ----------
+    .. [1] V.-D. Nguyen, "Constructing force-closure grasps", *Int. J. Robotics
+       Research* 7(3):3-16, 1988, Corollary 3
+    .. [2] C. Ferrari and J. Canny, "Planning optimal grasps", *Proc. IEEE ICRA*, 1992,
+       pp. 2290-2295
+
     Examples
     --------
     A pinch across the 2-unit cube, the jaws' line tilted by 0.2 / 2: μ* is
@@ -445,6 +452,17 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
     ``support`` (a :class:`~forceclosure.gripper.support.SupportPlane`): a table the hand
     must not cross (:func:`~forceclosure.gripper.hand_poses.search_poses`), recorded in
     ``meta["support_plane"]``.
+
+    References
+    ----------
+    .. [1] V.-D. Nguyen, "Constructing force-closure grasps", *Int. J. Robotics
+       Research* 7(3):3-16, 1988, Corollary 3 (two
+       opposing fingers)
+    .. [2] C. Ferrari and J. Canny, "Planning optimal grasps", *Proc. IEEE ICRA*, 1992,
+       pp. 2290-2295
+    .. [3] J. Mahler et al., "Dex-Net 2.0: Deep learning to plan robust grasps with
+       synthetic point clouds and analytic grasp metrics", *Robotics: Science and
+       Systems*, 2017
 
     Examples
     --------

@@ -289,6 +289,14 @@ def robust_labels(obj: Any, poses: Any, gripper: ParallelJaw, mu: float, *,
     progress : callable, optional
         Called with the number of samples just labelled.
 
+    References
+    ----------
+    .. [1] J. Weisz and P. K. Allen, "Pose error robust grasping from contact wrench
+       space metrics", *Proc. IEEE ICRA*, 2012
+    .. [2] J. Mahler et al., "Dex-Net 2.0: Deep learning to plan robust grasps with
+       synthetic point clouds and analytic grasp metrics", *Robotics: Science and
+       Systems*, 2017
+
     Examples
     --------
     A head-on pinch across the 2-unit cube with small pads stays closed under

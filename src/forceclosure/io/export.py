@@ -207,6 +207,11 @@ def graspnet_array(labels: Any, gripper: ParallelJaw | None = None, score: str =
     object_id : int
         The last column (graspnetAPI's default for no object is -1).
 
+    References
+    ----------
+    .. [1] H.-S. Fang, C. Wang, M. Gou and C. Lu, "GraspNet-1Billion: A large-scale
+       benchmark for general object grasping", *Proc. IEEE/CVF CVPR*, 2020
+
     Examples
     --------
     >>> from forceclosure.gripper.labels import grasp_labels
@@ -251,7 +256,13 @@ def graspnet_array(labels: Any, gripper: ParallelJaw | None = None, score: str =
 
 def save_graspnet(path: str, labels: Any, gripper: ParallelJaw | None = None,
                   score: str = "friction", object_id: int = -1) -> None:
-    """Write :func:`graspnet_array` to ``path`` (``.npy``), atomically."""
+    """Write :func:`graspnet_array` to ``path`` (``.npy``), atomically.
+
+    References
+    ----------
+    .. [1] H.-S. Fang, C. Wang, M. Gou and C. Lu, "GraspNet-1Billion: A large-scale
+       benchmark for general object grasping", *Proc. IEEE/CVF CVPR*, 2020
+    """
     from ..files.atomic import atomic_write
 
     array = graspnet_array(labels, gripper, score, object_id)
@@ -504,6 +515,11 @@ def save_acronym(path: str, labels: Any, object_file: Any = None, scale: float |
     ``tip_offset - depth`` behind the jaw centre (:func:`tip_offset`, :func:`pose_depths`),
     or ``offset`` for every pose when given. ``labels`` may be a label file's path or
     ``np.load`` result.
+
+    References
+    ----------
+    .. [1] C. Eppner, A. Mousavian and D. Fox, "ACRONYM: A large-scale grasp dataset
+       based on simulation", *Proc. IEEE ICRA*, 2021
 
     Examples
     --------

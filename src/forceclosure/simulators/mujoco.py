@@ -132,6 +132,11 @@ def contacts_from_mujoco(model: Any, data: Any, *, body: int | str | None = None
         option, a soft finger forced where MuJoCo has no torsional friction,
         or no contact left after the filters (one line each).
 
+    References
+    ----------
+    .. [1] E. Todorov, T. Erez and Y. Tassa, "MuJoCo: A physics engine for model-based
+       control", *Proc. IEEE/RSJ IROS*, 2012
+
     Examples
     --------
     >>> import mujoco

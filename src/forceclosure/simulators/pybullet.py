@@ -161,6 +161,11 @@ def contacts_from_pybullet(body: int | None = None, client: int = 0, *,
         no spinning friction, or the object has no contact left after the
         filters (one line each).
 
+    References
+    ----------
+    .. [1] E. Coumans and Y. Bai, "PyBullet, a Python module for physics simulation for
+       games, robotics and machine learning", http://pybullet.org, 2016-2021
+
     Examples
     --------
     >>> import pybullet as pb

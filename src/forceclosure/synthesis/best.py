@@ -308,6 +308,12 @@ def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
         For a hand that cannot be served (:func:`check_hand`), or a construction the table
         does not have for it.
 
+    References
+    ----------
+    .. [1] V.-D. Nguyen, "Constructing force-closure grasps", *Int. J. Robotics
+       Research* 7(3):3-16, 1988, §4 (two opposing
+       fingers, Algorithm 1), §5 (independent regions of contact in 2D and 3D)
+
     Examples
     --------
     >>> from forceclosure.objects import bundled
