@@ -32,7 +32,8 @@ if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["VERDICT_WORDS", "Verdict", "VerdictCode", "verdict_words"]
+__all__ = ["ERROR", "VERDICT_WORDS", "Verdict", "VerdictCode", "closed_median",
+           "verdict_counts", "verdict_words"]
 
 
 class Verdict(StrEnum):
@@ -80,6 +81,8 @@ _CODE_OF = {v: VerdictCode(c) for c, v in enumerate(_BY_CODE)}
 
 #: The verdicts' words in the order of their codes: ``VERDICT_WORDS[code]`` is the word.
 VERDICT_WORDS: tuple[str, ...] = tuple(v.value for v in _BY_CODE)
+#: The code of a grasp that was refused, not analysed (a bad entry of a grasp file or array).
+ERROR = -1
 
 
 def verdict_words(code: ArrayLike) -> NDArray[np.str_]:
@@ -98,3 +101,37 @@ def verdict_words(code: ArrayLike) -> NDArray[np.str_]:
     import numpy as np
 
     return np.array(VERDICT_WORDS)[np.asarray(code)]
+
+
+def verdict_counts(code: ArrayLike, errors: bool = False) -> dict[str, int]:
+    """How many grasps got each verdict (``closure``, ``marginal``, ``none``), and with
+    ``errors`` how many were refused (:data:`ERROR`).
+
+    Examples
+    --------
+    >>> verdict_counts([2, 0, 2, -1], errors=True)
+    {'closure': 2, 'marginal': 0, 'none': 1, 'errors': 1}
+    """
+    import numpy as np
+
+    code = np.asarray(code)
+    counts = {v.value: int(np.count_nonzero(code == v.code)) for v in Verdict}
+    if errors:
+        counts["errors"] = int(np.count_nonzero(code == ERROR))
+    return counts
+
+
+def closed_median(values: ArrayLike, code: ArrayLike) -> float | None:
+    """The median of ``values`` over the grasps whose verdict is ``closure`` (NaN, a value
+    not computed, left out); None when no closed grasp has one.
+
+    Examples
+    --------
+    >>> closed_median([0.1, 0.5, 0.3, float("nan")], [2, 0, 2, 2])
+    0.2
+    """
+    import numpy as np
+
+    closed = np.asarray(values, dtype=float)[np.asarray(code) == VerdictCode.CLOSURE]
+    closed = closed[~np.isnan(closed)]
+    return float(np.median(closed)) if len(closed) else None

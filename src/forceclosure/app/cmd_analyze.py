@@ -18,7 +18,7 @@ from ..datasets.progress import bar_size
 from ..errors import InputError, clip, printable
 from ..files.read import read_text
 from ..tolerance import TOLERANCE
-from ..verdicts import VerdictCode
+from ..verdicts import closed_median
 from .common import error
 
 __all__ = ["ANY_POSITIVE", "add_parser", "analyze_file", "run"]
@@ -175,8 +175,7 @@ def _analyze_arrays(args: argparse.Namespace) -> int:
                "grasps_per_second": round(ran / seconds) if seconds > 0 else None,
                "out": args.out, "resumed": before}
     if results.epsilon is not None:
-        closed = results.epsilon[results.code == VerdictCode.CLOSURE]
-        summary["epsilon_median"] = float(np.median(closed)) if len(closed) else None
+        summary["epsilon_median"] = closed_median(results.epsilon, results.code)
     if args.json:
         json.dump(summary, sys.stdout, indent=2, allow_nan=False)
         sys.stdout.write("\n")

@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
-from ..verdicts import Verdict, VerdictCode
+from ..verdicts import ERROR, Verdict, closed_median, verdict_counts
 from .inputs import grasp_file_of, object_key
 from .job import Job, LabelJob
 from .time_limit import ObjectTimeout, deadline, timed_out
@@ -78,21 +78,19 @@ def _analyze(obj, path: Path, job: Job) -> dict[str, Any]:
                 parts.append(c["points"].reshape(-1, obj.dim))
         points = np.concatenate(parts) if parts else np.empty((0, obj.dim))
         counts = results.counts()
-        closed = results.epsilon[results.code == VerdictCode.CLOSURE]
         verdicts = results.code.tolist()
         errors = results.errors
-        eps_median = float(np.median(closed)) if len(closed) else None
+        eps_median = closed_median(results.epsilon, results.code)
         per_grasp: list[Any] = []
     else:
         grasp_file = parse_grasp_file(source.read_text(encoding="utf-8"), source.name)
         per_grasp = [result_record(entry, grasp_file.cone)[0] for entry in grasp_file.grasps]
         names = {v.value: int(v.code) for v in Verdict}
-        verdicts = [names.get(r.get("verdict"), -1) for r in per_grasp]
-        counts = {k: verdicts.count(c) for k, c in (*names.items(), ("errors", -1))}
+        verdicts = [names.get(r.get("verdict"), ERROR) for r in per_grasp]
+        counts = verdict_counts(verdicts, errors=True)
         errors = [r["error"] for r in per_grasp if "error" in r]
-        eps = [r["epsilon"] for r in per_grasp if r.get("verdict") == "closure"
-               and r.get("epsilon") is not None]
-        eps_median = float(np.median(eps)) if eps else None
+        eps_median = closed_median([np.nan if r.get("epsilon") is None else r["epsilon"]
+                                    for r in per_grasp], verdicts)
         # an entry has its contacts exactly when it has no error (parse_grasp_file)
         good = [(e.label, e.contacts) for e in grasp_file.grasps
                 if e.error is None and e.contacts is not None]

@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
-from ..verdicts import VERDICT_WORDS, VerdictCode, verdict_words
+from ..verdicts import VerdictCode, verdict_counts, verdict_words
 from .hand_poses import APPROACHES, DEPTHS
 from .jaw import ParallelJaw
 
@@ -147,7 +147,7 @@ class GraspLabels:
 
     def counts(self) -> dict[str, int]:
         """How many grasps have each verdict."""
-        return {v: int(np.sum(self.code == c)) for c, v in enumerate(VERDICT_WORDS)}
+        return verdict_counts(self.code)
 
     def with_robustness(self, robustness: Any) -> GraspLabels:
         """These labels with the arrays of a :class:`~forceclosure.gripper.robust.Robustness` of the

@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError
-from ..verdicts import VERDICT_WORDS, VerdictCode
+from ..verdicts import VERDICT_WORDS, VerdictCode, closed_median
 from .hand_poses import APPROACHES, DEPTHS
 from .jaw import ParallelJaw
 from .labels import METRIC_ARRAYS, TASK_VERDICTS, GraspLabels, grasp_labels
@@ -188,13 +188,12 @@ def _summary(labels: GraspLabels, count: int, contact: str, mu: float, gripper: 
     meta = labels.meta
     mu_star = (float(np.median(labels.least_friction)) if len(labels) and least_friction
                else None)
-    closed = labels.epsilon[labels.code == VerdictCode.CLOSURE] if epsilon else np.zeros(0)
     return {"candidates": len(labels), "requested": count, "attempts": meta["attempts"],
             "rejected": meta["rejected"], "contact": contact, "mu": mu,
             "width": gripper.width_max, "gripper": gripper.name, **labels.counts(),
             "least_friction_median": mu_star if mu_star is not None and np.isfinite(mu_star)
             else None,
-            "epsilon_median": float(np.median(closed)) if len(closed) else None,
+            "epsilon_median": closed_median(labels.epsilon, labels.code) if epsilon else None,
             **_collision_counts(labels),
             "approaches": meta["approaches"], "depths": meta["depths"],
             "hand_poses_tried": meta["tried"],

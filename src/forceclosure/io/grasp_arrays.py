@@ -41,15 +41,14 @@ from ..contacts import MAX_CONTACTS, MAX_QUALITY_CONTACTS, MODELS, Cone, parse_c
 from ..errors import InputError, clip
 from ..files.atomic import atomic_write
 from ..files.read import regular_file
-from ..verdicts import VERDICT_WORDS, Verdict, VerdictCode
+
+# ERROR (-1) marks a grasp with bad input or, in a partial results file, one not
+# analysed yet
+from ..verdicts import ERROR, VERDICT_WORDS, VerdictCode, verdict_counts
 from .grasp_file import MAX_COORDINATE
 
 __all__ = ["ERROR", "AnalysisInterrupted", "GraspArrays", "NpzResults", "analyze_npz",
            "iter_chunks", "load_results", "open_npz"]
-
-#: Verdict codes in the result arrays; -1 marks a grasp with bad input (or, in a partial
-#: results file, one not analysed yet).
-ERROR = -1
 
 #: The most a deflated zip member expands (deflate's limit is about 1032 to 1).
 _DEFLATE_RATIO = 1100
@@ -312,9 +311,7 @@ class NpzResults:
 
     def counts(self) -> dict[str, int]:
         """How many grasps got each verdict, and how many were refused."""
-        code = self.code[:self.done]
-        return {name: int(np.sum(code == c))
-                for name, c in (*((v.value, v.code) for v in Verdict), ("errors", ERROR))}
+        return verdict_counts(self.code[:self.done], errors=True)
 
     def save(self, path: str) -> None:
         """Write the results as an ``.npz`` at exactly ``path`` (no ``.npz`` added),
