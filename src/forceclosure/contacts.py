@@ -72,6 +72,7 @@ __all__ = [
     "generating_wrenches",
     "half_space_wrenches",
     "make_contact",
+    "model_codes",
     "own_frame",
     "parse_cone",
     "point_contact",
@@ -81,6 +82,7 @@ __all__ = [
     "vertex_contact",
 ]
 
+#: The contact models, in the order of their integer codes (as the compiled kernels take them).
 MODELS = ("frictionless", "hard", "soft")
 Model = Literal["frictionless", "hard", "soft"]
 Fit = Literal["inscribed", "circumscribed"]
@@ -88,6 +90,18 @@ Fit = Literal["inscribed", "circumscribed"]
 #: (:func:`tangent_basis`) or from the grasp itself (:func:`forceclosure.geometry.cones.
 #: fill_frame`: unchanged when the grasp is turned, moved, scaled or reordered).
 Orientation = Literal["axes", "grasp"]
+
+
+def model_codes(models: Iterable[str]) -> NDArray[np.int64]:
+    """The integer codes of contact models (their places in :data:`MODELS`), as the compiled
+    kernels take them.
+
+    Examples
+    --------
+    >>> model_codes(["hard", "soft", "frictionless"]).tolist()
+    [1, 2, 0]
+    """
+    return np.array([MODELS.index(m) for m in models], dtype=np.int64)
 ORIENTATIONS = ("axes", "grasp")
 
 #: Largest contact coordinate accepted: beyond it the axis of an unresisted rotation (up

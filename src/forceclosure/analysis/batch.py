@@ -20,7 +20,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..contacts import MODELS, ORIENTATIONS, Cone, Orientation
+from ..contacts import ORIENTATIONS, Cone, Orientation, model_codes
 from ..errors import InputError
 from .batch_analysis import (
     CHUNK,
@@ -105,7 +105,7 @@ def epsilon_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
         from ..kernels.quality import epsilon_kernel
 
         maxm = theorem1.columns_per_grasp(k, d, max(cone.edges, 256))
-        model_codes = np.array([MODELS.index(m) for m in grasps.models], dtype=np.int64)
+        kinds = model_codes(grasps.models)
         deferred = np.zeros(n, dtype=np.bool_)
         extreme = extreme_grasps(grasps)
         announce_compiling(epsilon_kernel)
@@ -114,7 +114,7 @@ def epsilon_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
             P, M = kernel_inputs(grasps, part, extreme)
             with pool_for(part.stop - part.start):
                 epsilon_kernel(P, kernel_array(grasps.normals[part]), M,
-                               kernel_array(grasps.torsion[part]), model_codes, cone.edges,
+                               kernel_array(grasps.torsion[part]), kinds, cone.edges,
                                float(tol), maxm, out[part], deferred[part],
                                orientation == "grasp")
             if progress is not None:

@@ -40,6 +40,7 @@ from ..contacts import (
     Contact,
     Model,
     fixed_cone,
+    model_codes,
     unit_rows,
 )
 from ..errors import InputError
@@ -309,7 +310,7 @@ def analyze_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
     if compiled:
         from ..kernels import kernel_array
 
-        model_codes = np.array([MODELS.index(m) for m in grasps.models], dtype=np.int64)
+        kinds = model_codes(grasps.models)
         maxm = kernel.columns_per_grasp(k, d, 256 if exact else edges)
         extreme = extreme_grasps(grasps)
         for lo in range(0, n, CHUNK):
@@ -317,7 +318,7 @@ def analyze_batch(points: ArrayLike, normals: ArrayLike, *, mu: ArrayLike = 0.0,
             P, M = kernel_inputs(grasps, part, extreme)
             run(
                 P, kernel_array(grasps.normals[part]), M, kernel_array(grasps.torsion[part]),
-                model_codes, edges, fit, exact, float(tol), maxm,
+                kinds, edges, fit, exact, float(tol), maxm,
                 code[part], rank[part], margin[part], twist[part])
             # friction above the cap: the kernel's closure with the cap is a proof; the rest
             # is decided by the reference (closure.FRICTION_CAP), as are extreme coordinates

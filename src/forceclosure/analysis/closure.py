@@ -39,7 +39,6 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import linprog
 
 from ..contacts import (
-    MODELS,
     Cone,
     Contact,
     WrenchSet,
@@ -47,6 +46,7 @@ from ..contacts import (
     fixed_cone,
     frame,
     generating_wrenches,
+    model_codes,
     own_frame,
     unit_rows,
 )
@@ -78,9 +78,6 @@ EXACT_CONE_EDGES = (8, 16, 32, 64, 128, 256)
 
 
 #: The kernels' codes of contact models (their verdicts' codes: :class:`VerdictCode`).
-_MODEL_CODE = {m: i for i, m in enumerate(MODELS)}
-
-
 @dataclass(frozen=True, eq=False)
 class VectorClosure:
     """Theorem 1 for one set of vectors, with its certificate.
@@ -894,7 +891,7 @@ def _compiled(contacts: list[Contact], cone: str | Cone, tol: float,
     edges, fit = (8, 0) if fixed is None else (fixed.edges, int(fixed.fit == "circumscribed"))
     friction = np.array([[c.mu for c in contacts],
                          [math.nan if c.torsion is None else c.torsion for c in contacts]])
-    model = np.array([_MODEL_CODE[c.model] for c in contacts])
+    model = model_codes([c.model for c in contacts])
     codes, ranks, margins = np.empty(1, np.int8), np.empty(1, np.int64), np.empty(1)
     kernel.closure_serial(P[None], N[None], friction[:1], friction[1:], model, edges, fit, exact,
                           float(tol),

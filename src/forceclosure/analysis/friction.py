@@ -27,7 +27,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..contacts import MODELS, Cone, Contact, check_grasp
+from ..contacts import Cone, Contact, check_grasp, model_codes
 from .batch_analysis import (
     Engine,
     check_engine,
@@ -189,7 +189,7 @@ def least_friction_batch(points: ArrayLike, normals: ArrayLike, *,
         from ..kernels import announce_compiling, kernel_array, pool_for
         from ..kernels import theorem1 as kernel
 
-        model_codes = np.array([MODELS.index(m) for m in grasps.models], dtype=np.int64)
+        kinds = model_codes(grasps.models)
         maxm = kernel.columns_per_grasp(k, d, 256 if exact else edges)
         deferred = np.zeros(n, dtype=np.bool_)
         extreme = extreme_grasps(grasps)
@@ -197,7 +197,7 @@ def least_friction_batch(points: ArrayLike, normals: ArrayLike, *,
         announce_compiling(kernel.least_friction_kernel)
         with pool_for(n):
             kernel.least_friction_kernel(P, kernel_array(grasps.normals),
-                                         kernel_array(grasps.torsion), model_codes, edges, fit,
+                                         kernel_array(grasps.torsion), kinds, edges, fit,
                                          exact, float(tol), maxm, MU_MAX, float(rtol), out,
                                          deferred)
         todo = np.flatnonzero(deferred | extreme)

@@ -25,12 +25,14 @@ import math
 import numba as nb
 import numpy as np
 
+from ..verdicts import VerdictCode
+
 __all__ = ["CLOSURE", "MARGINAL", "NONE", "NON_FINITE", "TOO_LARGE", "UNDECIDED", "ZERO_NORMAL",
            "pair_labels", "pair_labels_kernel", "pair_verdict_kernel",
            "pair_verdicts"]
 
-#: Pair codes, as in :mod:`forceclosure.analysis.two_finger`.
-NONE, MARGINAL, CLOSURE = 0, 1, 2
+#: Pair codes: the verdicts' (:class:`forceclosure.verdicts.VerdictCode`), then the ones below.
+NONE, MARGINAL, CLOSURE = (int(c) for c in VerdictCode)
 #: A pair whose code is not final: spatial soft fingers whose closed form is
 #: ill-conditioned (decided by Theorem 1 instead).
 UNDECIDED = 3

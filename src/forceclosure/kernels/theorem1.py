@@ -37,17 +37,21 @@ from collections import namedtuple
 import numba as nb
 import numpy as np
 
+from ..contacts import MODELS
 from ..geometry import cones
+from ..verdicts import VerdictCode
 from .simplex import INFEASIBLE, OPTIMAL, solve_tableau, tableau
 
 __all__ = ["BAND", "BLOCK", "BRACKET", "CLOSURE", "DEFER", "EXACT_EDGES", "FRICTIONLESS", "GUARD",
            "HARD", "MARGINAL", "NONE", "ROUNDOFF", "SOFT", "Work", "closure_kernel",
            "closure_serial", "columns_per_grasp", "grasp", "least_friction_kernel", "wrenches"]
 
-NONE, MARGINAL, CLOSURE, DEFER = 0, 1, 2, 3
+NONE, MARGINAL, CLOSURE = (int(c) for c in VerdictCode)  # their codes everywhere
+#: A grasp the kernel leaves to the reference path.
+DEFER = 3
 #: The friction the least-friction bisection tries first as its upper end.
 BRACKET = 10.0
-FRICTIONLESS, HARD, SOFT = 0, 1, 2
+FRICTIONLESS, HARD, SOFT = (MODELS.index(m) for m in ("frictionless", "hard", "soft"))
 
 #: Singular value ratio below which the rank is left to the reference's SVD.
 GUARD = 1e-5
