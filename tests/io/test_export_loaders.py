@@ -487,7 +487,7 @@ def test_export_command_on_a_dataset_folder(tmp_path, capsys, duck):
     g, a = tmp_path / "g", tmp_path / "a"
     assert main(["export", str(folder), "--graspnet", str(g), "--acronym", str(a)]) == 2
     captured = capsys.readouterr()
-    assert "changed.npz: its labels file changed since" in captured.err
+    assert "its labels file 'changed.npz' changed since its record was written" in captured.err
     assert "1 records not done" in captured.out
     assert sorted(os.listdir(g)) == ["cube.npy", "duck.npy"]
     assert sorted(os.listdir(a)) == ["cube.h5", "cube.obj", "duck.h5"]

@@ -31,7 +31,6 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, printable
-from ..files.read import fingerprint
 
 __all__ = ["add_parser", "run", "with_source"]
 
@@ -165,6 +164,8 @@ def export_one(args: argparse.Namespace, labels_file: str, graspnet: str | None,
 
 def _run_folder(args: argparse.Namespace, folder: Path) -> int:
     """A ``dataset --gripper`` folder: one GraspNet and ACRONYM file per object done."""
+    from ..datasets.gripper_job import export_dataset, read_records
+
     try:
         job = json.loads((folder / "job.json").read_text(encoding="utf-8"))
     except (OSError, ValueError, UnicodeDecodeError):
@@ -175,40 +176,14 @@ def _run_folder(args: argparse.Namespace, folder: Path) -> int:
     for path, flag in ((args.graspnet, "--graspnet"), (args.acronym, "--acronym")):
         if path:
             _check_folder_out(path, flag, folder)
-    records = []
-    for file in sorted((folder / "objects").glob("*.json")):
-        try:
-            record = json.loads(file.read_text(encoding="utf-8"))
-        except (OSError, ValueError, UnicodeDecodeError):
-            continue
-        if isinstance(record, dict):
-            records.append(record)
-    done = [r for r in records if r.get("status") == "done"
-            and isinstance(r.get("labels_file"), str)]
-    for path in (args.graspnet, args.acronym):
-        if path and not os.path.isdir(path):
-            os.mkdir(path)
-    entries, failed = [], 0
-    for record in done:
-        name = record["labels_file"]
-        labels_file = folder / "objects" / Path(name).name
-        stem = Path(name).stem
-        try:
-            if not labels_file.is_file():
-                raise InputError(f"{name}: its labels file is missing")
-            if fingerprint(str(labels_file)) != f"sha256:{record.get('labels_sha256')}":
-                raise InputError(f"{name}: its labels file changed since its record was "
-                                 "written; run the dataset again")
-            entries.append(export_one(
-                args, str(labels_file),
-                os.path.join(args.graspnet, stem + ".npy") if args.graspnet else None,
-                os.path.join(args.acronym, stem + ".h5") if args.acronym else None,
-                record, job))
-        except InputError as e:  # this object's: say it, do the others
-            failed += 1
-            print(f"forceclosure: error: {printable(str(e))}", file=sys.stderr)
-    skipped = len(records) - len(done)
-    return _report(args, entries, failed, skipped)
+    records = read_records(folder)
+    entries, errors = export_dataset(folder, records, args.graspnet, args.acronym,
+                                     score=args.graspnet_score, mesh_root=args.mesh_root)
+    for line in errors:  # this object's: said, the others done
+        print(f"forceclosure: error: {printable(line)}", file=sys.stderr)
+    done = sum(r.get("status") == "done" and isinstance(r.get("labels_file"), str)
+               for r in records)
+    return _report(args, entries, len(errors), len(records) - done)
 
 
 def _report(args: argparse.Namespace, entries: list[dict[str, Any]], failed: int,

@@ -42,8 +42,9 @@ from ..extras import require
 from ..verdicts import VERDICT_WORDS
 from .inputs import EXPORTS_FILE
 
-__all__ = ["EXPORTS_FILE", "GRASP_COLUMNS", "GripperJob", "object_seed", "read_labels",
-           "sha256_of", "write_exports", "write_grasp_table", "write_pictures"]
+__all__ = ["EXPORTS_FILE", "GRASP_COLUMNS", "GripperJob", "export_dataset", "labels_problem",
+           "object_seed", "read_labels", "read_records", "sha256_of", "write_exports",
+           "write_grasp_table", "write_pictures"]
 
 
 
@@ -129,7 +130,7 @@ class GripperJob:
     exports : tuple of (kind, folder)
         ``--export KIND FOLDER``: each object's labels also as ``FOLDER/<stem>.npy``
         (``graspnet``) or ``.h5`` (``acronym``), written after every run from the records
-        done (:func:`forceclosure.app.export_cmd.export_folder`).
+        done (:func:`export_dataset`).
     graspnet_score : {"friction", "epsilon"}
         The GraspGroup score of the ``graspnet`` exports.
     hand_links : str, optional
@@ -432,17 +433,7 @@ class GripperJob:
 
     def check(self, folder: Path, record: dict[str, Any]) -> str | None:
         """Why a held record cannot stand (its labels file missing or changed), or None."""
-        if record.get("status") != "done":
-            return None
-        name, digest = record.get("labels_file"), record.get("labels_sha256")
-        if not isinstance(name, str) or not isinstance(digest, str):
-            return "fields missing (labels_file, labels_sha256)"
-        file = folder / name
-        if Path(name).name != name or not file.is_file():
-            return f"its labels file {name[:200]!r} is missing"
-        if sha256_of(file) != digest:
-            return f"its labels file {name[:200]!r} changed since"
-        return None
+        return None if record.get("status") != "done" else labels_problem(folder, record)
 
     def write_tables(self, out: Path, records: Iterable[dict[str, Any]]) -> Path:
         """Write ``out/grasps.parquet`` from the done records' labels files, then the
@@ -525,48 +516,108 @@ def write_grasp_table(out: str | Path, records: Iterable[dict[str, Any]]) -> Pat
     return path
 
 
-def write_exports(out: str | Path, records: Iterable[dict[str, Any]],
-                  exports: Iterable[tuple[str, str]], score: str = "friction",
-                  keep: bool = True) -> dict[str, Any]:
-    """Each done record's labels as the files of ``exports`` (``(kind, folder)``:
-    ``graspnet`` ``folder/<stem>.npy``, ``acronym`` ``folder/<stem>.h5``, ``<stem>`` the
-    labels file's), as ``forceclosure export`` writes them; a file at least as new as its
-    labels file is kept (unless ``keep`` is False). Returns, and writes to
-    ``out/exports.json``, the files written or kept per kind and the objects that could not
-    be exported (one line each)."""
+def read_records(out: str | Path) -> list[dict[str, Any]]:
+    """The readable records of a dataset folder (``out/objects/*.json``), in file order; a
+    file that is not JSON or not a record is passed over."""
     import json
 
-    from ..files.outdir import write_atomically
+    records = []
+    for file in sorted((Path(out) / "objects").glob("*.json")):
+        try:
+            record = json.loads(file.read_text(encoding="utf-8"))
+        except (OSError, ValueError, UnicodeDecodeError, RecursionError):
+            continue
+        if isinstance(record, dict):
+            records.append(record)
+    return records
+
+
+def labels_problem(folder: Path, record: dict[str, Any]) -> str | None:
+    """Why a done record's labels file in ``folder`` cannot stand for it (missing, or
+    changed since the record was written), or None."""
+    name, digest = record.get("labels_file"), record.get("labels_sha256")
+    if not isinstance(name, str) or not isinstance(digest, str):
+        return "fields missing (labels_file, labels_sha256)"
+    file = folder / name
+    if Path(name).name != name or not file.is_file():
+        return f"its labels file {name[:200]!r} is missing"
+    if sha256_of(file) != digest:
+        return f"its labels file {name[:200]!r} changed since its record was written"
+    return None
+
+
+def export_dataset(out: str | Path, records: Iterable[dict[str, Any]],
+                   graspnet: str | Path | None = None, acronym: str | Path | None = None, *,
+                   score: str = "friction", mesh_root: str | None = None,
+                   keep: bool = False) -> tuple[list[dict[str, Any]], list[str]]:
+    """Each done record's labels as ``graspnet/<stem>.npy`` and ``acronym/<stem>.h5``
+    (``<stem>`` the labels file's), as ``forceclosure export DIR`` and ``dataset --export``
+    write them (:func:`forceclosure.io.label_files.export_labels_file`).
+
+    A labels file missing or changed since its record was written is not exported. With
+    ``keep``, an object whose files are all at least as new as its labels file is not
+    written again (its entry says ``"kept"``).
+
+    Returns
+    -------
+    (entries, errors)
+        One entry per object exported (or kept); one line per object that could not be.
+    """
+    import json
+
     from ..io.label_files import export_labels_file
 
     out = Path(out)
-    exports = list(exports)
     job = json.loads((out / "job.json").read_text(encoding="utf-8"))
-    report: dict[str, Any] = {"files": {kind: 0 for kind, _ in exports}, "errors": []}
-    for _, folder in exports:
-        Path(folder).mkdir(parents=True, exist_ok=True)
+    for folder in (graspnet, acronym):
+        if folder is not None:
+            Path(folder).mkdir(parents=True, exist_ok=True)
     done = sorted((r for r in records if r.get("status") == "done"
                    and isinstance(r.get("labels_file"), str)), key=lambda r: r["labels_file"])
+    entries, errors = [], []
     for record in done:
         labels_file = out / "objects" / Path(record["labels_file"]).name
         stem = labels_file.stem
-        for kind, folder in exports:
-            target = Path(folder) / (stem + (".npy" if kind == "graspnet" else ".h5"))
-            try:
-                if (keep and target.is_file() and labels_file.is_file()
-                        and target.stat().st_mtime_ns >= labels_file.stat().st_mtime_ns):
-                    report["files"][kind] += 1
-                    continue
-                export_labels_file(str(labels_file),
-                                   str(target) if kind == "graspnet" else None,
-                                   str(target) if kind == "acronym" else None, score=score,
-                                   record=record, job=job)
-                report["files"][kind] += 1
-            except (InputError, OSError) as e:
-                report["errors"].append(f"{kind} {target.name}: {str(e).splitlines()[0]}")
+        targets = {kind: Path(folder) / (stem + suffix) for kind, folder, suffix in (
+            ("graspnet", graspnet, ".npy"), ("acronym", acronym, ".h5")) if folder is not None}
+        try:
+            problem = labels_problem(out / "objects", record)
+            if problem is not None:
+                raise InputError(f"{record.get('name') or stem}: {problem}; run the dataset "
+                                 "again")
+            if keep and all(t.is_file() and t.stat().st_mtime_ns
+                            >= labels_file.stat().st_mtime_ns for t in targets.values()):
+                entries.append({"labels": str(labels_file), "kept": sorted(targets)})
+                continue
+            entries.append(export_labels_file(
+                str(labels_file), *(str(targets[k]) if k in targets else None
+                                    for k in ("graspnet", "acronym")),
+                score=score, mesh_root=mesh_root, record=record, job=job))
+        except (InputError, OSError) as e:
+            errors.append(str(e).splitlines()[0])
+    return entries, errors
+
+
+def write_exports(out: str | Path, records: Iterable[dict[str, Any]],
+                  exports: Iterable[tuple[str, str]], score: str = "friction",
+                  keep: bool = True) -> dict[str, Any]:
+    """:func:`export_dataset` for ``dataset --export`` (``(kind, folder)`` pairs); returns,
+    and writes to ``out/exports.json``, the files written or kept per kind and the objects
+    that could not be exported (one line each)."""
+    import json
+
+    from ..files.outdir import write_atomically
+
+    out = Path(out)
+    folders = dict(exports)
+    entries, errors = export_dataset(out, records, folders.get("graspnet"),
+                                     folders.get("acronym"), score=score, keep=keep)
+    report: dict[str, Any] = {
+        "files": {kind: sum(kind in e or kind in e.get("kept", ()) for e in entries)
+                  for kind in folders},
+        "errors": errors}
     write_atomically(out / EXPORTS_FILE, json.dumps(report, indent=2) + "\n")
     return report
-
 
 
 def _stale(target: Path, source: Path) -> bool:
