@@ -87,8 +87,9 @@ MODELS = ("frictionless", "hard", "soft")
 Model = Literal["frictionless", "hard", "soft"]
 Fit = Literal["inscribed", "circumscribed"]
 #: Where a spatial pyramid's first edge lies about its cone: from the coordinate axes
-#: (:func:`tangent_basis`) or from the grasp itself (:func:`forceclosure.geometry.cones.
-#: fill_frame`: unchanged when the grasp is turned, moved, scaled or reordered).
+#: (:func:`tangent_basis`) or from the grasp itself
+#: (:func:`forceclosure.geometry.cones.fill_frame`: unchanged when the grasp is turned,
+#: moved, scaled or reordered).
 Orientation = Literal["axes", "grasp"]
 
 

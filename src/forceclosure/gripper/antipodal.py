@@ -4,8 +4,9 @@
 closing direction inside each point's friction cone around the inward
 normal (uniform over the cone's spherical cap), and closes a parallel-jaw
 gripper along that line: jaw 1 just outside the point, jaw 2 ``width_max``
-away. Both jaws' rays go in one batched query (:func:`forceclosure.gripper.
-jaw_contacts`); each candidate's contact pair is what the jaws meet first.
+away. Both jaws' rays go in one batched query
+(:func:`forceclosure.gripper.jaw.jaw_contacts`); each candidate's contact pair is what
+the jaws meet first.
 By construction the line of every pair lies inside the first contact's
 friction cone; whether the pair is force-closure is for the labels
 (:mod:`forceclosure.gripper.labels`). Deterministic under a seed.

@@ -162,10 +162,10 @@ def pad_contacts(mesh, origin: NDArray, closing: NDArray, approach: NDArray, dep
     levers : bool
         Compute the torsional levers (False: zeros; the contacts are the same).
     engine : {"fused", "batched"}
-        "fused": one compiled pass over the poses (:func:`~forceclosure.kernels.pads.
-        pad_touch`; pairs given by pose, as :func:`line_candidates` gives them, else
-        "batched"); "batched": a kernel per step over all the pairs. The same results to
-        the bit.
+        "fused": one compiled pass over the poses
+        (:func:`~forceclosure.kernels.pads.pad_touch`; pairs given by pose, as
+        :func:`line_candidates` gives them, else "batched"); "batched": a kernel per step
+        over all the pairs. The same results to the bit.
 
     Examples
     --------

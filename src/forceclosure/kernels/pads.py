@@ -4,8 +4,8 @@ pressed point nearest a given point).
 
 For each (pose, triangle) pair, with the triangle's corners in the pose's
 jaw frame, the lowest and the highest ``y`` of the triangle clipped to the
-pad's rectangle ``x ∈ [x0, x1]``, ``|z| ≤ h/2`` (:mod:`forceclosure.
-gripper.pads` gives the geometry and the contact normal of each kind of
+pad's rectangle ``x ∈ [x0, x1]``, ``|z| ≤ h/2`` (:mod:`forceclosure.gripper.pads`
+gives the geometry and the contact normal of each kind of
 extreme). ``y`` is affine on the triangle, so both extremes lie at the
 clipped polygon's corners: the triangle's vertices inside the rectangle
 (kind 0), the rectangle's corners inside the triangle (kind 1), and the
@@ -448,8 +448,8 @@ def pad_touch(V, F, FN, starts, tri_of, origin, R, closing, depth, length, h, pr
     holding one wins), so the results are theirs to the bit.
 
     Returns the contacts' ``points``, ``normals`` and ``triangles``, ``touched``, the
-    first touches (``first``) and the ``lever``s, as :class:`~forceclosure.gripper.pads.
-    PadContacts` holds them.
+    first touches (``first``) and the ``lever``s, as
+    :class:`~forceclosure.gripper.pads.PadContacts` holds them.
     """
     m = len(starts) - 1
     points = np.zeros((m, 2, 3))

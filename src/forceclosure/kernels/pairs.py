@@ -10,8 +10,9 @@ The condition ``angle(Q - P, -n_P) < atan(mu_P) - tol`` is decided from
 and the least friction is ``tan(angle) = s / c`` (``inf`` once ``c <= 0``).
 The corollary holds for the segment ``PQ`` *or* ``QP``: fingers squeezing
 the object, or spreading apart inside it (``c`` negated at both ends). That
-is the same three-way verdict as :func:`forceclosure.analysis.two_finger.
-two_finger_closure` computes from angles, at a few multiplications a pair.
+is the same three-way verdict as
+:func:`forceclosure.analysis.two_finger.two_finger_closure` computes from angles, at a
+few multiplications a pair.
 
 Spatial soft pairs have their least friction in closed form too
 (:func:`_least_soft`; docs/analysis.md derives it).

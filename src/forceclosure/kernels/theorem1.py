@@ -1,8 +1,8 @@
 """Theorem 1 compiled: the force-closure verdict for many point-contact grasps at once.
 
-Each grasp goes through the same steps as :func:`forceclosure.analysis.closure.
-vector_closure`, with the same tolerance, the same generating wrenches and
-the same margin LP, so verdicts and margins agree with the reference path:
+Each grasp goes through the same steps as
+:func:`forceclosure.analysis.closure.vector_closure`, with the same tolerance, the same
+generating wrenches and the same margin LP, so verdicts and margins agree with the reference path:
 
 1. generating wrenches in the grasp's frame (the contacts' centroid and
    their largest distance from it), unit-normalised columns;
@@ -19,8 +19,8 @@ the same margin LP, so verdicts and margins agree with the reference path:
 Soft fingers with the paper's two-sided torques are decided modulo the span
 of those torques, as the reference does. Spatial friction with
 ``exact`` cones brackets the circular cone between inscribed and
-circumscribed pyramids of 8 … 256 edges, as :func:`forceclosure.analysis.closure.
-decide` does.
+circumscribed pyramids of 8 … 256 edges, as
+:func:`forceclosure.analysis.closure.decide` does.
 
 A grasp the kernel cannot settle with a clear margin is flagged ``DEFER``
 and decided by the reference path: a singular value ratio below ``GUARD``

@@ -239,7 +239,7 @@ class Polyhedron:
     """A triangle mesh with its planar faces, validated and oriented outward.
 
     Build one with :meth:`from_arrays`, :meth:`from_trimesh`, or
-    :func:`forceclosure.objects.load_object`.
+    :func:`forceclosure.objects.io.load_object`.
 
     Attributes
     ----------

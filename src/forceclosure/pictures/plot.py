@@ -157,7 +157,7 @@ def upright_axis(source: Any, obj: Any = None) -> str:
 
     Parameters
     ----------
-    source : path, str or anything else given to :func:`forceclosure.objects.load_object`
+    source : path, str or anything else given to :func:`forceclosure.objects.io.load_object`
     obj : Polyhedron, trimesh.Trimesh or Polygon, optional
         The object loaded from ``source`` (a polygon lies in its plane: ``"z"``).
 

@@ -92,8 +92,9 @@ def counter_overlapping_cone(n1: ArrayLike, mu1: float, n2: ArrayLike,
     half-angle ``(alpha1 + alpha2 - theta) / 2`` (or the smaller cone, if one
     contains the other), and its axis lies on the arc between theirs. None
     means the two soft fingers lack force-direction closure (Theorem 2): the
-    cones do not counter-overlap (:func:`forceclosure.geometry.cones.
-    counter_overlap`, the one test of that; this function adds the cone).
+    cones do not counter-overlap
+    (:func:`forceclosure.geometry.cones.counter_overlap`, the one test of that; this
+    function adds the cone).
 
     Examples
     --------
