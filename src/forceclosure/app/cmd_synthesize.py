@@ -64,20 +64,16 @@ def run(args: argparse.Namespace) -> int:
 
         print(f"{obj.name}: by default {default_fingers_reason(obj.dim, args.contact)} "
               "(--fingers N to choose)")
-    found, mu, method = result.found, result.mu, result.method
+    found, mu = result.found, result.mu
     corners = []
     if args.vertices:  # the table's vertex construction, two fingers
         corners = synthesize(obj, 2, "soft", mu, top=args.top, margin=args.margin,
                              construction="vertices").found
     if args.json:
-        record = {"object": obj.name, "fingers": args.fingers, "contact": args.contact,
-                  "mu": mu, "size": obj.size, "units": getattr(obj, "units", None),
-                  "method": method,
-                  "construction": {"name": result.construction.name,
-                                   "paper": result.construction.paper,
-                                   "searched": result.searched},
-                  "complete": result.complete, "undecided": result.undecided,
-                  "grasps": [r.to_dict() for r in found]}
+        found_record = result.to_dict()
+        record = {"object": obj.name,
+                  **{k: found_record.pop(k) for k in ("fingers", "contact", "mu")},
+                  "size": obj.size, "units": getattr(obj, "units", None), **found_record}
         if args.vertices:
             record["vertex_grasps"] = [g.to_dict() for g in corners]
         json.dump(record, sys.stdout, indent=2)

@@ -40,12 +40,9 @@ def _synthesize(obj, job: Job) -> dict[str, Any]:
     result = synthesize(obj, job.fingers, job.contact, job.mu, top=job.top, margin=job.margin,
                         construction=job.construction, method=job.method,
                         samples=job.samples, seed=job.seed)
-    grasps = [r.to_dict() for r in result.found]
     # complete: nothing the hand can do is missing; undecided: sites whose regions could
     # not be proved (grasps may be missing there), as synthesize --json says
-    return {"fingers": result.fingers, "contact": result.contact, "mu": result.mu,
-            "method": result.method, "grasps": grasps, "complete": result.complete,
-            "undecided": result.undecided}
+    return result.to_dict()
 
 
 def surface_distance(obj, points: np.ndarray) -> np.ndarray:

@@ -80,6 +80,26 @@ class Synthesis:
                 f"{'s' if self.undecided != 1 else ''} undecided (regions there could not be "
                 "proved in the coordinates given)")
 
+    def to_dict(self) -> dict[str, Any]:
+        """The record ``forceclosure synthesize --json`` and the dataset's records hold: the
+        hand, the method, the construction (its name, its section of the paper, what was
+        searched), whether the search is complete, and each region set's record.
+
+        Examples
+        --------
+        >>> from forceclosure import bundled
+        >>> record = synthesize(bundled("square"), 2, "hard", 0.3, top=1).to_dict()
+        >>> record["construction"]["name"], record["complete"], len(record["grasps"])
+        ('maximal', True, 1)
+        """
+        return {"fingers": self.fingers, "contact": self.contact, "mu": self.mu,
+                "method": self.method,
+                "construction": {"name": self.construction.name,
+                                 "paper": self.construction.paper,
+                                 "searched": self.searched},
+                "complete": self.complete, "undecided": self.undecided,
+                "grasps": [r.to_dict() for r in self.found]}
+
 
 def default_fingers(dim: int, contact: str) -> int:
     """The fewest fingers of a contact model that can hold an object: 2 with friction
