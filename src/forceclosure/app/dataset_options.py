@@ -12,6 +12,7 @@ import math
 from typing import Any
 
 from ..errors import InputError
+from ..gripper.settings import ROBUST_DEFAULTS, TASK_DEFAULTS
 
 __all__ = ["DEFAULT_F_MAX", "GRASPS_OPTIONS", "add_grasps_options",
            "add_robust_options", "given_grasps_options", "grasps_job_options", "robust_settings",
@@ -138,9 +139,8 @@ def given_grasps_options(args: Any) -> list[str]:
             if (getattr(args, name) if switch else getattr(args, name) is not None)]
 
 
-#: ``grasps --f-max`` default: each jaw's normal force, N (a Franka Emika hand's
-#: continuous grip force, 70 N).
-DEFAULT_F_MAX = 70.0
+#: ``grasps --f-max`` default: each jaw's normal force, N.
+DEFAULT_F_MAX: float = TASK_DEFAULTS["f_max"]
 
 
 def robust_settings(args: argparse.Namespace) -> dict[str, Any] | None:
@@ -154,12 +154,11 @@ def robust_settings(args: argparse.Namespace) -> dict[str, Any] | None:
         if given:
             raise InputError(f"{given[0]} needs --robust")
         return None
-    settings = {"samples": 100 if args.robust_samples is None else args.robust_samples,
-                "pose_sigma": args.pose_sigma,  # None: 1 % of the opening, once the hand is known
-                "angle_sigma": 0.05 if args.angle_sigma is None else args.angle_sigma,
-                "mu_sigma": 0.05 if args.mu_sigma is None else args.mu_sigma,
-                "normal_sigma": 0.0 if args.normal_sigma is None else args.normal_sigma,
-                "confidence": 0.95 if args.robust_confidence is None else args.robust_confidence}
+    given_values = {"samples": args.robust_samples, "pose_sigma": args.pose_sigma,
+                    "angle_sigma": args.angle_sigma, "mu_sigma": args.mu_sigma,
+                    "normal_sigma": args.normal_sigma, "confidence": args.robust_confidence}
+    # pose_sigma None: 1 % of the opening, once the hand is known
+    settings = {k: ROBUST_DEFAULTS[k] if v is None else v for k, v in given_values.items()}
     if settings["samples"] < 2:
         raise InputError(f"--robust-samples must be a whole number >= 2 (an interval needs "
                          f"two), got {settings['samples']}")
@@ -183,7 +182,7 @@ def task_settings(args: argparse.Namespace) -> dict[str, Any] | None:
         return None
     if not (math.isfinite(args.task_mass) and args.task_mass > 0):
         raise InputError(f"--task-mass must be a finite positive mass, got {args.task_mass}")
-    gravity = [0.0, 0.0, -9.81]
+    gravity = list(TASK_DEFAULTS["gravity"])
     if args.gravity is not None:
         try:
             gravity = [float(x) for x in args.gravity.split(",")]
@@ -197,4 +196,5 @@ def task_settings(args: argparse.Namespace) -> dict[str, Any] | None:
     f_max = DEFAULT_F_MAX if args.f_max is None else args.f_max
     if not (math.isfinite(f_max) and f_max > 0):
         raise InputError(f"--f-max must be a finite positive force, got {f_max}")
-    return {"mass": args.task_mass, "gravity": gravity, "f_max": f_max, "edges": 8}
+    return {"mass": args.task_mass, "gravity": gravity, "f_max": f_max,
+            "edges": TASK_DEFAULTS["edges"]}

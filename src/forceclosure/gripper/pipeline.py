@@ -28,14 +28,10 @@ from ..verdicts import VERDICT_WORDS, VerdictCode, closed_median
 from .hand_poses import APPROACHES, DEPTHS
 from .jaw import ParallelJaw
 from .labels import METRIC_ARRAYS, TASK_VERDICTS, GraspLabels, grasp_labels
+from .settings import ROBUST_DEFAULTS, TASK_DEFAULTS
 
-__all__ = ["ROBUST_DEFAULTS", "LabelledPoses", "Stage", "label_poses"]
+__all__ = ["LabelledPoses", "Stage", "label_poses"]
 
-#: The robustness settings :func:`label_poses` takes where ``robust`` leaves them out
-#: (``pose_sigma`` None: 1 % of the hand's widest opening).
-ROBUST_DEFAULTS: dict[str, Any] = {"samples": 100, "pose_sigma": None, "angle_sigma": 0.05,
-                                   "mu_sigma": 0.05, "normal_sigma": 0.0, "confidence": 0.95,
-                                   "epsilon": True}
 
 #: A stage's progress: called with the stage's name (``"labelling"``, ``"robustness"``,
 #: ``"metrics"``, ``"task wrench"``), its total and its unit (``" grasps"``, ``" samples"``);
@@ -99,11 +95,12 @@ def label_poses(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: int
     circular cones; the least friction; the Ferrari–Canny ε), which takes the arguments
     up to ``support``. Then, as asked:
 
-    * ``robust`` (settings as :data:`ROBUST_DEFAULTS`, each key optional): the
-      probability of force closure and the expected ε under noise
+    * ``robust`` (settings as :data:`~forceclosure.gripper.settings.ROBUST_DEFAULTS`,
+      each key optional): the probability of force closure and the expected ε under noise
       (:func:`~forceclosure.gripper.robust.robust_labels`, seeded by ``seed``);
     * ``metrics``: the grasp matrix's singular values, isotropy and wrench-hull volume;
-    * ``task`` (``mass``, ``gravity``, ``f_max`` and optionally ``edges``, default 8):
+    * ``task`` (``mass``, and optionally ``gravity``, ``f_max`` and ``edges``, defaults
+      :data:`~forceclosure.gripper.settings.TASK_DEFAULTS`):
       whether the jaws, each pressing at most ``f_max``, resist the object's weight at
       its mesh's centre of mass (uniform density; the mesh must be closed).
 
@@ -159,8 +156,9 @@ def label_poses(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: int
         if getattr(obj, "watertight", True) is False:
             raise InputError(f"{getattr(obj, 'name', 'the object')}: the task's weight needs a "
                              "closed mesh for its centre of mass; this one is open")
+        task = {**TASK_DEFAULTS, **task}
         task = {"mass": task["mass"], "gravity": [float(g) for g in task["gravity"]],
-                "f_max": task["f_max"], "edges": task.get("edges", 8)}
+                "f_max": task["f_max"], "edges": task["edges"]}
     start = time.perf_counter()
     with progress("labelling", count, " grasps") as step:
         labels = grasp_labels(obj, gripper, mu, count, seed, contact, progress=step,

@@ -44,6 +44,7 @@ from numpy.typing import NDArray
 from ..errors import InputError
 from ..verdicts import VerdictCode
 from .jaw import JawPose, ParallelJaw, surface_mesh
+from .settings import ROBUST_DEFAULTS
 
 __all__ = ["Noise", "Robustness", "robust_labels", "wilson_interval"]
 
@@ -237,11 +238,14 @@ def _pads_closed(poly, mesh, gripper: ParallelJaw, origin, closing, approach, de
 
 
 def robust_labels(obj: Any, poses: Any, gripper: ParallelJaw, mu: float, *,
-                  samples: int = 100, seed: int = 0, pose_sigma: float | None = None,
-                  angle_sigma: float | tuple[float, float] = 0.05, mu_sigma: float = 0.05,
-                  normal_sigma: float = 0.0, contact: str = "soft", confidence: float = 0.95,
-                  epsilon: bool = True, progress: Callable[[int], object] | None = None
-                  ) -> Robustness:
+                  samples: int = ROBUST_DEFAULTS["samples"], seed: int = 0,
+                  pose_sigma: float | None = ROBUST_DEFAULTS["pose_sigma"],
+                  angle_sigma: float | tuple[float, float] = ROBUST_DEFAULTS["angle_sigma"],
+                  mu_sigma: float = ROBUST_DEFAULTS["mu_sigma"],
+                  normal_sigma: float = ROBUST_DEFAULTS["normal_sigma"], contact: str = "soft",
+                  confidence: float = ROBUST_DEFAULTS["confidence"],
+                  epsilon: bool = ROBUST_DEFAULTS["epsilon"],
+                  progress: Callable[[int], object] | None = None) -> Robustness:
     """The probability of force closure and the expected epsilon of jaw poses under noise.
 
     Each pose is perturbed ``samples`` times (the noise of the module's
