@@ -38,8 +38,9 @@ from ..errors import InputError
 from ..objects import Polygon, Polyhedron
 from ..objects.polygon import axis_label
 
-__all__ = ["FORMATS", "UP_AXIS", "check_plot_path", "corner_cone", "on_vertex", "plot_found",
-           "plot_object", "plot_regions", "plot_spatial_regions", "standing", "upright_axis"]
+__all__ = ["FORMATS", "UP_AXIS", "check_plot_path", "corner_cone", "dot_corners", "on_vertex",
+           "planar_caption", "plot_found", "plot_object", "plot_regions", "plot_spatial_regions",
+           "standing", "upright_axis"]
 
 #: The pictures' formats, by file extension.
 FORMATS = (".png", ".svg")
@@ -193,6 +194,35 @@ def on_vertex(regions: Any) -> bool:
     (False, True)
     """
     return "vertex" in regions.kinds
+
+
+def dot_corners(g: Any) -> tuple[tuple[int, int], ...]:
+    """The (incoming, outgoing) edges of the vertices a vertex grasp puts a dot on: both
+    of a grasp on two vertices, the first of one with its other finger on an edge."""
+    return g.corners if g.other[0] == "vertex" else g.corners[:1]
+
+
+def planar_caption(sets: Sequence[Any], corners: Sequence[Any]) -> list[str]:
+    """The phrases of a planar region picture's title (its renderer joins them): the
+    segment grasps and the grasps with a finger on a vertex.
+
+    Examples
+    --------
+    >>> from forceclosure.objects import bundled
+    >>> from forceclosure.synthesis import synthesize
+    >>> planar_caption(synthesize(bundled("square"), 2, "hard", 0.3, top=2).found, [])
+    ['2 best 2-finger grasps, mu 0.3 (bold: independent regions)']
+    """
+    words = []
+    if sets:
+        mu = sets[0].friction()[0]
+        friction = f"mu {mu:g}" if mu > 0 else "frictionless"
+        words.append(f"{len(sets)} best {len(sets[0].edges)}-finger grasps, {friction} "
+                     "(bold: independent regions)")
+    if corners:
+        words.append(f"{len(corners)} with a soft finger on a convex vertex (v), "
+                     f"mu {corners[0].mu:g}")
+    return words
 
 
 def check_plot_path(path: str | Path) -> None:
@@ -546,8 +576,7 @@ def plot_regions(regions: Sequence[Any], path: str | Path | None = None,
         centre = getattr(r, "centre", None)  # three fingers: where the lines of force meet
         if centre is not None:
             ax.plot(*centre, marker="x", color=colour, markersize=8, zorder=4)
-    labels_at: dict = {"dots": Counter(a for g in corners for a, _ in
-                                       (g.corners if g.other[0] == "vertex" else g.corners[:1]))}
+    labels_at: dict = {"dots": Counter(a for g in corners for a, _ in dot_corners(g))}
     for rank, g in enumerate(corners):
         _vertex_grasp(ax, g, colours[id(g)], f"v{rank + 1}", reach, labels_at)
     if "places" in labels_at:  # room for the labels
@@ -556,15 +585,7 @@ def plot_regions(regions: Sequence[Any], path: str | Path | None = None,
         ax.set_xlim(min(x0, places[:, 0].min() - pad), max(x1, places[:, 0].max() + pad))
         ax.set_ylim(min(y0, places[:, 1].min() - pad), max(y1, places[:, 1].max() + pad))
     place_labels(ax, [*labels, *labels_at.get("texts", [])])  # none overprints another
-    words = []
-    if sets:
-        mu = sets[0].friction()[0]
-        friction = f", mu {mu:g}" if mu > 0 else ", frictionless"
-        words.append(f"{len(sets)} best {len(sets[0].edges)}-finger grasps{friction} "
-                     "(bold: independent regions)")
-    if corners:
-        words.append(f"{len(corners)} with a soft finger on a convex vertex (v), "
-                     f"mu {corners[0].mu:g}")
+    words = planar_caption(sets, corners)
     ax.set_title(title or f"{polygon.name}: " + ";\n".join(words), fontsize=10)
     _save(fig, path)
     return fig

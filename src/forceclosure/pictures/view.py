@@ -20,7 +20,7 @@ from __future__ import annotations
 from collections import Counter
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -33,7 +33,7 @@ from ..objects.polygon import axis_label
 from ..synthesis.planar.vertex_grasps import VertexGrasp
 from ..synthesis.regions import Regions, RegionSet
 from ..synthesis.spatial.patches import SpatialRegions
-from .plot import corner_cone, one_object
+from .plot import corner_cone, dot_corners, on_vertex, one_object, planar_caption
 
 if TYPE_CHECKING:
     import plotly.graph_objects as go
@@ -214,11 +214,6 @@ def spatial_figure(found: Sequence[SpatialRegions], title: str | None = None, *,
     return fig
 
 
-def _dot_corners(g) -> tuple[tuple[int, int], ...]:
-    """The (incoming, outgoing) edges of the vertices a vertex grasp has a dot on."""
-    return g.corners if g.other[0] == "vertex" else g.corners[:1]
-
-
 def _vertex_traces(g, colour: str, group: str, reach: float, sizes: list[int]) -> list:
     """A grasp with a soft finger on a convex vertex: the vertex (and the other one, for two
     vertices) as dots of ``sizes``, each with its cone shaded (the hull of its two edges'
@@ -226,7 +221,7 @@ def _vertex_traces(g, colour: str, group: str, reach: float, sizes: list[int]) -
     bold."""
     polygon, traces = g.object, []
     kind, k = g.other
-    ends = _dot_corners(g)
+    ends = dot_corners(g)
     dots = np.array([polygon.edges[a].end for a, _ in ends])
     where = [f"vertex {g.vertex}" if i == 0 else f"vertex {k}" for i in range(len(dots))]
     text = f"{group}: " + "; ".join(g.describe())
@@ -291,8 +286,9 @@ def planar_figure(found: Sequence[RegionSet], title: str | None = None) -> go.Fi
                                fillcolor="#dfe7f2", line={"color": "#1f3b63", "width": 2},
                                hoverinfo="skip", showlegend=False))
     reach = polygon.size * 0.18
-    sets = [r for r in found if isinstance(r, Regions)]  # fingers on segments of edges
-    corners = [r for r in found if isinstance(r, VertexGrasp)]  # a soft finger on a vertex
+    # fingers on segments of edges; a soft finger on a vertex
+    sets = [cast(Regions, r) for r in found if not on_vertex(r)]
+    corners = [cast(VertexGrasp, r) for r in found if on_vertex(r)]
     colours = {id(r): COLOURS[place % len(COLOURS)] for place, r in enumerate(found)}
     for rank, r in enumerate(sets):
         colour, group = colours[id(r)], f"grasp {rank + 1}"
@@ -306,23 +302,15 @@ def planar_figure(found: Sequence[RegionSet], title: str | None = None) -> go.Fi
                                  line={"color": colour, "width": 1}, opacity=0.7,
                                  hoverinfo="skip", showlegend=False))
     # grasps sharing a vertex: rings, the first (best) outermost, so every one shows
-    total = Counter(a for g in corners for a, _ in _dot_corners(g))
+    total = Counter(a for g in corners for a, _ in dot_corners(g))
     seen: Counter = Counter()
     for rank, g in enumerate(corners):
         sizes = []
-        for a, _ in _dot_corners(g):
+        for a, _ in dot_corners(g):
             seen[a] += 1
             sizes.append(13 + 8 * (total[a] - seen[a]))
         fig.add_traces(_vertex_traces(g, colours[id(g)], f"v{rank + 1}", reach, sizes))
-    words = []
-    if sets:
-        mu = sets[0].friction()[0]
-        friction = f"mu {mu:g}" if mu > 0 else "frictionless"
-        words.append(f"{len(sets)} best {len(sets[0].edges)}-finger grasps, {friction} "
-                     "(bold: independent regions)")
-    if corners:
-        words.append(f"{len(corners)} with a soft finger on a convex vertex (v), "
-                     f"mu {corners[0].mu:g}")
+    words = planar_caption(sets, corners)
     fig.update_layout(
         title={"text": title or f"{polygon.name}: " + ";<br>".join(words), "x": 0.02},
         xaxis={"scaleanchor": "y", "scaleratio": 1,
