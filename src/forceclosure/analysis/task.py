@@ -40,11 +40,14 @@ from numpy.typing import ArrayLike, NDArray
 from ..contacts import MAX_COORDINATE, Cone, primitive_wrenches
 from ..errors import ForceClosureError, InputError, shown
 
-__all__ = ["BATCH", "TASK_CODES", "TaskWrench", "gravity_wrench", "resist_wrench",
+__all__ = ["BATCH", "TASK_CODES", "TASK_VERDICTS", "TaskWrench", "gravity_wrench", "resist_wrench",
            "resist_wrench_batch"]
 
-#: The verdicts' codes in :func:`resist_wrench_batch`: 0 fails, 1 undecided, 2 resists.
-TASK_CODES = {"fails": 0, "undecided": 1, "resists": 2}
+#: The task verdicts in the order of their codes in :func:`resist_wrench_batch`
+#: (``TASK_VERDICTS[code]``: 0 fails, 1 undecided, 2 resists).
+TASK_VERDICTS = ("fails", "undecided", "resists")
+#: Each task verdict's code.
+TASK_CODES = {v: c for c, v in enumerate(TASK_VERDICTS)}
 
 
 @dataclass(frozen=True, eq=False)
@@ -400,5 +403,6 @@ def resist_wrench_batch(points: ArrayLike, normals: ArrayLike, wrench: ArrayLike
             spare[part], upper[part] = found
         if progress is not None:
             progress(b)
-    code[:] = np.where(spare >= 1, 2, np.where(upper < 1, 0, 1))
+    code[:] = np.where(spare >= 1, TASK_CODES["resists"],
+                       np.where(upper < 1, TASK_CODES["fails"], TASK_CODES["undecided"]))
     return code, spare, upper

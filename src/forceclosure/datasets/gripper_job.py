@@ -366,7 +366,7 @@ class GripperJob:
     def label(self, obj: Any, path: Path) -> dict[str, Any]:
         """The record's fields for one loaded object, and its labels under ``"_labels"``
         (taken out and saved by :meth:`store`, in the driver)."""
-        from ..gripper.labels import TASK_VERDICTS
+        from ..analysis.task import TASK_VERDICTS
         from ..gripper.pipeline import label_poses
         from .inputs import fingerprint
 

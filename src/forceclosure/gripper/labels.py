@@ -48,9 +48,6 @@ METRIC_ARRAYS = ("sigma_min", "sigma_max", "isotropy", "volume")
 #: present.
 TASK_ARRAYS = ("task_verdict", "task_spare", "task_spare_upper")
 
-#: ``task_verdict`` codes: 0 ``fails``, 1 ``undecided``, 2 ``resists``
-#: (:mod:`forceclosure.analysis.task`).
-TASK_VERDICTS = ("fails", "undecided", "resists")
 
 
 @dataclass(frozen=True, eq=False)

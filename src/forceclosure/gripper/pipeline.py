@@ -23,11 +23,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ..analysis.task import TASK_VERDICTS
 from ..errors import InputError
 from ..verdicts import VERDICT_WORDS, VerdictCode, closed_median
 from .hand_poses import APPROACHES, DEPTHS
 from .jaw import ParallelJaw
-from .labels import METRIC_ARRAYS, TASK_VERDICTS, GraspLabels, grasp_labels
+from .labels import METRIC_ARRAYS, GraspLabels, grasp_labels
 from .settings import ROBUST_DEFAULTS, TASK_DEFAULTS
 
 __all__ = ["LabelledPoses", "Stage", "label_poses"]
