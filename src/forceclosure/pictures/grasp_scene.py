@@ -42,6 +42,7 @@ __all__ = [
     "GraspScene",
     "LegendEntry",
     "PoseScene",
+    "cone_points",
     "drawn_mesh",
     "grasp_scene",
     "legend_entries",
@@ -269,12 +270,20 @@ def _caption(rank: int, labels: Any, i: int) -> str:
             f"ε {_number(_value(labels, 'epsilon', i), '–')}")
 
 
-def _cone(apex: NDArray, axis: NDArray, mu: float, height: float) -> NDArray[np.float64]:
-    """The apex and rim of a cone of half-angle ``atan mu`` along ``axis``."""
+def cone_points(apex: NDArray, axis: NDArray, mu: float, height: float,
+                sides: int = CONE_SIDES) -> NDArray[np.float64]:
+    """The apex and the ``sides`` rim points of a friction cone of half-angle ``atan mu``
+    along the unit ``axis``, ``height`` long: every picture's cone (jaw poses, regions).
+
+    Examples
+    --------
+    >>> cone_points(np.zeros(3), np.array([0.0, 0.0, 1.0]), 0.5, 2.0, sides=4)[:, 2].tolist()
+    [0.0, 2.0, 2.0, 2.0, 2.0]
+    """
     from ..contacts import tangent_basis
 
-    t1, t2 = tangent_basis(axis[None])
-    angles = np.linspace(0.0, 2.0 * np.pi, CONE_SIDES, endpoint=False)
+    t1, t2 = tangent_basis(np.asarray(axis, float)[None])
+    angles = np.linspace(0.0, 2.0 * np.pi, sides, endpoint=False)
     rim = apex + height * (axis + mu * (np.cos(angles)[:, None] * t1[0] +
                                         np.sin(angles)[:, None] * t2[0]))
     return np.vstack([apex, rim])
@@ -347,7 +356,7 @@ def grasp_scene(obj: Any, labels: Any, chosen: NDArray[np.int64],
         else:
             normals = np.asarray(labels.normals[i], dtype=float)
             reach = 0.35 * float(np.linalg.norm(points[1] - points[0])) or 0.1 * size
-            cones = np.array([_cone(p, -n / np.linalg.norm(n), mu, reach)
+            cones = np.array([cone_points(p, -n / np.linalg.norm(n), mu, reach)
                               for p, n in zip(points, normals, strict=True)])
         poses.append(PoseScene(rank, i, int(kind[i]), CATEGORY_COLOURS[kind[i]],
                                _caption(rank, labels, i), boxes, stem, points, normals, cones,

@@ -789,7 +789,7 @@ def plot_spatial_regions(regions: Any, path: str | Path | None = None,
     """
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-    from ..contacts import tangent_basis
+    from .grasp_scene import cone_points
 
     poly = regions.polyhedron
     fig, ax = _axes(ax, True, (6.5, 6.5), "plot_spatial_regions")
@@ -831,10 +831,8 @@ def plot_spatial_regions(regions: Any, path: str | Path | None = None,
         apex = largest.points.mean(axis=0) + lift * n
         tip = apex + height * n
         if cones and regions.mu > 0:
-            t1, t2 = tangent_basis(n[None])
-            angles = np.linspace(0, 2 * np.pi, 25)
-            rim = tip + height * regions.mu * (np.cos(angles)[:, None] * t1 +
-                                               np.sin(angles)[:, None] * t2)
+            ring = cone_points(apex, n, regions.mu, height, sides=24)[1:]
+            rim = np.vstack([ring, ring[:1]])  # closed
             ax.add_collection3d(Poly3DCollection(
                 [[apex, rim[i], rim[i + 1]] for i in range(24)], facecolors=[(*colour, 0.2)],
                 edgecolors="none", zorder=layer + 1))

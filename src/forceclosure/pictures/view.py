@@ -25,7 +25,6 @@ from typing import TYPE_CHECKING, cast
 import numpy as np
 from numpy.typing import NDArray
 
-from ..contacts import tangent_basis
 from ..errors import InputError
 from ..extras import require
 from ..objects import Polygon, Polyhedron
@@ -33,6 +32,7 @@ from ..objects.polygon import axis_label
 from ..synthesis.planar.vertex_grasps import VertexGrasp
 from ..synthesis.regions import Regions, RegionSet
 from ..synthesis.spatial.patches import SpatialRegions
+from .grasp_scene import CONE_SIDES, cone_points
 from .plot import corner_cone, dot_corners, on_vertex, one_object, planar_caption
 
 if TYPE_CHECKING:
@@ -48,7 +48,6 @@ COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e
            "#7f7f7f", "#bcbd22", "#17becf")
 
 #: Segments of a friction cone's rim.
-CONE_SIDES = 24
 
 
 def _lines(paths: Sequence[NDArray[np.float64]], closed: bool) -> NDArray[np.float64]:
@@ -85,11 +84,7 @@ def _object_traces(poly: Polyhedron) -> list:
 
 def _cone(apex: NDArray, axis: NDArray, mu: float, height: float) -> go.Mesh3d:
     """The friction cone at ``apex`` around ``axis`` as a surface of triangles."""
-    t1, t2 = tangent_basis(axis[None])
-    angles = np.linspace(0, 2 * np.pi, CONE_SIDES, endpoint=False)
-    rim = apex + height * (axis + mu * (np.cos(angles)[:, None] * t1 +
-                                        np.sin(angles)[:, None] * t2))
-    pts = np.vstack([apex, rim])
+    pts = cone_points(apex, axis, mu, height)
     ring = np.arange(1, CONE_SIDES + 1)
     return go.Mesh3d(x=pts[:, 0], y=pts[:, 1], z=pts[:, 2], i=np.zeros(CONE_SIDES, int),
                      j=ring, k=np.roll(ring, -1), opacity=0.3, hoverinfo="skip")
