@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -94,6 +95,12 @@ class PairClosure(VerdictCodes):
         return _angle(p - q, -n_q)
 
 
+def _check_pair_model(model: Any) -> None:
+    """Corollary 3 is for point contacts with friction: soft or hard fingers."""
+    if model not in ("soft", "hard"):
+        raise InputError(f"model must be 'soft' or 'hard' for Corollary 3, got {model!r}")
+
+
 def _array(value: ArrayLike, name: str) -> NDArray[np.float64]:
     try:
         return np.asarray(value, dtype=float)
@@ -151,8 +158,7 @@ def two_finger_closure(p: ArrayLike, n_p: ArrayLike, q: ArrayLike, n_q: ArrayLik
         if not (math.isfinite(one := float(mu.flat[0])) and one >= 0 if mu.size == 1
                 else np.all(np.isfinite(mu)) and not np.any(mu < 0)):
             raise InputError(f"'{name}' must be finite and >= 0")
-    if model not in ("soft", "hard"):
-        raise InputError(f"model must be 'soft' or 'hard' for Corollary 3, got {model!r}")
+    _check_pair_model(model)
     tol = check_tolerance(tol)
     if engine not in ("compiled", "reference"):
         raise InputError(f"engine must be 'compiled' or 'reference', got {engine!r}")
@@ -288,8 +294,7 @@ def pair_labels(points: ArrayLike, normals: ArrayLike, mu: float, model: str = "
         raise InputError(f"'mu' must be one number, got {mu!r}") from None
     if not math.isfinite(mu) or mu < 0:
         raise InputError(f"'mu' must be finite and >= 0, got {mu!r}")
-    if model not in ("soft", "hard"):
-        raise InputError(f"model must be 'soft' or 'hard' for Corollary 3, got {model!r}")
+    _check_pair_model(model)
     tol = check_tolerance(tol)
     n = len(points)
     code = np.empty(n, dtype=np.int8)

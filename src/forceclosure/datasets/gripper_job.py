@@ -219,7 +219,9 @@ class GripperJob:
             raise InputError(f"--mu must be finite and positive, got {self.mu}")
         if self.count < 1:
             raise InputError(f"--count must be at least 1, got {self.count}")
-        if self.contact not in ("soft", "hard"):
+        from ..gripper.jaw import JAW_CONTACTS
+
+        if self.contact not in JAW_CONTACTS:
             raise InputError(f"--contact {self.contact}: a parallel-jaw gripper has soft or "
                              "hard contacts")
         if self.pad_radius is not None and not (math.isfinite(self.pad_radius)

@@ -30,7 +30,11 @@ from numpy.typing import ArrayLike, NDArray
 from ..contacts import MAX_COORDINATE
 from ..errors import InputError, shown
 
-__all__ = ["JawContacts", "JawPose", "ParallelJaw", "contacts_of", "pose_from_contacts"]
+__all__ = ["JAW_CONTACTS", "JawContacts", "JawPose", "ParallelJaw", "check_jaw_contact",
+           "contacts_of", "pose_from_contacts"]
+
+#: The contact models of a parallel jaw's pads: soft (a pad's torsional friction) or hard.
+JAW_CONTACTS = ("soft", "hard")
 
 #: Reasons a jaw pose makes no contact pair (``JawContacts.reason``).
 MISSES = "misses: a jaw's ray meets no surface between the jaws"
@@ -116,6 +120,20 @@ def rectangle_mean_radius(length: float, height: float) -> float:
     d = math.hypot(p, q)
     quarter = (2 * p * q * d + p**3 * math.log((q + d) / p) + q**3 * math.log((p + d) / q)) / 6
     return float(quarter / (p * q)) * unit
+
+
+def check_jaw_contact(contact: Any) -> str:
+    """``contact`` if it is one of :data:`JAW_CONTACTS`, else a one-line
+    :class:`~forceclosure.errors.InputError`.
+
+    Examples
+    --------
+    >>> check_jaw_contact("soft")
+    'soft'
+    """
+    if contact not in JAW_CONTACTS:
+        raise InputError(f"contact must be 'soft' or 'hard', got {contact!r}")
+    return contact
 
 
 @dataclass(frozen=True, init=False)

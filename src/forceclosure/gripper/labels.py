@@ -22,7 +22,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..errors import InputError
 from ..verdicts import VerdictCode, verdict_counts, verdict_words
 from .hand_poses import APPROACHES, DEPTHS
-from .jaw import ParallelJaw
+from .jaw import ParallelJaw, check_jaw_contact
 
 __all__ = ["GraspLabels", "grasp_labels", "label_grasps", "label_metrics", "label_task"]
 
@@ -381,8 +381,7 @@ def label_grasps(points: ArrayLike, normals: ArrayLike, mu: float, contact: str 
     from ..analysis.batch import epsilon_batch, least_friction_batch
     from ..analysis.two_finger import pair_codes, pair_labels
 
-    if contact not in ("soft", "hard"):
-        raise InputError(f"contact must be 'soft' or 'hard', got {contact!r}")
+    check_jaw_contact(contact)
     points = np.asarray(points, dtype=float)
     normals = np.asarray(normals, dtype=float)
     n = len(points)
@@ -477,8 +476,7 @@ def grasp_labels(obj: Any, gripper: ParallelJaw, mu: float, count: int, seed: in
 
     if not isinstance(gripper, ParallelJaw):
         raise InputError(f"gripper must be a ParallelJaw, got {type(gripper).__name__}")
-    if contact not in ("soft", "hard"):
-        raise InputError(f"contact must be 'soft' or 'hard', got {contact!r}")
+    check_jaw_contact(contact)
     try:
         mu = float(mu)
     except (TypeError, ValueError, OverflowError):

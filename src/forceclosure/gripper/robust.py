@@ -43,7 +43,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..verdicts import VerdictCode
-from .jaw import JawPose, ParallelJaw, surface_mesh
+from .jaw import JawPose, ParallelJaw, check_jaw_contact, surface_mesh
 from .settings import ROBUST_DEFAULTS
 
 __all__ = ["Noise", "Robustness", "robust_labels", "wilson_interval"]
@@ -320,8 +320,7 @@ def robust_labels(obj: Any, poses: Any, gripper: ParallelJaw, mu: float, *,
 
     if not isinstance(gripper, ParallelJaw):
         raise InputError(f"gripper must be a ParallelJaw, got {type(gripper).__name__}")
-    if contact not in ("soft", "hard"):
-        raise InputError(f"contact must be 'soft' or 'hard', got {contact!r}")
+    check_jaw_contact(contact)
     if isinstance(mu, bool) or not isinstance(mu, Real) or not math.isfinite(mu) or mu < 0:
         raise InputError(f"mu must be a finite number >= 0, got {mu!r}")
     if isinstance(samples, bool) or not isinstance(samples, int | np.integer) or samples < 2:
