@@ -398,7 +398,7 @@ def test_resuming_keeps_the_bad_rows_and_refuses_other_options(tmp_path, capsys,
     assert "interrupted: 40 of 100 grasps analysed, saved in" in capsys.readouterr().err
     monkeypatch.setattr(ga, "_analyse_rows", analyse)
     assert main(command[:-1]) == 2  # without --epsilon
-    assert "holds partial results computed with --epsilon" in capsys.readouterr().err
+    assert "holds partial results computed with epsilon" in capsys.readouterr().err
     assert int(np.load(out)["done"]) == 40
     assert main(command) == 2
     captured = capsys.readouterr()

@@ -15,7 +15,7 @@ import sys
 from typing import Any
 
 from ..datasets.progress import bar_size
-from ..errors import InputError, clip, printable
+from ..errors import InputError, printable
 from ..files.read import read_text
 from ..tolerance import TOLERANCE
 from ..verdicts import closed_median
@@ -128,7 +128,7 @@ def _analyze_arrays(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from ..files.saves import patient
-    from ..io.grasp_arrays import ERROR, AnalysisInterrupted, analyze_npz, open_npz
+    from ..io.grasp_arrays import ERROR, AnalysisInterrupted, analyze_npz, open_npz, resumable
 
     if args.chunk < 1:
         raise InputError(f"--chunk must be a positive number of grasps, got {args.chunk}")
@@ -142,8 +142,8 @@ def _analyze_arrays(args: argparse.Namespace) -> int:
         from ..files.read import fingerprint
 
         source = fingerprint(args.file)
-        resume = _partial_results(args.out, source, args.epsilon)
-    before = 0 if resume is None else resume.done
+        resume = resumable(args.out, source, args.epsilon)
+    before = 0 if resume is None or resume.done is None else resume.done
     start = time.perf_counter()
     try:
         with patient() if args.out else nullcontext(), \
@@ -199,30 +199,6 @@ def _with_input(results, source: str | None):
     from dataclasses import replace
 
     return replace(results, input=source)
-
-
-def _partial_results(out: str, source: str, epsilon: bool):
-    """The partial results in ``out`` to resume, or None when there are none there (no file,
-    or complete results, which are replaced); refused when they are of another input."""
-    from ..io.grasp_arrays import load_results
-
-    if not os.path.exists(out):
-        return None
-    try:
-        saved = load_results(out)
-    except InputError:
-        return None  # not results of a partial run: replaced, as any complete file is
-    if not saved.partial:
-        return None
-    if saved.input != source:
-        raise InputError(f"{clip(out)}: holds the partial results of another grasp file (or "
-                         "of an earlier version of this one); remove it to start again, or "
-                         "give another --out")
-    if (saved.epsilon is not None) != epsilon:
-        flag = "with" if saved.epsilon is not None else "without"
-        raise InputError(f"{clip(out)}: holds partial results computed {flag} --epsilon; "
-                         f"resume {flag} it, or remove the file to start again")
-    return saved
 
 
 def _save(results, out: str) -> None:

@@ -26,6 +26,7 @@ them ``partial``, and ``analyze_npz(..., resume=...)`` goes on from there.
 
 from __future__ import annotations
 
+import os
 import zipfile
 import zlib
 from collections.abc import Callable, Iterator
@@ -48,7 +49,7 @@ from ..verdicts import ERROR, VERDICT_WORDS, VerdictCode, verdict_counts
 from .grasp_file import MAX_COORDINATE
 
 __all__ = ["ERROR", "AnalysisInterrupted", "GraspArrays", "NpzResults", "analyze_npz",
-           "iter_chunks", "load_results", "open_npz"]
+           "iter_chunks", "load_results", "open_npz", "resumable"]
 
 #: The most a deflated zip member expands (deflate's limit is about 1032 to 1).
 _DEFLATE_RATIO = 1100
@@ -372,6 +373,37 @@ class AnalysisInterrupted(KeyboardInterrupt):
         super().__init__(f"interrupted after {results.done:,} of {len(results.code):,} grasps")
         self.results = results
 
+
+
+def resumable(path: str, source: str, epsilon: bool) -> NpzResults | None:
+    """The partial results at ``path`` that a run on the grasp file whose fingerprint is
+    ``source`` (:func:`forceclosure.files.read.fingerprint`) resumes (``analyze_npz(...,
+    resume=)``), or None where there are none to resume (no file, not a results file, or
+    complete results: a new run replaces them).
+
+    Raises
+    ------
+    InputError
+        The partial results are of another grasp file (or another version of it), or were
+        computed with ``epsilon`` other than asked.
+    """
+    if not os.path.exists(path):
+        return None
+    try:
+        saved = load_results(path)
+    except InputError:
+        return None  # not results of a partial run: replaced, as any complete file is
+    if not saved.partial:
+        return None
+    if saved.input != source:
+        raise InputError(f"{clip(path)}: holds the partial results of another grasp file (or "
+                         "of an earlier version of this one); remove it to start again, or "
+                         "write elsewhere")
+    if (saved.epsilon is not None) != epsilon:
+        flag = "with" if saved.epsilon is not None else "without"
+        raise InputError(f"{clip(path)}: holds partial results computed {flag} epsilon; "
+                         f"resume {flag} it, or remove the file to start again")
+    return saved
 
 def analyze_npz(path: str, *, chunk: int = CHUNK, tol: float | None = None,
                 epsilon: bool = False,

@@ -293,7 +293,7 @@ def prototypes(polygon: Polygon, hand: Hand) -> list[tuple[tuple[int, ...], tupl
     """Step 1: force-closure grasps among ``hand.samples`` random ones, the largest Theorem 1
     margin first, one per tuple of edges, ``PER_TOP * hand.top`` of them; each as its edges
     and edge parameters, fingers in the order of their edges and positions."""
-    from ...analysis.batch_analysis import analyze_batch
+    from ...analysis.batch import analyze_batch
 
     start, direction, normal, length = polygon.edge_arrays
     rng = np.random.default_rng(hand.seed)
