@@ -266,9 +266,10 @@ def run(args: argparse.Namespace) -> int:
                             **robust, "epsilon": not args.no_robust_epsilon})
     labels, robust, metrics, task = found.labels, found.robust, found.metrics, found.task
     if args.out:
-        from .export_cmd import with_source
+        from ..io.export import with_object_source
 
-        with_source(labels, args).save(args.out)
+        with_object_source(labels, args.object, args.part, args.allow_open,
+                           args.allow_outside_meshes).save(args.out)
     _write_exports(args, labels, gripper, obj)
     if args.plot or args.html:
         from ..pictures.plot import upright_axis

@@ -9,9 +9,10 @@ HDF5 (:func:`~forceclosure.io.export.save_acronym`): for a folder both name
 output folders, each object's files named after its labels file. The
 object an ACRONYM file names (``object/file``, ``object/scale``, relative to
 ``--mesh-root``) is the one the labels were made on: a ``grasps --out``
-file records it in ``meta["object_source"]`` (:func:`with_source`), a
-dataset's record holds its path; ``--object FILE`` names it where neither
-does (a label file written before, or moved from another machine).
+file records it in ``meta["object_source"]``
+(:func:`forceclosure.io.export.with_object_source`), a dataset's record holds its
+path; ``--object FILE`` names it where neither does (a label file written before, or
+moved from another machine).
 
 Every option is checked before anything is written; files are written
 atomically; bad input is one line and exit status 2. In a folder, an
@@ -23,7 +24,6 @@ and the exit status is 2.
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import json
 import os
 import sys
@@ -32,31 +32,7 @@ from typing import Any
 
 from ..errors import InputError, printable
 
-__all__ = ["add_parser", "run", "with_source"]
-
-
-def with_source(labels: Any, args: argparse.Namespace) -> Any:
-    """``labels`` with ``meta["object_source"]``: where ``forceclosure grasps`` read its
-    object (``path``, absolute, None for a bundled object; ``name`` as given; ``part``,
-    ``allow_open``, ``allow_outside_meshes``), so that ``export`` finds it again.
-
-    Examples
-    --------
-    >>> from types import SimpleNamespace
-    >>> args = SimpleNamespace(object="cube", part=None, allow_open=False,
-    ...                        allow_outside_meshes=False)
-    >>> with_source(SimpleNamespace(meta={}), args).meta["object_source"]["name"]
-    'cube'
-    """
-    source = {"path": os.path.abspath(args.object) if os.path.isfile(args.object) else None,
-              "name": args.object, "part": getattr(args, "part", None),
-              "allow_open": bool(getattr(args, "allow_open", False)),
-              "allow_outside_meshes": bool(getattr(args, "allow_outside_meshes", False))}
-    meta = {**labels.meta, "object_source": source}
-    if dataclasses.is_dataclass(labels) and not isinstance(labels, type):  # an instance
-        return dataclasses.replace(labels, meta=meta)
-    labels.meta = meta
-    return labels
+__all__ = ["add_parser", "run"]
 
 
 def add_parser(sub: Any) -> None:

@@ -86,7 +86,8 @@ from ..verdicts import VerdictCode, verdict_words
 
 __all__ = ["DIRECT_MESHES", "KINDS", "AcronymObject", "acronym_object", "acronym_transforms",
            "as_labels", "graspnet_array", "labels_gripper", "object_source", "pose_depths",
-           "save_acronym", "save_graspnet", "tip_offset", "write_acronym_object"]
+           "save_acronym", "save_graspnet", "tip_offset", "with_object_source",
+           "write_acronym_object"]
 
 #: Export kinds and the file extensions each is written to.
 KINDS = {"graspnet": (".npy",), "acronym": (".h5", ".hdf5")}
@@ -469,6 +470,29 @@ def write_acronym_object(found: AcronymObject) -> None:
                       include_color=False, include_texture=False, digits=17, header=None)
     with atomic_write(found.mesh) as f:
         f.write(text.encode("ascii"))
+
+
+def with_object_source(labels: Any, obj: str, part: str | None = None,
+                       allow_open: bool = False, allow_outside_meshes: bool = False) -> Any:
+    """``labels`` with ``meta["object_source"]``: where their object was read (``path``,
+    absolute, None for a bundled object; ``name`` as given; ``part``, ``allow_open``,
+    ``allow_outside_meshes``), so that :func:`object_source` finds it again.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> found = with_object_source(SimpleNamespace(meta={}), "cube")
+    >>> found.meta["object_source"]["name"], object_source(found)
+    ('cube', 'cube')
+    """
+    source = {"path": os.path.abspath(obj) if os.path.isfile(obj) else None, "name": obj,
+              "part": part, "allow_open": bool(allow_open),
+              "allow_outside_meshes": bool(allow_outside_meshes)}
+    meta = {**labels.meta, "object_source": source}
+    if dataclasses.is_dataclass(labels) and not isinstance(labels, type):  # an instance
+        return dataclasses.replace(labels, meta=meta)
+    labels.meta = meta
+    return labels
 
 
 def object_source(labels: Any) -> Any:

@@ -210,7 +210,7 @@ least 3 hard fingers (two cannot resist rotation about the line between them)
     if fingers > MAX_FINGERS:
         raise InputError(f"fingers={fingers}: at most {MAX_FINGERS} fingers a hand are "
                          "synthesized (the time grows steeply with them)")
-    minimum = {"soft": 2, "hard": 3, "frictionless": 7}[contact]
+    minimum = default_fingers(3, contact)
     if fingers < minimum:
         why = {"soft": "", "hard": " (two cannot resist rotation about the line between "
                "them)", "frictionless": " (Lakshminarayana 1978)"}[contact]
