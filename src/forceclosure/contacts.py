@@ -103,6 +103,8 @@ def model_codes(models: Iterable[str]) -> NDArray[np.int64]:
     [1, 2, 0]
     """
     return np.array([MODELS.index(m) for m in models], dtype=np.int64)
+
+
 ORIENTATIONS = ("axes", "grasp")
 
 #: Largest contact coordinate accepted: beyond it the axis of an unresisted rotation (up

@@ -81,7 +81,8 @@ _CODE_OF = {v: VerdictCode(c) for c, v in enumerate(_BY_CODE)}
 
 #: The verdicts' words in the order of their codes: ``VERDICT_WORDS[code]`` is the word.
 VERDICT_WORDS: tuple[str, ...] = tuple(v.value for v in _BY_CODE)
-#: The code of a grasp that was refused, not analysed (a bad entry of a grasp file or array).
+#: The code of a grasp that was refused, not analysed (a bad entry of a grasp file or array;
+#: in a partial results file, a grasp not analysed yet).
 ERROR = -1
 
 

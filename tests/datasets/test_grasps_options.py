@@ -210,3 +210,42 @@ def test_the_hands_sizes_are_part_of_the_job(tmp_path, monkeypatch):
 def test_the_library_refuses_an_empty_folder_too(options, flag):
     with pytest.raises(InputError, match=f"^{flag} is empty: give a folder name$"):
         GripperJob(width=3.0, mu=0.5, **options)
+
+
+def test_exports_are_written_kind_by_kind(tmp_path):
+    """``dataset --export`` writes each (kind, folder) on its own: a kind that cannot be
+    written for an object (ACRONYM, its object's file gone) leaves the GraspNet files
+    written; the same kind twice fills both folders; a file at least as new as its labels
+    is kept unless asked otherwise, and a changed labels file is never exported."""
+    from forceclosure.datasets.gripper_job import sha256_of, write_exports
+    from forceclosure.io.export import graspnet_array
+
+    folder = tmp_path / "ds"
+    (folder / "objects").mkdir(parents=True)
+    (folder / "job.json").write_text(json.dumps({"mode": "gripper", "allow_open": False,
+                                                 "allow_outside_meshes": False}))
+    labels = grasp_labels("cube", ParallelJaw(3.0), mu=0.3, count=4, collision=False)
+    labels.save(str(folder / "objects" / "cube.npz"))
+    record = {"path": str(tmp_path / "gone.stl"), "name": "cube", "status": "done",
+              "labels_file": "cube.npz", "labels_sha256": sha256_of(folder / "objects" /
+                                                                    "cube.npz")}
+    a, b, h = tmp_path / "a", tmp_path / "b", tmp_path / "h"
+    exports = [("graspnet", str(a)), ("acronym", str(h)), ("graspnet", str(b))]
+    report = write_exports(folder, [record], exports)
+    assert report["files"] == {"graspnet": 2, "acronym": 0}
+    assert len(report["errors"]) == 1 and report["errors"][0].startswith("acronym cube.h5: ")
+    for target in (a, b):
+        np.testing.assert_array_equal(np.load(target / "cube.npy"), graspnet_array(labels))
+    assert json.loads((folder / "exports.json").read_text()) == report
+    # kept: a file newer than its labels is not written again (unless keep=False)
+    (a / "cube.npy").write_bytes(b"kept")
+    write_exports(folder, [record], exports[:1], keep=True)
+    assert (a / "cube.npy").read_bytes() == b"kept"
+    write_exports(folder, [record], exports[:1], keep=False)
+    np.testing.assert_array_equal(np.load(a / "cube.npy"), graspnet_array(labels))
+    # a labels file changed behind its record's back: not exported, said in one line
+    (folder / "objects" / "cube.npz").write_bytes(b"changed")
+    (b / "cube.npy").unlink()
+    report = write_exports(folder, [record], exports[2:], keep=False)
+    assert report["files"] == {"graspnet": 0} and not (b / "cube.npy").exists()
+    assert "changed since its record was written" in report["errors"][0]

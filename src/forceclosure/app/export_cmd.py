@@ -155,8 +155,8 @@ def _run_folder(args: argparse.Namespace, folder: Path) -> int:
     records = read_records(folder)
     entries, errors = export_dataset(folder, records, args.graspnet, args.acronym,
                                      score=args.graspnet_score, mesh_root=args.mesh_root)
-    for line in errors:  # this object's: said, the others done
-        print(f"forceclosure: error: {printable(line)}", file=sys.stderr)
+    for _, why in errors:  # this object's: said, the others done
+        print(f"forceclosure: error: {printable(why)}", file=sys.stderr)
     done = sum(r.get("status") == "done" and isinstance(r.get("labels_file"), str)
                for r in records)
     return _report(args, entries, len(errors), len(records) - done)

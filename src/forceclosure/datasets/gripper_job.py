@@ -551,7 +551,8 @@ def labels_problem(folder: Path, record: dict[str, Any]) -> str | None:
 def export_dataset(out: str | Path, records: Iterable[dict[str, Any]],
                    graspnet: str | Path | None = None, acronym: str | Path | None = None, *,
                    score: str = "friction", mesh_root: str | None = None,
-                   keep: bool = False) -> tuple[list[dict[str, Any]], list[str]]:
+                   keep: bool = False
+                   ) -> tuple[list[dict[str, Any]], list[tuple[dict[str, Path], str]]]:
     """Each done record's labels as ``graspnet/<stem>.npy`` and ``acronym/<stem>.h5``
     (``<stem>`` the labels file's), as ``forceclosure export DIR`` and ``dataset --export``
     write them (:func:`forceclosure.io.label_files.export_labels_file`).
@@ -563,7 +564,8 @@ def export_dataset(out: str | Path, records: Iterable[dict[str, Any]],
     Returns
     -------
     (entries, errors)
-        One entry per object exported (or kept); one line per object that could not be.
+        One entry per object exported (or kept); per object that could not be, the files
+        it was to be written to (by kind) and the reason in one line.
     """
     import json
 
@@ -576,7 +578,8 @@ def export_dataset(out: str | Path, records: Iterable[dict[str, Any]],
             Path(folder).mkdir(parents=True, exist_ok=True)
     done = sorted((r for r in records if r.get("status") == "done"
                    and isinstance(r.get("labels_file"), str)), key=lambda r: r["labels_file"])
-    entries, errors = [], []
+    entries: list[dict[str, Any]] = []
+    errors: list[tuple[dict[str, Path], str]] = []
     for record in done:
         labels_file = out / "objects" / Path(record["labels_file"]).name
         stem = labels_file.stem
@@ -596,28 +599,29 @@ def export_dataset(out: str | Path, records: Iterable[dict[str, Any]],
                                     for k in ("graspnet", "acronym")),
                 score=score, mesh_root=mesh_root, record=record, job=job))
         except (InputError, OSError) as e:
-            errors.append(str(e).splitlines()[0])
+            errors.append((targets, str(e)))
     return entries, errors
 
 
 def write_exports(out: str | Path, records: Iterable[dict[str, Any]],
                   exports: Iterable[tuple[str, str]], score: str = "friction",
                   keep: bool = True) -> dict[str, Any]:
-    """:func:`export_dataset` for ``dataset --export`` (``(kind, folder)`` pairs); returns,
-    and writes to ``out/exports.json``, the files written or kept per kind and the objects
-    that could not be exported (one line each)."""
+    """:func:`export_dataset` for ``dataset --export``, one ``(kind, folder)`` at a time (a
+    kind that fails for an object leaves the others written); returns, and writes to
+    ``out/exports.json``, the files written or kept per kind and the files that could not
+    be written (one line each)."""
     import json
 
     from ..files.outdir import write_atomically
 
     out = Path(out)
-    folders = dict(exports)
-    entries, errors = export_dataset(out, records, folders.get("graspnet"),
-                                     folders.get("acronym"), score=score, keep=keep)
-    report: dict[str, Any] = {
-        "files": {kind: sum(kind in e or kind in e.get("kept", ()) for e in entries)
-                  for kind in folders},
-        "errors": errors}
+    records = list(records)
+    report: dict[str, Any] = {"files": {}, "errors": []}
+    for kind, folder in exports:
+        entries, errors = export_dataset(out, records, **{kind: folder}, score=score,
+                                         keep=keep)
+        report["files"][kind] = report["files"].get(kind, 0) + len(entries)
+        report["errors"] += [f"{kind} {targets[kind].name}: {why}" for targets, why in errors]
     write_atomically(out / EXPORTS_FILE, json.dumps(report, indent=2) + "\n")
     return report
 

@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
-from ..verdicts import VerdictCode, verdict_counts, verdict_words
+from ..verdicts import VERDICT_WORDS, VerdictCode, verdict_counts, verdict_words
 from .hand_poses import APPROACHES, DEPTHS
 from .jaw import ParallelJaw, check_jaw_contact
 
@@ -47,7 +47,6 @@ METRIC_ARRAYS = ("sigma_min", "sigma_max", "isotropy", "volume")
 #: The optional arrays of the task-wrench test (:meth:`GraspLabels.with_task`), saved when
 #: present.
 TASK_ARRAYS = ("task_verdict", "task_spare", "task_spare_upper")
-
 
 
 @dataclass(frozen=True, eq=False)
@@ -144,7 +143,8 @@ class GraspLabels:
 
     def counts(self) -> dict[str, int]:
         """How many grasps have each verdict."""
-        return verdict_counts(self.code)
+        counts = verdict_counts(self.code)
+        return {word: counts[word] for word in VERDICT_WORDS}  # in the codes' order
 
     def with_robustness(self, robustness: Any) -> GraspLabels:
         """These labels with the arrays of a :class:`~forceclosure.gripper.robust.Robustness` of the

@@ -42,9 +42,6 @@ from ..contacts import MAX_CONTACTS, MAX_QUALITY_CONTACTS, MODELS, Cone, parse_c
 from ..errors import InputError, clip
 from ..files.atomic import atomic_write
 from ..files.read import regular_file
-
-# ERROR (-1) marks a grasp with bad input or, in a partial results file, one not
-# analysed yet
 from ..verdicts import ERROR, VERDICT_WORDS, VerdictCode, verdict_counts
 from .grasp_file import MAX_COORDINATE
 

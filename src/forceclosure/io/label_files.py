@@ -97,7 +97,7 @@ def export_labels_file(labels_file: str, graspnet: str | None = None,
         if source is None:
             raise InputError(f"{labels_file}: its meta does not locate the object the labels "
                              f"were made on (object {labels.meta.get('object')!r}); name it "
-                             "with --object FILE")
+                             "with obj (the command line's --object FILE)")
         found = acronym_object(source, acronym, mesh_root, **options)
     if graspnet:
         assert array is not None  # computed above whenever graspnet is given

@@ -47,8 +47,6 @@ __all__ = ["COLOURS", "CONE_SIDES", "check_html_path", "grasps_figure", "planar_
 COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2",
            "#7f7f7f", "#bcbd22", "#17becf")
 
-#: Segments of a friction cone's rim.
-
 
 def _lines(paths: Sequence[NDArray[np.float64]], closed: bool) -> NDArray[np.float64]:
     """Polylines joined into one array with NaN rows between them (one plotly trace)."""

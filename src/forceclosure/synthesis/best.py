@@ -331,8 +331,9 @@ def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
     References
     ----------
     .. [1] V.-D. Nguyen, "Constructing force-closure grasps", *Int. J. Robotics
-       Research* 7(3):3-16, 1988, §4 (two opposing
-       fingers, Algorithm 1), §5 (independent regions of contact in 2D and 3D)
+       Research* 7(3):3-16, 1988, §4.1, Corollary 3
+       (two opposing fingers); §5 (independent regions of contact in 2D and 3D;
+       Algorithm 1 in §5.1)
 
     Examples
     --------
