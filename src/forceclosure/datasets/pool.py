@@ -47,7 +47,7 @@ def pool_context() -> multiprocessing.context.BaseContext:
     """Workers forked from a clean server process: forking this one is unsafe once its
     compiled kernels have started OpenMP threads."""
     context = multiprocessing.get_context("forkserver")
-    context.set_forkserver_preload(["forceclosure.datasets.one_object", "forceclosure.synthesis"])
+    context.set_forkserver_preload(["forceclosure.datasets.pool", "forceclosure.synthesis"])
     return context
 
 
