@@ -157,9 +157,8 @@ def _run_folder(args: argparse.Namespace, folder: Path) -> int:
                                      score=args.graspnet_score, mesh_root=args.mesh_root)
     for _, why in errors:  # this object's: said, the others done
         print(f"forceclosure: error: {printable(why)}", file=sys.stderr)
-    done = sum(r.get("status") == "done" and isinstance(r.get("labels_file"), str)
-               for r in records)
-    return _report(args, entries, len(errors), len(records) - done)
+    # every record done with a labels file gave an entry or an error; the rest were skipped
+    return _report(args, entries, len(errors), len(records) - len(entries) - len(errors))
 
 
 def _report(args: argparse.Namespace, entries: list[dict[str, Any]], failed: int,

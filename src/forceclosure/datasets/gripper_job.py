@@ -47,12 +47,12 @@ __all__ = ["EXPORTS_FILE", "GRASP_COLUMNS", "GripperJob", "export_dataset", "lab
            "write_grasp_table", "write_pictures"]
 
 
-
 def sha256_of(file: Path) -> str:
     """The SHA-256 of a file's bytes, in hex (:func:`forceclosure.files.read.fingerprint`)."""
     from ..files.read import fingerprint
 
     return fingerprint(str(file)).removeprefix("sha256:")
+
 
 #: The columns of grasps.parquet, in order: (name, pyarrow type name). ``name`` and ``path``
 #: are results.parquet's (join on ``path``); the rest are one grasp of the object's ``.npz``.
@@ -65,7 +65,6 @@ GRASP_COLUMNS = (("name", "string"), ("path", "string"), ("grasp", "int64"),
                    for what in ("point", "normal") for a in "xyz"),
                  ("verdict", "string"), ("least_friction", "float64"), ("epsilon", "float64"),
                  ("collides", "bool"))
-
 
 
 def object_seed(seed: int, stamp: str) -> int:
@@ -551,15 +550,15 @@ def labels_problem(folder: Path, record: dict[str, Any]) -> str | None:
 def export_dataset(out: str | Path, records: Iterable[dict[str, Any]],
                    graspnet: str | Path | None = None, acronym: str | Path | None = None, *,
                    score: str = "friction", mesh_root: str | None = None,
-                   keep: bool = False
+                   keep: bool = False, verify: bool = True
                    ) -> tuple[list[dict[str, Any]], list[tuple[dict[str, Path], str]]]:
     """Each done record's labels as ``graspnet/<stem>.npy`` and ``acronym/<stem>.h5``
     (``<stem>`` the labels file's), as ``forceclosure export DIR`` and ``dataset --export``
     write them (:func:`forceclosure.io.label_files.export_labels_file`).
 
-    A labels file missing or changed since its record was written is not exported. With
-    ``keep``, an object whose files are all at least as new as its labels file is not
-    written again (its entry says ``"kept"``).
+    A labels file missing, or (with ``verify``: its SHA-256 read again) changed since its
+    record was written, is not exported. With ``keep``, an object whose files are all
+    at least as new as its labels file is not written again (its entry says ``"kept"``).
 
     Returns
     -------
@@ -586,7 +585,8 @@ def export_dataset(out: str | Path, records: Iterable[dict[str, Any]],
         targets = {kind: Path(folder) / (stem + suffix) for kind, folder, suffix in (
             ("graspnet", graspnet, ".npy"), ("acronym", acronym, ".h5")) if folder is not None}
         try:
-            problem = labels_problem(out / "objects", record)
+            problem = labels_problem(out / "objects", record) if verify else (
+                None if labels_file.is_file() else "its labels file is missing")
             if problem is not None:
                 raise InputError(f"{record.get('name') or stem}: {problem}; run the dataset "
                                  "again")
@@ -609,7 +609,8 @@ def write_exports(out: str | Path, records: Iterable[dict[str, Any]],
     """:func:`export_dataset` for ``dataset --export``, one ``(kind, folder)`` at a time (a
     kind that fails for an object leaves the others written); returns, and writes to
     ``out/exports.json``, the files written or kept per kind and the files that could not
-    be written (one line each)."""
+    be written (one line each). The run has checked its records' labels files already
+    (:meth:`GripperJob.check`), so they are not hashed again here."""
     import json
 
     from ..files.outdir import write_atomically
@@ -619,7 +620,7 @@ def write_exports(out: str | Path, records: Iterable[dict[str, Any]],
     report: dict[str, Any] = {"files": {}, "errors": []}
     for kind, folder in exports:
         entries, errors = export_dataset(out, records, **{kind: folder}, score=score,
-                                         keep=keep)
+                                         keep=keep, verify=False)
         report["files"][kind] = report["files"].get(kind, 0) + len(entries)
         report["errors"] += [f"{kind} {targets[kind].name}: {why}" for targets, why in errors]
     write_atomically(out / EXPORTS_FILE, json.dumps(report, indent=2) + "\n")
