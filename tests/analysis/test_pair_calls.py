@@ -64,6 +64,57 @@ def test_planar_pairs_agree_with_the_reference(n):
                        offset[offset > 0] / 2)
 
 
+@pytest.mark.parametrize("mu", [0.0, 0.3, 1.5, 1e7, 1e10])
+def test_one_friction_for_all_agrees_with_the_reference(mu):
+    """One friction for every pair takes the vectorised pass (``kernels.pairs._common_planar``)
+    on the calling thread and in slices: the reference's verdicts, huge friction (``mu T``
+    beyond 1) included."""
+    rng = np.random.default_rng(int(mu) % 1000 + 11)
+    p, n_p, q, n_q, _ = _planar_pairs(rng, SERIAL_BELOW + 10)
+    for rows in (slice(0, 60), slice(None)):
+        ours = two_finger_closure(p[rows], n_p[rows], q[rows], n_q[rows], mu)
+        _agree(ours, two_finger_closure(p[rows], n_p[rows], q[rows], n_q[rows], mu,
+                                        engine="reference"))
+
+
+def test_the_vectorised_planar_pass_is_the_scalar_path_bit_for_bit():
+    """``_common_planar`` gives each row it decides the code and μ* of the scalar path
+    (``_conditioned_pair``, one pair at a time), to the last bit, and leaves it every row
+    outside its case (bad input, huge or tiny values, coincident points, ``mu T >= 1``)."""
+    from forceclosure.kernels import pairs as kernel
+
+    rng = np.random.default_rng(17)
+    p, n_p, q, n_q, mu = _planar_pairs(rng, 3000)
+    n_p[:30] = 0.0
+    p[30:60, 0] = np.nan
+    p[60:90] *= 2.0**70
+    n_q[90:120] *= 1e-15
+    n_q[120:150] = -n_p[120:150]  # antiparallel, and the points on the normals' line:
+    q[120:150] = p[120:150] + n_p[120:150]  # c_P = 0 at one end at times
+    n_p[150:200] = [1.0, 0.0]
+    p[150:200], q[150:200] = [0.0, 0.0], np.c_[np.zeros(50), rng.normal(size=50)]  # c = 0
+    tol = 1e-9
+    T = np.tan(tol)
+    for one, friction in ((True, 0.3), (True, 2e9), (False, mu)):
+        mus = np.array([friction]) if one else friction
+        step = 0 if one else 1
+        code, least = np.empty(len(p), np.int8), np.empty(len(p))
+        kernel._common_planar(p, n_p, q, n_q, mus, mus, step, step, T, 1e300, code, least)
+        done = code != kernel._REDO
+        if one and friction == 2e9:  # mu T >= 1: every row to the scalar path
+            assert not done.any()
+            continue
+        assert done.mean() > 0.5 and not done[:120].any()
+        for i in np.flatnonzero(done):
+            m = mus[i * step]
+            c, star = kernel._conditioned_pair(2, p[i, 0], p[i, 1], 0.0, q[i, 0], q[i, 1], 0.0,
+                                               n_p[i, 0], n_p[i, 1], 0.0, n_q[i, 0],
+                                               n_q[i, 1], 0.0, m, m, -1.0, -1.0, T, tol,
+                                               False, 1e300)
+            assert (code[i], np.float64(least[i]).view(np.int64)) == (
+                c, np.float64(star).view(np.int64)), i
+
+
 def test_broadcast_pairs_agree_with_the_reference():
     rng = np.random.default_rng(5)
     p = rng.normal(size=(40, 30, 2))

@@ -43,28 +43,32 @@ ZERO_NORMAL, NON_FINITE = 4, 5
 TOO_LARGE = 6
 
 
+# The tests below are written without branches (bitwise & and |, selects), so that loops
+# over pairs vectorise (:func:`_common_planar`, :func:`_common_rows`); they compute the same
+# values, bit for bit, as the branching forms would.
+
 @nb.njit(inline="always")
 def _inside(c: float, s: float, mu: float, T: float) -> bool:
     """angle(c, s) < atan(mu) - tol."""
-    return c > 0.0 and mu > T and s * (1.0 + mu * T) < c * (mu - T)
+    return (c > 0.0) & (mu > T) & (s * (1.0 + mu * T) < c * (mu - T))
 
 
 @nb.njit(inline="always")
 def _outside(c: float, s: float, mu: float, T: float) -> bool:
     """angle(c, s) > atan(mu) + tol."""
     muT = mu * T
-    if muT < 1.0:
-        return c <= 0.0 or s * (1.0 - muT) > c * (mu + T)
-    return c < 0.0 and s * (muT - 1.0) < -c * (mu + T)
+    below = (c <= 0.0) | (s * (1.0 - muT) > c * (mu + T))  # muT < 1
+    above = (c < 0.0) & (s * (muT - 1.0) < -c * (mu + T))  # muT >= 1
+    return (muT < 1.0) & below | (muT >= 1.0) & above
 
 
 @nb.njit(inline="always")
 def _directed(cp: float, sp: float, cq: float, sq: float, mp: float, mq: float, T: float) -> int:
-    if _inside(cp, sp, mp, T) and _inside(cq, sq, mq, T):
-        return CLOSURE
-    if _outside(cp, sp, mp, T) or _outside(cq, sq, mq, T):
-        return NONE
-    return MARGINAL
+    closed = _inside(cp, sp, mp, T) & _inside(cq, sq, mq, T)
+    opened = _outside(cp, sp, mp, T) | _outside(cq, sq, mq, T)
+    # CLOSURE if closed, else NONE if opened, else MARGINAL; in arithmetic, which vectorises
+    return (MARGINAL + (CLOSURE - MARGINAL) * np.int64(closed)
+            - (MARGINAL - NONE) * np.int64(opened & ~closed))
 
 
 @nb.njit(inline="always")
@@ -76,9 +80,12 @@ def _verdict(cp: float, sp: float, cq: float, sq: float, mp: float, mq: float, T
 @nb.njit(inline="always")
 def _directed_least(cp: float, sp: float, cq: float, sq: float) -> float:
     """max(tan angle_P, tan angle_Q) = max(sp / cp, sq / cq), with one division."""
-    if cp > 0.0 and cq > 0.0:
-        return sp / cp if sp * cq >= sq * cp else sq / cq
-    return np.inf
+    positive = (cp > 0.0) & (cq > 0.0)
+    first = sp * cq >= sq * cp
+    # divided by 1 where not positive (the ratio is not used): no division by zero, which
+    # raises in kernels compiled with Python's error model
+    ratio = (sp if first else sq) / ((cp if first else cq) if positive else 1.0)
+    return ratio if positive else np.inf
 
 
 @nb.njit(inline="always")
@@ -360,7 +367,12 @@ def pair_verdict_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, hard, max_coordinate, c
     step_p = 1 if mu_p.shape[0] > 1 else 0
     step_q = 1 if mu_q.shape[0] > 1 else 0
     if p.shape[1] == 2:  # the dimension outside the loops, scalars only inside: measured
+        # most rows branch-free (vectorised), then the scalar path for the rows left
+        _common_planar(p, n_p, q, n_q, mu_p, mu_q, step_p, step_q, T, max_coordinate, code,
+                       least)
         for i in range(p.shape[0]):  # 1.4x faster than a row function's loop
+            if code[i] != _REDO:
+                continue
             c, m = _conditioned_pair(2, p[i, 0], p[i, 1], 0.0, q[i, 0], q[i, 1], 0.0,
                                      n_p[i, 0], n_p[i, 1], 0.0, n_q[i, 0], n_q[i, 1], 0.0,
                                      mu_p[i * step_p], mu_q[i * step_q], -1.0, -1.0, T, tol,
@@ -382,8 +394,59 @@ def pair_verdict_kernel(p, n_p, q, n_q, mu_p, mu_q, tol, hard, max_coordinate, c
     return flagged
 
 
-#: The code :func:`_common_rows` gives a row it leaves to the scalar path (never returned).
+#: The code :func:`_common_rows` and :func:`_common_planar` give a row they leave to the
+#: scalar path (never returned).
 _REDO = 7
+
+
+@nb.njit(inline="always")
+def _common_planar_row(px, py, qx, qy, ax, ay, bx, by, mp, mq, T, max_coordinate):
+    """:func:`_common_planar`'s code (``_REDO`` outside its case) and μ* of one pair."""
+    na = ax * ax + ay * ay
+    nb_ = bx * bx + by * by
+    big = max(abs(px), abs(py), abs(qx), abs(qy))
+    vx, vy = qx - px, qy - py
+    scale = max(1.0, big)
+    # bitwise & (not and/or): no branches
+    common = ((abs(px + py + qx + qy + na + nb_) < np.inf) & (big <= 2.0**64)
+              & (big <= max_coordinate) & (na > 1e-20) & (na < 1e200) & (nb_ > 1e-20)
+              & (nb_ < 1e200) & (vx * vx + vy * vy > 1e-24 * scale * scale)
+              & (mp * T < 1.0) & (mq * T < 1.0))
+    cp = -(vx * ax + vy * ay)
+    cq = vx * bx + vy * by
+    sp = abs(vx * ay - vy * ax)
+    sq = abs(vx * by - vy * bx)
+    # of squeezing (PQ) and spreading (QP), only the one with c_P > 0 can close or have a
+    # finite μ*; the other is NONE (its c_P <= 0, and mu T < 1) with μ* = inf, so it
+    # changes neither max(verdicts) nor min(μ*): decided once, not twice
+    sign = 1.0 if cp > 0.0 else -1.0
+    cp, cq = sign * cp, sign * cq
+    code = _directed(cp, sp, cq, sq, mp, mq, T)
+    return (code if common else _REDO), _directed_least(cp, sp, cq, sq)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def _common_planar(p, n_p, q, n_q, mu_p, mu_q, step_p, step_q, T, max_coordinate, code,
+                   least):  # pragma: no cover - compiled
+    """The common case of :func:`pair_verdict_kernel` in the plane without branches on the
+    row, so that the compiler vectorises it: pairs whose inputs need no conditioning
+    (finite, points within ``2**64`` and ``max_coordinate``, normals of lengths 1e-10 to
+    1e100), whose points are apart, and with ``mu T < 1``. The codes and μ* are the scalar
+    path's (:func:`_conditioned_pair`, :func:`_planar_pair`) bit for bit; every other row
+    gets ``_REDO``. Measured: about 1.4x faster than the scalar path on random pairs, one
+    friction for all (``bench_targets.py``'s pairs row)."""
+    if step_p == 0 and step_q == 0:  # one friction for all: a loop the compiler vectorises
+        mp, mq = mu_p[0], mu_q[0]
+        for i in range(p.shape[0]):
+            code[i], least[i] = _common_planar_row(p[i, 0], p[i, 1], q[i, 0], q[i, 1],
+                                                   n_p[i, 0], n_p[i, 1], n_q[i, 0],
+                                                   n_q[i, 1], mp, mq, T, max_coordinate)
+        return
+    for i in range(p.shape[0]):
+        code[i], least[i] = _common_planar_row(p[i, 0], p[i, 1], q[i, 0], q[i, 1], n_p[i, 0],
+                                               n_p[i, 1], n_q[i, 0], n_q[i, 1],
+                                               mu_p[i * step_p], mu_q[i * step_q], T,
+                                               max_coordinate)
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
