@@ -55,9 +55,17 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--vertices puts soft fingers, with friction, on vertices; it "
                          "does not go with --contact frictionless")
     defaulted = args.fingers is None
-    result = synthesize(obj, args.fingers, args.contact, args.mu, top=args.top,
-                        margin=args.margin, construction=args.construction,
-                        method=args.method, samples=args.samples, seed=args.seed)
+    from tqdm import tqdm
+
+    from ..datasets.progress import bar_size
+
+    # a counter of the sites built, on a terminal (a long search is not silent)
+    with tqdm(unit=" sites", desc="searching", file=sys.stderr, disable=None, leave=False,
+              **bar_size()) as bar:
+        result = synthesize(obj, args.fingers, args.contact, args.mu, top=args.top,
+                            margin=args.margin, construction=args.construction,
+                            method=args.method, samples=args.samples, seed=args.seed,
+                            progress=bar.update)
     args.fingers = result.fingers  # the default filled in (the API's and dataset's)
     if defaulted and not args.json:
         from ..synthesis.best import default_fingers_reason

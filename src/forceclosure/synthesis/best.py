@@ -13,6 +13,7 @@ first. A hand it cannot construct is refused with one line that says why.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -278,7 +279,8 @@ move it nearer the origin (its regions move with it)
 def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
                contact: str = "hard", mu: float = 0.3, *, top: int = 5, margin: float = MARGIN,
                construction: str | Construction = DEFAULT, method: str = "auto",
-               samples: int = 20_000, seed: int = 0, allow_open: bool = False) -> Synthesis:
+               samples: int = 20_000, seed: int = 0, allow_open: bool = False,
+               progress: Callable[[int], object] | None = None) -> Synthesis:
     """The ``top`` best force-closure grasps on ``obj`` with their independent regions.
 
     Parameters
@@ -317,6 +319,9 @@ def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
     allow_open : bool
         Accept an open or non-manifold mesh given as a file or a ``trimesh.Trimesh``
         (as :func:`~forceclosure.objects.io.load_object`).
+    progress : callable, optional
+        Called with 1 for each candidate site the search takes up, before building its
+        regions (the CLI's counter of sites).
 
     Returns
     -------
@@ -374,6 +379,7 @@ def synthesize(obj: Polygon | Polyhedron | Any, fingers: int | None = None,
     curved = isinstance(obj, Polyhedron) and bool(
         np.mean([len(f.triangles) == 1 for f in obj.faces]) > 0.5)
     chosen = construction_for(obj.dim, fingers, contact, construction, method, curved)
-    found = search(chosen, obj, Hand(fingers, contact, mu, margin, samples, seed, top))
+    found = search(chosen, obj, Hand(fingers, contact, mu, margin, samples, seed, top),
+                   progress=progress)
     return Synthesis(list(found), chosen.method, fingers, contact, mu, chosen,
                      getattr(found, "undecided", 0))

@@ -13,6 +13,10 @@ name)``. Each gives the same four steps, which
    force-direction closure of the normals), a boolean mask;
 3. ``bound(obj, sites, hand)``: optionally, an upper bound on each site's
    relative smallest region, for branch and bound;
+   ``levels(obj, hand, prune)`` may give steps 1 to 3 at once, lazily: the pruned sites in
+   levels of one bound, by decreasing bound (for tuples of edges bounded by their shortest
+   edge: :func:`~forceclosure.synthesis.planar.edge_sites.by_shortest_edge`), so that the
+   search reaches its best sites without listing all of them first;
 4. ``build(obj, site, hand)``: the regions on one site, ``None`` (none there), or an
    :class:`Undecided` (the site has regions by the bound, but none could be proved in the
    coordinates given: the search then says it is not complete).
@@ -138,6 +142,9 @@ class Construction:
         Steps 1 and 4 (see the module's docstring).
     prune, bound : callable or None
         Steps 2 and 3.
+    levels : callable or None
+        Steps 1 to 3 at once, lazily, in the search's order (the module's docstring); the
+        search uses it in place of ``sites`` and ``bound``, which give the same sites.
     enough : int or None
         For a construction without a bound whose sites are sampled: stop once
         ``enough * top`` certified region sets are built.
@@ -159,6 +166,7 @@ class Construction:
     searched: str
     prune: Callable[[Any, Sites, Hand], NDArray[np.bool_] | Sequence[bool]] | None = None
     bound: Callable[[Any, Sites, Hand], NDArray[np.float64]] | None = None
+    levels: Callable[[Any, Hand, Callable | None], Iterable[Any]] | None = None
     enough: int | None = None
     complete: bool = False
     #: Why the search is complete, in words (with ``complete``): said after ``searched``.

@@ -21,7 +21,7 @@ from __future__ import annotations
 import bisect
 import dataclasses
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from typing import Any
 
 import numpy as np
@@ -161,7 +161,32 @@ def candidate_sites(construction: Construction, obj: Any, hand: Hand, prune: boo
     return [s for block in kept for s in block]
 
 
-def search(construction: Construction, obj: Any, hand: Hand) -> Found:
+def _in_order(construction: Construction, where: Any, hand: Hand) -> Iterator[
+        tuple[float | None, Any, Any, Any]]:
+    """Steps 1 to 3: ``(bound, key, site, least)`` for each site in the search's order — by
+    decreasing bound (rounded: :func:`tie_rounded`; None without one), ties by site order —
+    where ``key`` orders sites as the tie rule does and no site from here on has a key below
+    ``least``. From the construction's ``levels`` when it has them (lazily; keys: the tuples
+    of edges), else from all its sites at once (keys: their places in the list)."""
+    if construction.levels is not None:
+        for level in construction.levels(where, hand, construction.prune):
+            for row in level.sites:
+                key = tuple(int(e) for e in row)
+                yield level.bound, key, row, min(key, level.later)
+        return
+    sites = candidate_sites(construction, where, hand)
+    bound = None
+    if construction.bound is not None and len(sites):
+        bound = np.array([tie_rounded(b) for b in construction.bound(where, sites, hand)])
+    order = range(len(sites)) if bound is None else np.argsort(-bound, kind="stable")
+    # the least site index from each place in the order on
+    least = np.minimum.accumulate(np.asarray(order)[::-1])[::-1] if len(sites) else ()
+    for at, k in enumerate(order):
+        yield None if bound is None else bound[k], int(k), sites[k], int(least[at])
+
+
+def search(construction: Construction, obj: Any, hand: Hand,
+           progress: Callable[[int], object] | None = None) -> Found:
     """The ``hand.top`` best certified region sets a construction builds on ``obj``.
 
     Runs the construction's steps: its sites, pruned by its necessary
@@ -182,6 +207,8 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
     obj : Polygon or Polyhedron
     hand : Hand
         With the search's settings (``top``, ``samples``, ``seed``).
+    progress : callable, optional
+        Called with 1 for each site taken up, before it is built.
 
     Returns
     -------
@@ -204,18 +231,14 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
     # coordinates (frame.py); the regions are mapped back and proved on the object as given
     frame = Frame.of(obj) if isinstance(obj, Polygon | Polyhedron) else None
     where = obj if frame is None else frame.local(obj)
-    sites = candidate_sites(construction, where, hand)
     areas = getattr(obj, "dim", 2) == 3
-    bound = None
-    if construction.bound is not None and len(sites):
-        bound = np.array([tie_rounded(b) for b in construction.bound(where, sites, hand)])
-    order = range(len(sites)) if bound is None else np.argsort(-bound, kind="stable")
-    # (size, site, pending region set), by decreasing size then site
-    built: list[tuple[float, int, _Pending]] = []
+    # (size, site's key, pending region set), by decreasing size then site
+    built: list[tuple[float, Any, _Pending]] = []
+    site_of: dict[Any, Any] = {}  # each built site by its key
     # (site, why, the most its regions could measure or None)
     undecided: list[tuple[Any, str, float | None]] = []
 
-    def settled(entry: tuple[float, int, _Pending]) -> bool:
+    def settled(entry: tuple[float, Any, _Pending]) -> bool:
         """Prove ``entry``'s region set (cut as its proof needs): True when it holds at its
         size; otherwise it leaves ``built``, and comes back at its smaller size when a cut
         of it was proved, or is undecided when none was."""
@@ -223,13 +246,13 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
         proved = first_proved(pending.cut, pending.trims)
         built.remove(entry)
         if proved is None:
-            undecided.append((sites[k], pending.reason, None))
+            undecided.append((site_of[k], pending.reason, None))
             return False
         now = float(proved.relative_min_size)
         bisect.insort(built, (now, k, _Pending.proved(proved)), key=_by_size)
         return now == size
 
-    def proved_first() -> list[tuple[float, int, _Pending]]:
+    def proved_first() -> list[tuple[float, Any, _Pending]]:
         """The first ``top`` ranked region sets, each proved at the size it ranks by."""
         while True:
             first = ranked(built, slack, limit=top, presorted=True, areas=areas)
@@ -238,7 +261,7 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
 
     tie_check = [top]  # how many built before ties are next looked at (doubling)
 
-    def beaten(size: float, site: int) -> bool:
+    def beaten(size: float, site: Any) -> bool:
         """Whether ``top`` proved region sets rank ahead of any site whose regions are at
         most ``size`` and whose index is at least ``site``: the best the sites left can do
         (they come by decreasing bound)."""
@@ -256,26 +279,27 @@ def search(construction: Construction, obj: Any, hand: Hand) -> Found:
         tie_check[0] = 2 * len(built)
         if len(proved_first()) < top:
             return False
-        trial: list[tuple[float, int, _Pending | None]] = [*built]
+        trial: list[tuple[float, Any, _Pending | None]] = [*built]
         bisect.insort(trial, (size * (1 + 1e-7), site, None), key=_by_size)
         return all(b[2] is not None for b in ranked(trial, slack, limit=top, presorted=True,
                                                     areas=areas))
 
-    # the least site index from each place in the order on
-    least = np.minimum.accumulate(np.asarray(order)[::-1])[::-1] if len(sites) else ()
-    for at, k in enumerate(order):
-        if bound is not None and (not bound[k] > 0 or beaten(bound[k], int(least[at]))):
+    for bound, key, site, least in _in_order(construction, where, hand):
+        if bound is not None and (not bound > 0 or beaten(bound, least)):
             break
         if construction.enough is not None and len(built) >= construction.enough * top:
             break
-        regions = construction.build(where, sites[k], hand)
+        if progress is not None:
+            progress(1)
+        regions = construction.build(where, site, hand)
         if isinstance(regions, Undecided):
-            undecided.append((sites[k], regions.reason, regions.size))
+            undecided.append((site, regions.reason, regions.size))
             continue
         if regions is None:
             continue
         pending = _Pending.of(regions, None if frame is None else frame.cut_on(regions, obj))
-        entry = (float(pending.cut(0.0).relative_min_size), int(k), pending)
+        entry = (float(pending.cut(0.0).relative_min_size), key, pending)
+        site_of[key] = site
         bisect.insort(built, entry, key=_by_size)
         if construction.enough is not None:  # counts proved region sets as they come
             settled(entry)

@@ -1,5 +1,8 @@
-"""Candidate tuples of edges for the constructions on polygons, and their prune: the
-force-direction closure of the fingers' friction cones (Theorem 2, necessary).
+"""Candidate tuples of edges for the constructions on polygons, their prune (the
+force-direction closure of the fingers' friction cones, Theorem 2, necessary) and their
+bound (a region on an edge is no longer than the edge), the three at once in levels of one
+bound (:func:`by_shortest_edge`), so that a search reaches its best tuples without listing
+every tuple of a finely tessellated polygon.
 
 Examples
 --------
@@ -15,29 +18,113 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ...objects.polygon import Polygon
 from ..construction import Hand
-from ..regions import narrowed
+from ..regions import narrowed, tie_rounded
 
-__all__ = ["BLOCK", "edge_tuples", "force_direction_prune"]
+__all__ = ["BLOCK", "Level", "by_shortest_edge", "edge_tuples", "force_direction_prune",
+           "shortest_edge"]
 
 #: Edge tuples generated and pruned at once.
 BLOCK = 65_536
+
+
+def _blocks(edges: Sequence[int], count: int) -> Iterator[NDArray[np.int64]]:
+    """Every ``count`` of ``edges`` (increasing) in lexicographic order, in blocks."""
+    tuples = itertools.combinations(edges, count)
+    while block := list(itertools.islice(tuples, BLOCK)):
+        yield np.array(block, dtype=np.int64)
 
 
 def edge_tuples(count: int) -> Callable[[Polygon, Hand], Iterator[NDArray[np.int64]]]:
     """Step 1 of a construction on ``count`` edges: every ``count`` distinct edges in
     increasing order, as rows, in blocks of :data:`BLOCK`."""
     def sites(polygon: Polygon, hand: Hand) -> Iterator[NDArray[np.int64]]:
-        tuples = itertools.combinations(range(len(polygon.edges)), count)
-        while block := list(itertools.islice(tuples, BLOCK)):
-            yield np.array(block, dtype=np.int64)
+        return _blocks(range(len(polygon.edges)), count)
     return sites
+
+
+def shortest_edge(polygon: Polygon, sites: NDArray, hand: Hand) -> NDArray[np.float64]:
+    """Step 3: a tuple's smallest region is at most its shortest edge (over the size)."""
+    return polygon.edge_arrays.length[sites].min(axis=1) / polygon.size
+
+
+@dataclass(frozen=True)
+class Level:
+    """Sites of one bound, pruned, in site order (:func:`by_shortest_edge`).
+
+    Attributes
+    ----------
+    bound : float
+        Their bound, rounded as the search rounds bounds (:func:`tie_rounded`).
+    sites : (m, count) int array
+        The tuples of edges, increasing in each row, rows in lexicographic order.
+    later : tuple of int
+        No site of a later level precedes this tuple in site order.
+    """
+
+    bound: float
+    sites: NDArray[np.int64]
+    later: tuple[int, ...]
+
+
+def by_shortest_edge(count: int) -> Callable[[Polygon, Hand, Callable], Iterator[Level]]:
+    """Steps 1 to 3 at once for a construction on ``count`` edges bounded by
+    :func:`shortest_edge`: the tuples in the order of a search by decreasing bound, ties in
+    site order, generated lazily a bound at a time.
+
+    The edges are classed by their rounded bound, largest first; level ``j`` holds the
+    tuples of edges of the first ``j`` classes that use an edge of class ``j`` (their
+    shortest), in lexicographic order, pruned block by block. Each level also names the
+    least tuple any later one could hold (the first ``count - 1`` edges of the later
+    classes and the first edge of its own class, or the first ``count``), which a search
+    needs to break ties by site order before it has seen those levels.
+
+    Examples
+    --------
+    >>> from forceclosure.objects import Polygon
+    >>> from forceclosure.synthesis.construction import Hand
+    >>> # edges of lengths 4, 1, 1.41, 3, 2: the third is the shortest of the first level
+    >>> kite = Polygon.from_points([[0, 0], [4, 0], [4, 1], [3, 2], [0, 2]])
+    >>> levels = by_shortest_edge(4)(kite, Hand(4, "frictionless", 0.0), force_direction_prune)
+    >>> [(level.sites.tolist(), level.later) for level in levels]
+    [([[0, 2, 3, 4]], (0, 1, 2, 3)), ([[0, 1, 2, 4], [0, 1, 3, 4]], (inf,))]
+    """
+    def levels(polygon: Polygon, hand: Hand, prune: Callable | None) -> Iterator[Level]:
+        lengths = shortest_edge(polygon, np.arange(len(polygon.edges))[:, None], hand)
+        rounded = np.array([tie_rounded(float(x)) for x in lengths])
+        classes = sorted(set(rounded.tolist()), reverse=True)
+        # the least tuple of each level, and from each level on
+        least, first = [], np.empty(0, dtype=np.int64)
+        for value in classes:
+            own = np.flatnonzero(rounded == value)
+            first = np.sort(np.concatenate([first, own[:count]]))[:count]
+            if len(first) < count:  # no tuple yet
+                least.append((math.inf,))
+            else:
+                least.append(tuple(int(e) for e in first) if np.isin(first, own).any()
+                             else (*map(int, first[:count - 1]), int(own[0])))
+        after: list[tuple] = [(math.inf,)] * len(classes)  # the least of the levels after
+        for j in range(len(classes) - 2, -1, -1):
+            after[j] = min(after[j + 1], least[j + 1])
+        for value, later in zip(classes, after, strict=True):
+            usable = np.flatnonzero(rounded >= value)
+            if len(usable) < count:
+                continue
+            own = rounded == value
+            for block in _blocks(usable.tolist(), count):
+                block = block[own[block].any(axis=1)]
+                if prune is not None and len(block):
+                    block = block[np.asarray(prune(polygon, block, hand), dtype=bool)]
+                if len(block):
+                    yield Level(value, block, later)
+    return levels
 
 
 def force_direction_prune(polygon: Polygon, sites: NDArray, hand: Hand) -> NDArray[np.bool_]:

@@ -52,7 +52,7 @@ from ..regions import (
     first_proved,
     proved_once,
 )
-from .edge_sites import edge_tuples, force_direction_prune
+from .edge_sites import by_shortest_edge, edge_tuples, force_direction_prune, shortest_edge
 from .vertex_grasps import extreme_generators
 
 __all__ = ["STRICT", "FrictionlessRegions", "cofactors",
@@ -361,7 +361,8 @@ def _generators_of(directions):
 def _four(name: str, build, paper: str) -> Construction:
     return Construction(
         dim=2, fingers=4, contact="frictionless", name=name, paper=paper, method="edges",
-        sites=edge_tuples(4), prune=force_direction_prune, build=_builder(build),
+        sites=edge_tuples(4), prune=force_direction_prune, bound=shortest_edge,
+        levels=by_shortest_edge(4), build=_builder(build),
         searched="every four edges whose normals positively span the plane")
 
 

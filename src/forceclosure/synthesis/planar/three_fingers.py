@@ -82,7 +82,7 @@ from ..regions import (
     proved_once,
     tie_rounded,
 )
-from .edge_sites import edge_tuples, force_direction_prune
+from .edge_sites import by_shortest_edge, edge_tuples, force_direction_prune, shortest_edge
 from .two_fingers import IndependentRegions, maximal_regions
 from .vertex_grasps import extreme_generators, pushing_generators
 
@@ -490,11 +490,6 @@ def three_finger_regions(polygon: Polygon, edges: tuple[int, int, int], mu: floa
     return _best_of(polygon, edges, mu, shrunk, pairs, prototypes)
 
 
-def _shortest_edge(polygon: Polygon, sites: NDArray, hand: Hand) -> NDArray[np.float64]:
-    """Step 3: a triple's shortest segment is at most its shortest edge."""
-    return polygon.edge_arrays.length[sites].min(axis=1) / polygon.size
-
-
 def _build(polygon: Polygon, site: NDArray, hand: Hand) -> ThreeFingerRegions | None:
     i, j, k = (int(e) for e in site)
     return three_finger_regions(polygon, (i, j, k), hand.mu, hand.margin)
@@ -502,5 +497,5 @@ def _build(polygon: Polygon, site: NDArray, hand: Hand) -> ThreeFingerRegions | 
 
 THREE_FINGERS = Construction(
     dim=2, fingers=3, contact="hard", name="maximal", paper="§5.4 (three fingers)",
-    method="edges", sites=edge_tuples(3), prune=force_direction_prune, bound=_shortest_edge,
-    build=_build, searched=SEARCHED)
+    method="edges", sites=edge_tuples(3), prune=force_direction_prune, bound=shortest_edge,
+    levels=by_shortest_edge(3), build=_build, searched=SEARCHED)
