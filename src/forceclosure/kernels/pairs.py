@@ -54,18 +54,28 @@ def _inside(c: float, s: float, mu: float, T: float) -> bool:
 
 
 @nb.njit(inline="always")
-def _outside(c: float, s: float, mu: float, T: float) -> bool:
-    """angle(c, s) > atan(mu) + tol."""
-    muT = mu * T
-    below = (c <= 0.0) | (s * (1.0 - muT) > c * (mu + T))  # muT < 1
-    above = (c < 0.0) & (s * (muT - 1.0) < -c * (mu + T))  # muT >= 1
-    return (muT < 1.0) & below | (muT >= 1.0) & above
+def _outside_below(c: float, s: float, mu: float, T: float) -> bool:
+    """:func:`_outside` where ``mu T < 1``."""
+    return (c <= 0.0) | (s * (1.0 - mu * T) > c * (mu + T))
 
 
 @nb.njit(inline="always")
-def _directed(cp: float, sp: float, cq: float, sq: float, mp: float, mq: float, T: float) -> int:
+def _outside(c: float, s: float, mu: float, T: float) -> bool:
+    """angle(c, s) > atan(mu) + tol."""
+    muT = mu * T
+    above = (c < 0.0) & (s * (muT - 1.0) < -c * (mu + T))  # muT >= 1
+    return (muT < 1.0) & _outside_below(c, s, mu, T) | (muT >= 1.0) & above
+
+
+@nb.njit(inline="always")
+def _directed(cp: float, sp: float, cq: float, sq: float, mp: float, mq: float, T: float,
+              below: bool = False) -> int:
+    """The verdict of squeezing (``PQ``); ``below``: ``mu T < 1`` at both fingers."""
     closed = _inside(cp, sp, mp, T) & _inside(cq, sq, mq, T)
-    opened = _outside(cp, sp, mp, T) | _outside(cq, sq, mq, T)
+    if below:
+        opened = _outside_below(cp, sp, mp, T) | _outside_below(cq, sq, mq, T)
+    else:
+        opened = _outside(cp, sp, mp, T) | _outside(cq, sq, mq, T)
     # CLOSURE if closed, else NONE if opened, else MARGINAL; in arithmetic, which vectorises
     return (MARGINAL + (CLOSURE - MARGINAL) * np.int64(closed)
             - (MARGINAL - NONE) * np.int64(opened & ~closed))
@@ -421,7 +431,7 @@ def _common_planar_row(px, py, qx, qy, ax, ay, bx, by, mp, mq, T, max_coordinate
     # changes neither max(verdicts) nor min(μ*): decided once, not twice
     sign = 1.0 if cp > 0.0 else -1.0
     cp, cq = sign * cp, sign * cq
-    code = _directed(cp, sp, cq, sq, mp, mq, T)
+    code = _directed(cp, sp, cq, sq, mp, mq, T, True)
     return (code if common else _REDO), _directed_least(cp, sp, cq, sq)
 
 
