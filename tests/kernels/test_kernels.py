@@ -234,13 +234,16 @@ def test_pairs_agree_with_the_reference():
     n_p[1000:2000], n_q[1000:2000] = [-1, 0], [1, 0]
     mu[1000:2000] = np.abs(q[1000:2000, 1]) / 2
     mu[2000:3000], mu[3000:4000] = 0.0, 1e7
-    ours = two_finger_closure(p, n_p, q, n_q, mu)
-    theirs = two_finger_closure(p, n_p, q, n_q, mu, engine="reference")
-    assert np.array_equal(ours.code, theirs.code)
-    assert set(np.unique(ours.code)) == {0, 1, 2}
-    finite = np.isfinite(theirs.least_friction)
-    assert np.array_equal(finite, np.isfinite(ours.least_friction))
-    assert np.allclose(ours.least_friction[finite], theirs.least_friction[finite], rtol=1e-9)
+    # a friction per pair, and one for all (the vectorised pass, kernels.pairs._common_planar)
+    for friction in (mu, 0.45):
+        ours = two_finger_closure(p, n_p, q, n_q, friction)
+        theirs = two_finger_closure(p, n_p, q, n_q, friction, engine="reference")
+        assert np.array_equal(ours.code, theirs.code)
+        assert set(np.unique(ours.code)) == {0, 1, 2}
+        finite = np.isfinite(theirs.least_friction)
+        assert np.array_equal(finite, np.isfinite(ours.least_friction))
+        assert np.allclose(ours.least_friction[finite], theirs.least_friction[finite],
+                           rtol=1e-9)
 
 
 def test_spatial_pairs_agree_with_the_reference():
