@@ -76,9 +76,7 @@ def _directed(cp: float, sp: float, cq: float, sq: float, mp: float, mq: float, 
         opened = _outside_below(cp, sp, mp, T) | _outside_below(cq, sq, mq, T)
     else:
         opened = _outside(cp, sp, mp, T) | _outside(cq, sq, mq, T)
-    # CLOSURE if closed, else NONE if opened, else MARGINAL; in arithmetic, which vectorises
-    return (MARGINAL + (CLOSURE - MARGINAL) * np.int64(closed)
-            - (MARGINAL - NONE) * np.int64(opened & ~closed))
+    return CLOSURE if closed else (NONE if opened else MARGINAL)
 
 
 @nb.njit(inline="always")

@@ -74,7 +74,7 @@ class Level:
     later: tuple[int, ...]
 
 
-def by_shortest_edge(count: int) -> Callable[[Polygon, Hand, Callable], Iterator[Level]]:
+def by_shortest_edge(count: int) -> Callable[[Polygon, Hand, Callable | None], Iterator[Level]]:
     """Steps 1 to 3 at once for a construction on ``count`` edges bounded by
     :func:`shortest_edge`: the tuples in the order of a search by decreasing bound, ties in
     site order, generated lazily a bound at a time.
@@ -101,7 +101,8 @@ def by_shortest_edge(count: int) -> Callable[[Polygon, Hand, Callable], Iterator
         rounded = np.array([tie_rounded(float(x)) for x in lengths])
         classes = sorted(set(rounded.tolist()), reverse=True)
         # the least tuple of each level, and from each level on
-        least, first = [], np.empty(0, dtype=np.int64)
+        least: list[tuple] = []
+        first = np.empty(0, dtype=np.int64)
         for value in classes:
             own = np.flatnonzero(rounded == value)
             first = np.sort(np.concatenate([first, own[:count]]))[:count]
