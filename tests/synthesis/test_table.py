@@ -53,7 +53,8 @@ def test_synthesize_reaches_every_entry_by_its_name(entry, monkeypatch):
     from forceclosure.synthesis.ranked_search import Found
 
     given = []
-    monkeypatch.setattr(best, "search", lambda c, obj, hand: given.append(c) or Found())
+    monkeypatch.setattr(best, "search",
+                        lambda c, obj, hand, progress=None: given.append(c) or Found())
     obj, fingers, contact, mu, settings = REACH[entry.key]
     s = synthesize(obj, fingers, contact, mu, top=1, construction=entry.name, **settings)
     assert [c.key for c in given] == [entry.key] and s.construction is given[0]

@@ -193,7 +193,8 @@ def search(construction: Construction, obj: Any, hand: Hand,
     condition; in decreasing order of its bound when it has one (branch and
     bound: the search stops at the first site whose bound cannot rank it
     ahead of the ``top``-th region set, once those ``top`` are proved, or
-    when the bound falls to zero); each site built, and ranked by the one rule
+    when the bound falls to zero; with the construction's ``levels``, the
+    sites are listed only as far as the search goes); each site built, and ranked by the one rule
     (the module's docstring). Region sets are proved in rank order, as they
     are needed (a proof can cost more than the construction), except with
     ``enough``, which counts proved region sets as they are built. On a polygon or
