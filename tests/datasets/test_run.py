@@ -279,10 +279,11 @@ def test_time_limit(tmp_path):
     # in the computation (trimesh's import guards catch BaseException: a limit firing inside
     # one of those imports is swallowed, and the object runs to its end)
     load_object(_objects(1)[0])
-    slow = Job(fingers=3, contact="hard", mu=0.5, top=1, samples=200_000, timeout=0.2)
+    # (without a limit this object takes 0.6 s here: twelve times the limit)
+    slow = Job(fingers=3, contact="hard", mu=0.5, top=1, samples=30_000, timeout=0.05)
     record = process_object(_objects(1)[0], slow)
-    assert record["status"] == "timeout" and "0.2 s" in record["error"]
-    assert record["seconds"] >= 0.2  # stopped by the limit, not before it
+    assert record["status"] == "timeout" and "0.05 s" in record["error"]
+    assert record["seconds"] >= 0.05  # stopped by the limit, not before it
     box = []
     thread = threading.Thread(target=lambda: box.append(process_object(_objects(1)[0], slow)))
     thread.start()
@@ -350,6 +351,38 @@ def test_time_limit(tmp_path):
         assert record["status"] in ("done", "timeout")
         assert (len(record["grasps"]) == 1) if record["status"] == "done" else (
             "over the time limit of 0.5 s" in record["error"])
+
+
+@pytest.mark.parametrize("where", ["main", "thread"])
+def test_a_limit_never_lands_inside_an_import(tmp_path, monkeypatch, where):
+    """A limit that passes while a module is being imported comes right after the import,
+    never inside it: the module is whole for the objects after it (numba imports its type
+    modules on first use; one left half initialised failed every later object of its
+    process with "partially initialized module 'numba.core.types'")."""
+    name = f"slow_import_{where}"
+    (tmp_path / f"{name}.py").write_text("import time\ntime.sleep(0.5)\nWHOLE = True\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.delitem(sys.modules, name, raising=False)
+    outcome: list = []
+
+    def run() -> None:
+        try:
+            with deadline(0.05):
+                outcome.append(__import__(name).WHOLE)
+                while True:  # ends by the limit alone
+                    time.sleep(0.01)
+        except ObjectTimeout:
+            outcome.append("timeout")
+
+    if where == "main":
+        run()
+    else:
+        worker = threading.Thread(target=run)
+        worker.start()
+        worker.join()
+    assert outcome == [True, "timeout"]
+    assert sys.modules[name].WHOLE
+    monkeypatch.delitem(sys.modules, name)
 
 
 def test_analyze_mode(tmp_path):

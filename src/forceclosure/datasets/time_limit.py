@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import ctypes
 import signal
+import sys
 import threading
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
+from types import FrameType
 
-__all__ = ["REPEAT", "ObjectTimeout", "deadline", "timed_out"]
+__all__ = ["REPEAT", "ObjectTimeout", "deadline", "importing", "timed_out"]
 
 
 class ObjectTimeout(BaseException):
@@ -23,6 +25,17 @@ class ObjectTimeout(BaseException):
 REPEAT = 0.1
 
 
+def importing(frame: FrameType | None) -> bool:
+    """Whether ``frame`` runs inside an import: a limit raised there would leave the module
+    half initialised, and every later object of the process failing on it (numba imports
+    its type modules on first use: "partially initialized module 'numba.core.types'")."""
+    while frame is not None:
+        if frame.f_code.co_filename.startswith("<frozen importlib"):
+            return True
+        frame = frame.f_back
+    return False
+
+
 @contextmanager
 def deadline(seconds: float | None) -> Iterator[None]:
     """Raise :class:`ObjectTimeout` in this thread after ``seconds``, and again every
@@ -31,7 +44,8 @@ def deadline(seconds: float | None) -> Iterator[None]:
     The main thread (a process-pool worker) uses ``SIGALRM``; another thread
     (a Dask worker's) gets the exception raised in it asynchronously. Either
     way it arrives between Python bytecodes, so one long call into compiled
-    code (a hull of a huge mesh) finishes first.
+    code (a hull of a huge mesh) finishes first; and not inside an import
+    (:func:`importing`): the next repeat after the import raises it.
     """
     if seconds is None:
         yield
@@ -40,7 +54,8 @@ def deadline(seconds: float | None) -> Iterator[None]:
         armed = [True]
 
         def alarm(signum, frame):
-            if armed[0]:  # a repeat landing while the block is left raises nothing
+            # a repeat landing while the block is left raises nothing
+            if armed[0] and not importing(frame):
                 raise ObjectTimeout
 
         previous = signal.signal(signal.SIGALRM, alarm)
@@ -64,8 +79,11 @@ def deadline(seconds: float | None) -> Iterator[None]:
             with lock:
                 if done.is_set():
                     return
-                ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(ident),
-                                                           ctypes.py_object(ObjectTimeout))
+                # (the thread may start an import between this look and the exception's
+                # arrival: a window of a few bytecodes, where the main thread's has none)
+                if not importing(sys._current_frames().get(ident)):
+                    ctypes.pythonapi.PyThreadState_SetAsyncExc(
+                        ctypes.c_ulong(ident), ctypes.py_object(ObjectTimeout))
             wait = REPEAT
 
     timer = threading.Thread(target=fire, daemon=True)
