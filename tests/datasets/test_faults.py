@@ -13,6 +13,7 @@ import subprocess
 import sys
 import threading
 import time
+from contextlib import suppress
 from pathlib import Path
 
 import numpy as np
@@ -459,17 +460,18 @@ def test_stopped_worker(tmp_path, monkeypatch, urdf_truth):
     stopped: list[int] = []
     lines: list[str] = []
 
-    def stop_one() -> None:
+    def stop_all() -> None:
         def workers():  # the pool's workers are forked by the fork server
             return [w for p in me.children() if "forkserver" in " ".join(p.cmdline())
                     for w in p.children()]
 
         _wait_for(lambda: len(list((out / "objects").glob("*.json"))) >= 1 and workers())
         for worker in workers():
-            worker.send_signal(signal.SIGSTOP)
-            stopped.append(worker.pid)
+            with suppress(psutil.NoSuchProcess):  # one that ended meanwhile is not stopped
+                worker.send_signal(signal.SIGSTOP)
+                stopped.append(worker.pid)
 
-    thread = threading.Thread(target=stop_one, daemon=True)
+    thread = threading.Thread(target=stop_all, daemon=True)
     thread.start()
     summary = run_dataset(_urdfs(8), out, HARD, workers=2, progress=False, log=lines.append)
     thread.join(timeout=30)

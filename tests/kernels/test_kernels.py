@@ -26,8 +26,8 @@ from forceclosure.analysis.quality import least_friction_reference
 from forceclosure.analysis.two_finger import two_finger_closure
 
 #: Grasps compared with the reference path in total: 2k in the README's test command (about
-#: 14 s of setup); the long agreement profile (.ci/run, README) sets FORCECLOSURE_AGREEMENT_GRASPS to
-#: 100k (about 3.5 minutes on two cores).
+#: 14 s of setup); the long agreement profile (.ci/run, README) sets
+#: FORCECLOSURE_AGREEMENT_GRASPS to 100k (about 3.5 minutes on two cores).
 GRASPS = int(os.environ.get("FORCECLOSURE_AGREEMENT_GRASPS", 2_000))
 #: Margins agree to this (relative, for large margins): HiGHS, behind the reference,
 #: meets its constraints to 1e-7, and the margin 1 - m s scales an error in s by m.

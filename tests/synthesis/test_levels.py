@@ -10,6 +10,7 @@ finds the same. The regions of the 5003-edge arc are checked by Theorem 1 on the
 """
 
 import dataclasses
+import itertools
 
 import numpy as np
 import pytest
@@ -17,6 +18,7 @@ import pytest
 from forceclosure import Verdict, analyze, point_contact
 from forceclosure.objects import POLYGONS, Polygon, bundled
 from forceclosure.synthesis import Hand, search, synthesize
+from forceclosure.synthesis.planar.edge_sites import _using
 from forceclosure.synthesis.ranked_search import candidate_sites
 from forceclosure.synthesis.regions import tie_rounded
 from forceclosure.synthesis.table import construction_for
@@ -71,6 +73,19 @@ def test_levels_are_the_full_search_order(fingers, name):
     for level in levels:
         at += len(level.sites)
         assert all(level.later <= site for _, site in ours[at:])
+
+
+def test_tuples_using_an_edge_of_the_level_are_all_of_them_in_order():
+    """``_using`` lists exactly the tuples a filter of every combination keeps, in the same
+    (lexicographic) order."""
+    rng = np.random.default_rng(5)
+    for _ in range(400):
+        edges = sorted(rng.choice(30, rng.integers(0, 11), replace=False).tolist())
+        own = set(rng.choice(edges, rng.integers(0, len(edges) + 1), replace=False).tolist()) \
+            if edges else set()
+        count = int(rng.integers(1, 5))
+        assert list(_using(edges, own, count)) == [
+            c for c in itertools.combinations(edges, count) if own & set(c)]
 
 
 def _found(c, polygon, hand):

@@ -45,7 +45,7 @@ TIE = 1e-6
 SPACINGS = 8
 
 
-def _by_size(b: tuple[float, int, Any]) -> tuple[float, int]:
+def _by_size(b: tuple[float, Any, Any]) -> tuple[float, Any]:
     return -b[0], b[1]
 
 
@@ -56,8 +56,8 @@ def _tied_floor(size: float, slack: float, areas: bool) -> float:
     return size * (1 - TIE) - (slack * math.sqrt(max(size, 0.0)) if areas else slack)
 
 
-def ranked(built: list[tuple[float, int, Any]], slack: float = 0.0, limit: int | None = None,
-           presorted: bool = False, areas: bool = False) -> list[tuple[float, int, Any]]:
+def ranked(built: list[tuple[float, Any, Any]], slack: float = 0.0, limit: int | None = None,
+           presorted: bool = False, areas: bool = False) -> list[tuple[float, Any, Any]]:
     """``(size, site, item)`` triples in rank order: by decreasing size, where every size
     within :data:`TIE` (relative) plus ``slack`` of the largest of its run ties with it, and
     ties go by site. ``limit``: the first that many only (the runs past them are not
@@ -70,7 +70,7 @@ def ranked(built: list[tuple[float, int, Any]], slack: float = 0.0, limit: int |
     [0, 2, 3]
     """
     rest = built if presorted else sorted(built, key=_by_size)
-    out: list[tuple[float, int, Any]] = []
+    out: list[tuple[float, Any, Any]] = []
     start = 0
     while start < len(rest) and (limit is None or len(out) < limit):
         end = start + 1
@@ -172,7 +172,7 @@ def _in_order(construction: Construction, where: Any, hand: Hand) -> Iterator[
         for level in construction.levels(where, hand, construction.prune):
             for row in level.sites:
                 key = tuple(int(e) for e in row)
-                yield level.bound, key, row, min(key, level.later)
+                yield level.bound, key, row.copy(), min(key, level.later)  # not its block
         return
     sites = candidate_sites(construction, where, hand)
     bound = None
@@ -264,7 +264,7 @@ def search(construction: Construction, obj: Any, hand: Hand,
 
     def beaten(size: float, site: Any) -> bool:
         """Whether ``top`` proved region sets rank ahead of any site whose regions are at
-        most ``size`` and whose index is at least ``site``: the best the sites left can do
+        most ``size`` and whose key is at least ``site``: the best the sites left can do
         (they come by decreasing bound)."""
         if len(built) < top:
             return False

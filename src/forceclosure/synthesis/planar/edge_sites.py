@@ -35,18 +35,51 @@ __all__ = ["BLOCK", "Level", "by_shortest_edge", "edge_tuples", "force_direction
 BLOCK = 65_536
 
 
-def _blocks(edges: Sequence[int], count: int) -> Iterator[NDArray[np.int64]]:
-    """Every ``count`` of ``edges`` (increasing) in lexicographic order, in blocks."""
-    tuples = itertools.combinations(edges, count)
+def _blocks(tuples: Iterator[tuple[int, ...]]) -> Iterator[NDArray[np.int64]]:
+    """``tuples`` as integer arrays of :data:`BLOCK` rows (the last one shorter)."""
     while block := list(itertools.islice(tuples, BLOCK)):
         yield np.array(block, dtype=np.int64)
+
+
+def _using(edges: Sequence[int], own: set[int], count: int) -> Iterator[tuple[int, ...]]:
+    """Every ``count`` of ``edges`` (increasing) that uses an edge of ``own``, in
+    lexicographic order, at a cost in proportion to their number: a prefix without an edge
+    of ``own`` is followed only while one is left after it.
+
+    Examples
+    --------
+    >>> list(_using([0, 1, 2, 3], {2}, 2))
+    [(0, 2), (1, 2), (2, 3)]
+    """
+    n = len(edges)
+    after = [n] * (n + 1)  # after[i]: the first place from i on that holds an edge of own
+    for i in range(n - 1, -1, -1):
+        after[i] = i if edges[i] in own else after[i + 1]
+
+    def extend(start: int, left: int, prefix: tuple[int, ...]) -> Iterator[tuple[int, ...]]:
+        if left == 1:  # the last edge: one of own
+            i = after[start]
+            while i < n:
+                yield (*prefix, edges[i])
+                i = after[i + 1]
+            return
+        for i in range(start, n - left + 1):
+            if after[i] == n:  # no edge of own left
+                return
+            if edges[i] in own:  # used: any edges after it
+                for rest in itertools.combinations(edges[i + 1:], left - 1):
+                    yield (*prefix, edges[i], *rest)
+            else:
+                yield from extend(i + 1, left - 1, (*prefix, edges[i]))
+
+    return extend(0, count, ())
 
 
 def edge_tuples(count: int) -> Callable[[Polygon, Hand], Iterator[NDArray[np.int64]]]:
     """Step 1 of a construction on ``count`` edges: every ``count`` distinct edges in
     increasing order, as rows, in blocks of :data:`BLOCK`."""
     def sites(polygon: Polygon, hand: Hand) -> Iterator[NDArray[np.int64]]:
-        return _blocks(range(len(polygon.edges)), count)
+        return _blocks(itertools.combinations(range(len(polygon.edges)), count))
     return sites
 
 
@@ -65,13 +98,15 @@ class Level:
         Their bound, rounded as the search rounds bounds (:func:`tie_rounded`).
     sites : (m, count) int array
         The tuples of edges, increasing in each row, rows in lexicographic order.
-    later : tuple of int
-        No site of a later level precedes this tuple in site order.
+    later : tuple of int, or ``(inf,)``
+        No site of a later level precedes this tuple in site order (a lower bound: it
+        ignores the prune, so a search may take up a few more sites than the full search
+        would, never fewer, and finds the same region sets).
     """
 
     bound: float
     sites: NDArray[np.int64]
-    later: tuple[int, ...]
+    later: tuple[float, ...]
 
 
 def by_shortest_edge(count: int) -> Callable[[Polygon, Hand, Callable | None], Iterator[Level]]:
@@ -118,10 +153,9 @@ def by_shortest_edge(count: int) -> Callable[[Polygon, Hand, Callable | None], I
             usable = np.flatnonzero(rounded >= value)
             if len(usable) < count:
                 continue
-            own = rounded == value
-            for block in _blocks(usable.tolist(), count):
-                block = block[own[block].any(axis=1)]
-                if prune is not None and len(block):
+            shortest = set(np.flatnonzero(rounded == value).tolist())
+            for block in _blocks(_using(usable.tolist(), shortest, count)):
+                if prune is not None:
                     block = block[np.asarray(prune(polygon, block, hand), dtype=bool)]
                 if len(block):
                     yield Level(value, block, later)
