@@ -327,7 +327,7 @@ def synthesis_flags(draw):
     return flags + draw(st.sampled_from([[], ["--json"], ["--vertices"], ["--allow-open"]]))
 
 
-@settings(SETTINGS, max_examples=100)
+@settings(SETTINGS, max_examples=60)  # each synthesizes: 6 s
 @given(shape=st.one_of(polygons, st.sampled_from(["square", "triangle", "cube", "nothing"])),
        flags=synthesis_flags())
 def test_synthesize_objects_and_options(shape, flags):

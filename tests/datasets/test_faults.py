@@ -448,38 +448,49 @@ def test_worker_stuck_in_compiled_code(tmp_path):
 
 
 @pytest.mark.long
-def test_stopped_worker(tmp_path, monkeypatch, urdf_truth):
-    """Workers stopped (SIGSTOP) mid-run are killed by the watchdog, their objects run
-    again; every object ends with its correct record.
+def test_stopped_worker(tmp_path, monkeypatch):
+    """Both workers stopped (SIGSTOP) once an object is done: the watchdog kills each after a
+    second, the pool starts others, the objects they held are run again, and every object
+    ends with its correct record.
 
-    Every worker is stopped: one stopped while idle would otherwise leave the run to the
-    others, which could finish before the watchdog's second passed (CI, stop 35)."""
+    Objects of about half a second each, so that six or more are still to do when both
+    workers stop, and the run cannot end without the watchdog (CI, stops 35 and 36: with
+    objects of 0.1 s, the run could end before a loaded machine's stop came). Not before an
+    object is done: workers that all die while starting break the pool (pebble:
+    "BrokenProcessPool: All workers expired")."""
     monkeypatch.setattr(pool, "STALL_SECONDS", 1.0)
+    job = Job(fingers=3, contact="hard", mu=0.5, top=1, samples=20_000)
     out = tmp_path / "out"
     me = psutil.Process()
+    started = time.time()
     stopped: list[int] = []
     lines: list[str] = []
 
-    def stop_all() -> None:
-        def workers():  # the pool's workers are forked by the fork server
+    def workers() -> list[psutil.Process]:
+        """This run's pool workers (forked by the fork server)."""
+        try:
             return [w for p in me.children() if "forkserver" in " ".join(p.cmdline())
-                    for w in p.children()]
+                    for w in p.children() if w.create_time() >= started - 0.2]
+        except psutil.Error:  # one ended while being looked at: look again
+            return []
 
-        _wait_for(lambda: len(list((out / "objects").glob("*.json"))) >= 1 and workers())
+    def stop_all() -> None:
+        _wait_for(lambda: len(list((out / "objects").glob("*.json"))) >= 1
+                  and len(workers()) >= 2)
         for worker in workers():
-            with suppress(psutil.NoSuchProcess):  # one that ended meanwhile is not stopped
+            with suppress(psutil.NoSuchProcess):
                 worker.send_signal(signal.SIGSTOP)
                 stopped.append(worker.pid)
 
     thread = threading.Thread(target=stop_all, daemon=True)
     thread.start()
-    summary = run_dataset(_urdfs(8), out, HARD, workers=2, progress=False, log=lines.append)
+    summary = run_dataset(_urdfs(8), out, job, workers=2, progress=False, log=lines.append)
     thread.join(timeout=30)
-    assert stopped and not any(psutil.pid_exists(pid) for pid in stopped)
+    assert len(stopped) == 2 and not any(psutil.pid_exists(pid) for pid in stopped)
     assert (summary.done, summary.computed) == (8, 8)
     for pid in stopped:
         assert f"forceclosure: warning: worker {pid} stopped for 1 s" in "\n".join(lines)
-    assert {n: _strip(r) for n, r in _records(out).items()} == urdf_truth
+    assert {n: _strip(r) for n, r in _records(out).items()} == _truth(_urdfs(8), job)
 
 
 def test_names_cannot_forge_log_lines(tmp_path, capsys):
