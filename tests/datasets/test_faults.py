@@ -454,8 +454,9 @@ def test_stopped_worker(tmp_path, monkeypatch):
     ends with its correct record.
 
     Objects of about half a second each, so that six or more are still to do when both
-    workers stop, and the run cannot end without the watchdog (CI, stops 35 and 36: with
-    objects of 0.1 s, the run could end before a loaded machine's stop came). Not before an
+    workers stop, and the run cannot end without the watchdog (CI at stop 35, and a fresh
+    clone's CI here: with objects of 0.1 s, the run could end before a loaded machine's stop
+    came). Not before an
     object is done: workers that all die while starting break the pool (pebble:
     "BrokenProcessPool: All workers expired")."""
     monkeypatch.setattr(pool, "STALL_SECONDS", 1.0)
