@@ -463,17 +463,23 @@ def test_stopped_worker(tmp_path, monkeypatch):
     job = Job(fingers=3, contact="hard", mu=0.5, top=1, samples=20_000)
     out = tmp_path / "out"
     me = psutil.Process()
-    started = time.time()
     stopped: list[int] = []
     lines: list[str] = []
 
-    def workers() -> list[psutil.Process]:
-        """This run's pool workers (forked by the fork server)."""
+    def forked() -> list[psutil.Process]:
+        """The fork server's children: pool workers."""
         try:
             return [w for p in me.children() if "forkserver" in " ".join(p.cmdline())
-                    for w in p.children() if w.create_time() >= started - 0.2]
+                    for w in p.children()]
         except psutil.Error:  # one ended while being looked at: look again
             return []
+
+    earlier = {w.pid for w in forked()}  # an earlier test's, should one linger
+
+    def workers() -> list[psutil.Process]:
+        """This run's pool workers (not by their start times: psutil's are rounded to the
+        boot time's whole second)."""
+        return [w for w in forked() if w.pid not in earlier]
 
     def stop_all() -> None:
         _wait_for(lambda: len(list((out / "objects").glob("*.json"))) >= 1
