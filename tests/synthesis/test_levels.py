@@ -4,9 +4,10 @@ fingers, in seconds rather than a loop over every tuple of edges).
 ``edge_sites.by_shortest_edge`` gives steps 1 to 3 at once, lazily. Its sites must come in the
 order of the full search (every tuple listed, pruned, sorted by its rounded bound, ties by
 site), each level's ``later`` must not exceed any site still to come, and the region sets
-found must be the full search's, on fine arcs, regular polygons (every bound tied) and
-random ones; the full search without a bound (as four frictionless fingers searched before)
-finds the same. The regions of the 5003-edge arc are checked by Theorem 1 on their corners.
+found must be the full search's, on fine arcs, regular polygons (every bound tied), random
+ones and letters of a real font; the full search without a bound (as four frictionless
+fingers searched before) finds the same. The regions found are checked by Theorem 1 at the
+ends and middles of every region, the 5003-edge arc's too.
 """
 
 import dataclasses
@@ -14,6 +15,9 @@ import itertools
 
 import numpy as np
 import pytest
+import shapely
+from matplotlib.font_manager import FontProperties
+from matplotlib.textpath import TextPath
 
 from forceclosure import Verdict, analyze, point_contact
 from forceclosure.objects import POLYGONS, Polygon, bundled
@@ -43,9 +47,36 @@ def wobbly(seed: int, n: int) -> Polygon:
     return Polygon.from_points(np.c_[r * np.cos(t), r * np.sin(t)])
 
 
+def glyph(letter: str) -> Polygon:
+    """The outline of a letter of matplotlib's DejaVu Sans (its largest piece): a real
+    outline nobody here drew."""
+    path = TextPath((0, 0), letter, size=10, prop=FontProperties(family="DejaVu Sans"))
+    shape = shapely.Polygon()
+    for ring in path.to_polygons():
+        if len(ring) >= 4:
+            shape = shape.symmetric_difference(shapely.Polygon(ring))  # even-odd fill
+    shape = max(getattr(shape, "geoms", [shape]), key=lambda piece: piece.area)
+    return Polygon.from_points(np.asarray(shape.exterior.coords)[:-1])
+
+
 OBJECTS = {**{name: (lambda name=name: bundled(name)) for name in POLYGONS},
            "arc-9": lambda: fine_arc(9), "arc-16": lambda: fine_arc(16),
-           "regular-7": lambda: regular(7), "wobbly-11": lambda: wobbly(3, 11)}
+           "regular-7": lambda: regular(7), "wobbly-11": lambda: wobbly(3, 11),
+           "glyph-S": lambda: glyph("S"), "glyph-&": lambda: glyph("&")}
+
+
+def _holds_at_corners(polygon, found, fingers, mu) -> None:
+    """Theorem 1 (``analyze``, the general test) on every region set: each finger at either
+    end or the middle of its region, every combination, on the polygon as given."""
+    contact = "hard" if fingers == 3 else "frictionless"
+    for r in found:
+        corners = np.array([[polygon.edges[e].point(t) for t in (u, (u + v) / 2, v)]
+                            for e, (u, v) in zip(r.edges, r.segments, strict=True)])
+        normals = [polygon.edges[e].normal for e in r.edges]
+        for choice in np.ndindex(*[3] * fingers):
+            grasp = [point_contact(corners[i, k], normals[i], contact, mu)
+                     for i, k in enumerate(choice)]
+            assert analyze(grasp).verdict == Verdict.CLOSURE, (r.edges, choice)
 
 
 def _full_order(c, polygon, hand):
@@ -96,12 +127,13 @@ def _found(c, polygon, hand):
 
 @pytest.mark.parametrize("fingers", [3, 4])
 @pytest.mark.parametrize("name", ["arc-9", "arc-16", "regular-7", "wobbly-11", "hexagon",
-                                  "square", "l-shape"])
+                                  "square", "l-shape", "glyph-S", "glyph-&"])
 def test_a_search_by_levels_finds_what_the_full_search_finds(fingers, name):
     polygon, hand = OBJECTS[name](), HANDS[fingers]
     c = construction_for(2, fingers, hand.contact)
     ours = _found(c, polygon, hand)
     assert ours == _found(dataclasses.replace(c, levels=None), polygon, hand)
+    _holds_at_corners(polygon, search(c, polygon, hand), fingers, hand.mu)
     if fingers == 4 and name in ("arc-9", "square", "hexagon"):
         # four frictionless fingers had no bound: every site built
         assert ours == _found(dataclasses.replace(c, levels=None, bound=None), polygon, hand)
@@ -121,12 +153,4 @@ def test_the_5003_edge_arc_is_searched_in_levels(fingers):
     assert set(taken) == {1} and 3 <= len(taken) <= 200
     chords = [e for r in result.found for e in r.edges if e < 5000]
     assert chords and all(abs(e - 2499) <= 2 for e in chords)
-    mu = 0.3 if fingers == 3 else 0.0
-    for r in result.found:
-        corners = np.array([[polygon.edges[e].point(t) for t in segment]
-                            for e, segment in zip(r.edges, r.segments, strict=True)])
-        normals = [polygon.edges[e].normal for e in r.edges]
-        for choice in np.ndindex(*[2] * fingers):
-            grasp = [point_contact(corners[i, k], normals[i], hand.contact, mu)
-                     for i, k in enumerate(choice)]
-            assert analyze(grasp).verdict == Verdict.CLOSURE, (r.edges, choice)
+    _holds_at_corners(polygon, result.found, fingers, hand.mu)

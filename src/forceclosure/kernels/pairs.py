@@ -408,6 +408,16 @@ _REDO = 7
 
 
 @nb.njit(inline="always")
+def _as_given(total, big, na, nb_, max_coordinate):
+    """Whether a pair needs none of :func:`_conditioned_pair`'s conditioning: ``total`` (the
+    sum of its coordinates and squared normal lengths ``na``, ``nb_``) finite, its largest
+    coordinate ``big`` within ``2**64`` and ``max_coordinate``, normals of lengths 1e-10 to
+    1e100. Bitwise ``&`` (not ``and``): no branches."""
+    return ((abs(total) < np.inf) & (big <= 2.0**64) & (big <= max_coordinate) & (na > 1e-20)
+            & (na < 1e200) & (nb_ > 1e-20) & (nb_ < 1e200))
+
+
+@nb.njit(inline="always")
 def _common_planar_row(px, py, qx, qy, ax, ay, bx, by, mp, mq, T, max_coordinate):
     """:func:`_common_planar`'s code (``_REDO`` outside its case) and μ* of one pair."""
     na = ax * ax + ay * ay
@@ -415,11 +425,8 @@ def _common_planar_row(px, py, qx, qy, ax, ay, bx, by, mp, mq, T, max_coordinate
     big = max(abs(px), abs(py), abs(qx), abs(qy))
     vx, vy = qx - px, qy - py
     scale = max(1.0, big)
-    # bitwise & (not and/or): no branches
-    common = ((abs(px + py + qx + qy + na + nb_) < np.inf) & (big <= 2.0**64)
-              & (big <= max_coordinate) & (na > 1e-20) & (na < 1e200) & (nb_ > 1e-20)
-              & (nb_ < 1e200) & (vx * vx + vy * vy > 1e-24 * scale * scale)
-              & (mp * T < 1.0) & (mq * T < 1.0))
+    common = (_as_given(px + py + qx + qy + na + nb_, big, na, nb_, max_coordinate)
+              & (vx * vx + vy * vy > 1e-24 * scale * scale) & (mp * T < 1.0) & (mq * T < 1.0))
     cp = -(vx * ax + vy * ay)
     cq = vx * bx + vy * by
     sp = abs(vx * ay - vy * ax)
@@ -476,10 +483,8 @@ def _common_rows(points, normals, mu, T, tol, mu_max, max_coordinate, code,
         na = ax * ax + ay * ay + az * az
         nb_ = bx * bx + by * by + bz * bz
         big = max(abs(px), abs(py), abs(pz), abs(qx), abs(qy), abs(qz))
-        # bitwise & (not and/or): no branches
-        common = ((abs(px + py + pz + qx + qy + qz + na + nb_) < np.inf) & (big <= 2.0**64)
-                  & (big <= max_coordinate) & (na > 1e-20) & (na < 1e200) & (nb_ > 1e-20)
-                  & (nb_ < 1e200))
+        common = _as_given(px + py + pz + qx + qy + qz + na + nb_, big, na, nb_,
+                           max_coordinate)
         vx, vy, vz = qx - px, qy - py, qz - pz
         scale = max(1.0, big)
         common &= vx * vx + vy * vy + vz * vz > 1e-24 * scale * scale

@@ -138,8 +138,8 @@ def by_shortest_edge(count: int) -> Callable[[Polygon, Hand, Callable | None], I
         # the least tuple of each level, and from each level on
         least: list[tuple] = []
         first = np.empty(0, dtype=np.int64)
-        for value in classes:
-            own = np.flatnonzero(rounded == value)
+        owns = [np.flatnonzero(rounded == value) for value in classes]
+        for own in owns:
             first = np.sort(np.concatenate([first, own[:count]]))[:count]
             if len(first) < count:  # no tuple yet
                 least.append((math.inf,))
@@ -149,12 +149,11 @@ def by_shortest_edge(count: int) -> Callable[[Polygon, Hand, Callable | None], I
         after: list[tuple] = [(math.inf,)] * len(classes)  # the least of the levels after
         for j in range(len(classes) - 2, -1, -1):
             after[j] = min(after[j + 1], least[j + 1])
-        for value, later in zip(classes, after, strict=True):
+        for value, own, later in zip(classes, owns, after, strict=True):
             usable = np.flatnonzero(rounded >= value)
             if len(usable) < count:
                 continue
-            shortest = set(np.flatnonzero(rounded == value).tolist())
-            for block in _blocks(_using(usable.tolist(), shortest, count)):
+            for block in _blocks(_using(usable.tolist(), set(own.tolist()), count)):
                 if prune is not None:
                     block = block[np.asarray(prune(polygon, block, hand), dtype=bool)]
                 if len(block):
