@@ -130,7 +130,7 @@ def test_never_on_a_closed_grasp():
     """No twist can have every cone on one side of it when the grasp closes: on random
     grasps the ladder closes, neither the LP's twist nor any pinch turn proves a thing."""
     rng = np.random.default_rng(14)
-    p = rng.normal(size=(400, 3, 3))
+    p = rng.normal(size=(250, 3, 3))
     p /= np.linalg.norm(p, axis=2, keepdims=True)
     n = p + rng.normal(scale=0.2, size=p.shape)
     n /= np.linalg.norm(n, axis=2, keepdims=True)
@@ -145,4 +145,4 @@ def test_never_on_a_closed_grasp():
                              rng.normal(size=6), 768, closure.TOLERANCE), g
         assert not one_sided(p[g], n[g], np.full(3, MU), ws.reference, ws.length_scale,
                              np.zeros(6), 768, closure.TOLERANCE), g
-    assert closed >= 100
+    assert closed >= 60

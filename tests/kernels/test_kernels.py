@@ -353,6 +353,20 @@ def test_least_friction_matches_closed_forms_and_the_reference():
                                                                          rel_tol=1e-5), g
 
 
+def test_least_friction_with_exact_cones_is_the_reference_bisection():
+    """The compiled bisection skips pyramids an earlier step has decided (cones grow with
+    friction); it must land where the reference's full ladder at every step lands."""
+    rng = np.random.default_rng(8)
+    P, N = _sphere(rng, 6, 3, 3, 0.2)
+    ours = least_friction_batch(P, N, model="hard")
+    for g in range(len(P)):
+        ref = least_friction_reference([point_contact(P[g, i], N[g, i], "hard")
+                                        for i in range(3)])
+        assert (math.isinf(ref) and math.isinf(ours[g])) or math.isclose(ours[g], ref,
+                                                                         rel_tol=2e-6), g
+    assert np.isfinite(ours).sum() >= 4
+
+
 def test_least_friction_batch_is_the_loop_over_friction_values_done_right():
     """GraspNet's way (six friction values, a pass each) brackets the one-pass answer."""
     rng = np.random.default_rng(6)

@@ -59,14 +59,16 @@ def epsilon_kernel(points, normals, mu, tors, model, edges, tol, maxm,
             deferred[g] = False
             P, N, M, T = points[g], normals[g], mu[g], tors[g]
             # closed with the inscribed pyramid epsilon is measured on: then with the exact
-            # cones around it too (a proof for the pyramid is one for the larger cones)
+            # cones around it too (a proof for the pyramid is one for the larger cones);
+            # only whether it closes is asked
             scale = contact_frame(P, ref)
             if oriented:
                 grasp_frames(P, N, frames)
                 c = decide_pyramid(P, N, M, T, model, edges, 1.0, ref, scale, tol, work, y,
-                                   frames)[0]
+                                   frames, True)[0]
             else:
-                c = decide_pyramid(P, N, M, T, model, edges, 1.0, ref, scale, tol, work, y)[0]
+                c = decide_pyramid(P, N, M, T, model, edges, 1.0, ref, scale, tol, work, y,
+                                   None, True)[0]
             if c != CLOSURE:
                 deferred[g] = c == DEFER
                 continue

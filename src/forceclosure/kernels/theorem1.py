@@ -281,12 +281,15 @@ def wrenches(P, N, mu, tors, model, edges, radius_divisor, ref, scale, W, two, r
 
 
 @nb.njit(cache=True, nogil=True)
-def _closure(W, m, d, tol, work, twist, rank_only=False):  # pragma: no cover - compiled
+def _closure(W, m, d, tol, work, twist, rank_only=False, closed_only=False):
+    # pragma: no cover - compiled
     """Theorem 1 for the first ``m`` columns of ``W`` (``d`` rows); returns (code, rank, margin).
 
     ``twist`` (length ``d``) receives a repelling or least-resisted twist for
     ``none`` and ``marginal``. With ``rank_only`` it stops after the rank and
-    counting checks, returning code -1 when they pass.
+    counting checks, returning code -1 when they pass. With ``closed_only`` a grasp
+    the margin LP clearly shows not closed is ``marginal`` at once, with no twist:
+    for callers that ask only whether it closes (no separation LP).
     """
     U = work.U
     norms = work.norms
@@ -368,6 +371,8 @@ def _closure(W, m, d, tol, work, twist, rank_only=False):  # pragma: no cover - 
             if _certified(U, mm, d, x, work):
                 return CLOSURE, d, margin
             return DEFER, d, margin
+        if closed_only and abs(ratio - tol) >= BAND:
+            return MARGINAL, d, margin
         if margin < 0.0:
             # duals: U_i . t >= -margin / m > 0 for every column
             big_t = 0.0
@@ -548,7 +553,8 @@ def _leftover(U, mm, d, lam, work):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, nogil=True)
-def _modulo_two_sided(W, two, m, tol, work, twist):  # pragma: no cover - compiled
+def _modulo_two_sided(W, two, m, tol, work, twist, closed_only=False):
+    # pragma: no cover - compiled
     """Theorem 1 modulo the span ``L`` of the two-sided torques (``closure._modulo_lineality``).
 
     The cone of the wrenches is the whole space iff the one-sided columns,
@@ -613,7 +619,7 @@ def _modulo_two_sided(W, two, m, tol, work, twist):  # pragma: no cover - compil
             R[a, mr] = s
         mr += 1
     sub = work.tw
-    code, _, margin = _closure(R, mr, dq, tol, work, sub)
+    code, _, margin = _closure(R, mr, dq, tol, work, sub, False, closed_only)
     big = 0.0
     for j in range(6):
         s = 0.0
@@ -629,10 +635,10 @@ def _modulo_two_sided(W, two, m, tol, work, twist):  # pragma: no cover - compil
 
 @nb.njit(cache=True, nogil=True)
 def decide_pyramid(P, N, mu, tors, model, edges, divisor, ref, scale, tol, work, twist,
-                   frames=None):
+                   frames=None, closed_only=False):
     # pragma: no cover - compiled
     """Theorem 1 for one grasp with one pyramid: (code, rank, margin); ``frames`` as in
-    :func:`wrenches`."""
+    :func:`wrenches`, ``closed_only`` as in :func:`_closure`."""
     d = P.shape[1]
     D = 3 if d == 2 else 6
     m = wrenches(P, N, mu, tors, model, edges, divisor, ref, scale, work.W, work.two, work.rim,
@@ -641,12 +647,12 @@ def decide_pyramid(P, N, mu, tors, model, edges, divisor, ref, scale, tol, work,
     for col in range(m):
         has_two = has_two or work.two[col]
     if not has_two:
-        return _closure(work.W, m, D, tol, work, twist)
+        return _closure(work.W, m, D, tol, work, twist, False, closed_only)
     # the full set's rank first, as the reference does, then the quotient
     code, rank, margin = _closure(work.W, m, D, tol, work, twist, True)
     if code != -1:
         return code, rank, margin
-    return _modulo_two_sided(work.W, work.two, m, tol, work, twist)
+    return _modulo_two_sided(work.W, work.two, m, tol, work, twist, closed_only)
 
 
 @nb.njit(cache=True, nogil=True)
@@ -772,6 +778,43 @@ def closure_serial(points, normals, mu, tors, model, edges, fit, exact, tol, max
                    rank, margin, twist, 0, points.shape[0])
 
 
+@nb.njit(cache=True, nogil=True)
+def _bisection_step(P, N, mu, tors, model, edges, fit, exact, tol, work, ref, y, known):
+    # pragma: no cover - compiled
+    """:func:`grasp`'s verdict code at the common friction ``mu[0]``, for the least-friction
+    bisection: with exact spatial cones, a pyramid whose verdict here follows from an
+    earlier step's is skipped.
+
+    Cones grow with friction (each pyramid's axis ``-n`` is the mean of its edges), so
+    an inscribed pyramid not closed at a larger friction is not closed here, and a
+    circumscribed one not refuted at a smaller friction is not refuted here.
+    ``known[0, l]`` and ``known[1, l]`` keep, for the ladder's level ``l``, the largest
+    friction so far at which the inscribed pyramid was not closed and the smallest at
+    which the circumscribed one was not refuted (-1 and inf before the first step).
+    Near ``mu*`` that leaves one pyramid a step where the ladder built twelve, and of
+    an inscribed pyramid only whether it closes is asked.
+    """
+    if not exact or P.shape[1] == 2:
+        return grasp(P, N, mu, tors, model, edges, fit, exact, tol, work, ref, y)[0]
+    f = mu[0]
+    scale = contact_frame(P, ref)
+    for level in range(EXACT_EDGES.shape[0]):
+        e = EXACT_EDGES[level]
+        if f > known[0, level]:  # whether it closes, no more (no separation LP)
+            c = decide_pyramid(P, N, mu, tors, model, e, 1.0, ref, scale, tol, work, y, None,
+                               True)[0]
+            if c in (CLOSURE, DEFER):
+                return c
+            known[0, level] = f
+        if f < known[1, level]:
+            c = decide_pyramid(P, N, mu, tors, model, e, _divisor(e, True), ref, scale, tol,
+                               work, y)[0]
+            if c in (NONE, DEFER):
+                return c
+            known[1, level] = f
+    return MARGINAL
+
+
 @nb.njit(parallel=True, cache=True, nogil=True)
 def least_friction_kernel(points, normals, tors, model, edges, fit, exact, tol, maxm,
                           mu_max, rtol, out, deferred):  # pragma: no cover - compiled
@@ -801,8 +844,11 @@ def least_friction_kernel(points, normals, tors, model, edges, fit, exact, tol, 
         ref = np.empty(d)
         y = np.empty(3 if d == 2 else 6)
         mu = np.empty(k)
+        known = np.empty((2, EXACT_EDGES.shape[0]))
         for g in range(blk * BLOCK, min(n_grasps, (blk + 1) * BLOCK)):
             deferred[g] = False
+            known[0, :] = -1.0
+            known[1, :] = np.inf
             mu[:] = 0.0
             c = NONE
             if frictionless_can_close:
@@ -815,13 +861,13 @@ def least_friction_kernel(points, normals, tors, model, edges, fit, exact, tol, 
             # most grasps close at a moderate friction: bracket there first, where cones are
             # far from half-spaces (near mu_max a step may have to be deferred)
             mu[:] = BRACKET
-            c = grasp(points[g], normals[g], mu, tors[g], model_f, edges, fit, exact, tol,
-                      work, ref, y)[0]
+            c = _bisection_step(points[g], normals[g], mu, tors[g], model_f, edges, fit,
+                                exact, tol, work, ref, y, known)
             lo, hi = 0.0, math.atan(BRACKET)
             if c != CLOSURE:
                 mu[:] = mu_max
-                c = grasp(points[g], normals[g], mu, tors[g], model_f, edges, fit, exact, tol,
-                          work, ref, y)[0]
+                c = _bisection_step(points[g], normals[g], mu, tors[g], model_f, edges,
+                                    fit, exact, tol, work, ref, y, known)
                 if c != CLOSURE:
                     out[g] = np.inf
                     deferred[g] = c == DEFER
@@ -830,8 +876,8 @@ def least_friction_kernel(points, normals, tors, model, edges, fit, exact, tol, 
             while hi - lo > rtol * hi:
                 mid = 0.5 * (lo + hi)
                 mu[:] = math.tan(mid)
-                c = grasp(points[g], normals[g], mu, tors[g], model_f, edges, fit, exact, tol,
-                          work, ref, y)[0]
+                c = _bisection_step(points[g], normals[g], mu, tors[g], model_f, edges,
+                                    fit, exact, tol, work, ref, y, known)
                 # a step too near the boundary to settle here counts as not closed: the
                 # answer stays a friction the kernel has shown to close, and the bracket
                 # closes on that step (the boundary is within the kernel's band of it)
