@@ -1,5 +1,6 @@
-"""The exact cones' ``marginal`` settled at once, from a twist they lie on one side of
-(``geometry.cones.one_sided``), against the ladder of pyramids it skips and an LP of its own.
+"""The exact cones' ``marginal`` settled at once, from the turn about two pinching fingers
+that every cone lies on one side of (``geometry.cones.one_sided``), against the ladder of
+pyramids it skips and an LP of its own.
 
 Grasps with two fingers opposed within their cones are the family: the forces at those
 two do no work on the rotation about the line through them, so unless the third finger's
@@ -68,7 +69,7 @@ def test_the_docstring_grasp_is_marginal_by_the_whole_ladder_too(ladder):
     N = np.array([[-1.0, 0, 0], [1.0, 0, 0], [0.0, 1, 0]])
     a = analyze_explained(_grasp(P, N))
     assert a.verdict is Verdict.MARGINAL
-    assert "one side of a twist" in a.cone
+    assert "one side of a pinch's turn" in a.cone
     full = ladder(_grasp(P, N))
     assert full.verdict is Verdict.MARGINAL and full.rank == a.rank == 6
     assert _margin_256(P, N) <= 1e-9
@@ -82,7 +83,7 @@ def test_settled_grasps_are_marginal_by_the_ladder_and_by_an_lp_of_their_own(lad
         a = analyze_explained(_grasp(P[g], N[g]))
         full = ladder(_grasp(P[g], N[g]))
         assert (a.verdict, a.rank) == (full.verdict, full.rank), g
-        if "one side of a twist" in a.cone:
+        if "one side of a pinch's turn" in a.cone:
             settled += 1
             assert a.verdict is Verdict.MARGINAL
             assert _margin_256(P[g], N[g]) <= 0.25 * closure.TOLERANCE, g
@@ -113,22 +114,27 @@ def test_what_proves_nothing():
     P = np.array([[-1.0, 0, 0], [1.0, 0, 0], [0.0, 0, 1]])
     N = np.array([[-1.0, 0, 0], [1.0, 0, 0], [0.0, 1, 0]])
     ref, mu = P.mean(axis=0), np.full(3, MU)
-    t = np.array([0, -1 / 3, 0, 1, 0, 0])
-    assert one_sided(P, N, mu, ref, 1.0, t, 768, 1e-6)
-    assert not one_sided(P, N, mu, ref, 1.0, t, 768, 1e-11)  # below round-off's reach
+    assert one_sided(P, N, mu, ref, 1.0, 768, 1e-6)
+    assert not one_sided(P, N, mu, ref, 1.0, 768, 1e-11)  # below round-off's reach
     # the third finger's cone straddles the turn once its axis is more than 90 degrees
     # less the cone's half-angle (atan 0.5, 26.6 degrees) from the motion there (-y)
     N2 = N.copy()
     N2[2] = [0.0, 0.6, 0.8]  # 53 degrees: still on one side
-    assert one_sided(P, N2, mu, ref, 1.0, t, 768, 1e-6)
+    assert one_sided(P, N2, mu, ref, 1.0, 768, 1e-6)
     N2[2] = [0.0, 0.3, np.sqrt(0.91)]  # 72.5 degrees: across, and no other turn serves
-    assert not one_sided(P, N2, mu, ref, 1.0, t, 768, 1e-6)
-    assert not one_sided(P, N2, mu, ref, 1.0, np.zeros(6), 768, 1e-6)
+    assert not one_sided(P, N2, mu, ref, 1.0, 768, 1e-6)
+    # the same in another frame (moved, turned, scaled): the same answers
+    R = np.linalg.qr(np.random.default_rng(1).normal(size=(3, 3)))[0]
+    for normals, holds in ((N, True), (N2, False)):
+        Q = 3.0 * P @ R.T + [5.0, -2.0, 7.0]
+        assert one_sided(Q, normals @ R.T, mu, Q.mean(axis=0), 2.0, 768, 1e-6) is holds
+    # frictionless fingers: the pinch's two do no work, the third pushes along -y
+    assert one_sided(P, N, np.zeros(3), ref, 1.0, 768, 1e-6)
 
 
 def test_never_on_a_closed_grasp():
-    """No twist can have every cone on one side of it when the grasp closes: on random
-    grasps the ladder closes, neither the LP's twist nor any pinch turn proves a thing."""
+    """No turn can have every cone on one side of it when the grasp closes: on random
+    grasps the ladder closes, no pinch's turn proves a thing."""
     rng = np.random.default_rng(14)
     p = rng.normal(size=(250, 3, 3))
     p /= np.linalg.norm(p, axis=2, keepdims=True)
@@ -141,8 +147,6 @@ def test_never_on_a_closed_grasp():
         if vc.verdict is not Verdict.CLOSURE:
             continue
         closed += 1
-        assert not one_sided(p[g], n[g], np.full(3, MU), ws.reference, ws.length_scale,
-                             rng.normal(size=6), 768, closure.TOLERANCE), g
-        assert not one_sided(p[g], n[g], np.full(3, MU), ws.reference, ws.length_scale,
-                             np.zeros(6), 768, closure.TOLERANCE), g
+        assert not one_sided(p[g], n[g], np.full(3, MU), ws.reference, ws.length_scale, 768,
+                             closure.TOLERANCE), g
     assert closed >= 60

@@ -661,12 +661,13 @@ def _decide(contacts: list[Contact], cone: str | Cone, tol: float,
             return (inner, inner_ws, f"exact cones (proved with {k}-edge inscribed pyramids)",
                     Cone(k, "inscribed"))
         if (inner.verdict is Verdict.MARGINAL and half_space is None
-                and _one_sided(contacts, inner.twist, inner_ws, tol)):
-            why = ("the exact cones lie on one side of a twist that no inscribed pyramid's "
-                   "wrench resists: no finer pyramid closes the grasp, none refutes it")
+                and _one_sided(contacts, inner_ws, tol)):
+            why = ("two fingers pinch and every exact cone lies on one side of the turn "
+                   "about them: no finer pyramid closes the grasp, none refutes it")
             return (VectorClosure(Verdict.MARGINAL, inner.rank, inner.sigma_ratio,
                                   inner.margin, None, inner.twist, inner.repelling, why),
-                    inner_ws, f"exact cones (marginal at {k} edges, on one side of a twist)",
+                    inner_ws,
+                    f"exact cones (marginal at {k} edges, on one side of a pinch's turn)",
                     Cone(k, "inscribed"))
         outer_ws = generating_wrenches(contacts, Cone(k, "circumscribed"),
                                        half_space=half_space)
@@ -682,19 +683,16 @@ def _decide(contacts: list[Contact], cone: str | Cone, tol: float,
     return marginal, inner_ws, f"exact cones (undecided at {k} edges)", Cone(k, "inscribed")
 
 
-def _one_sided(contacts: list[Contact], twist: NDArray[np.float64] | None, ws: WrenchSet,
-               tol: float) -> bool:
-    """Whether ``twist`` or a turn about two contacts settles the exact cones' ``marginal``
-    at once (:func:`forceclosure.geometry.cones.one_sided`): point contacts, hard or
-    frictionless."""
+def _one_sided(contacts: list[Contact], ws: WrenchSet, tol: float) -> bool:
+    """Whether a turn about two contacts settles the exact cones' ``marginal`` at once
+    (:func:`forceclosure.geometry.cones.one_sided`): point contacts, hard or frictionless."""
     if any(c.model == "soft" or len(c.points) != 1 or len(c.normals) != 1
            for c in contacts):
         return False
     return cones.one_sided(np.concatenate([c.points for c in contacts]),
                            np.concatenate([c.normals for c in contacts]),
                            np.array([c.mu for c in contacts]), np.asarray(ws.reference),
-                           float(ws.length_scale), np.zeros(6) if twist is None else twist,
-                           len(contacts) * EXACT_CONE_EDGES[-1], tol)
+                           float(ws.length_scale), len(contacts) * EXACT_CONE_EDGES[-1], tol)
 
 
 def _translation(W: NDArray[np.float64], tol: float,

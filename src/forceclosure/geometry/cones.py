@@ -333,13 +333,13 @@ def grasp_tangents(points: ArrayLike, normals: ArrayLike
 
 def one_sided(points: NDArray[np.float64], normals: NDArray[np.float64],
               mu: NDArray[np.float64], ref: NDArray[np.float64], scale: float,
-              twist: NDArray[np.float64], columns: int, tol: float) -> bool:
-    """Whether a twist proves that no pyramid inscribed in the spatial friction cones
-    closes the grasp with a margin above ``tol``: the exact cones lie on one side of it.
+              columns: int, tol: float) -> bool:
+    """Whether a turn about the line through two contacts proves that no pyramid
+    inscribed in the spatial friction cones closes the grasp with a margin above ``tol``:
+    every exact cone lies on one side of it.
 
-    The twists tried are ``twist`` (zero: none) and the turns about the line through
-    any two contacts, both ways: forces at those two do no work on such a turn, whatever
-    their direction. A twist ``t = (t_f, t_tau)`` is in the scaled wrench frame (wrenches
+    Forces at those two contacts do no work on such a turn, whatever their direction.
+    The turn ``t = (t_f, t_tau)`` is taken in the scaled wrench frame (wrenches
     ``(f, a x f / scale)``, ``a`` the point less ``ref``); a force ``f`` at contact ``i``
     does work ``f . g_i`` on it, ``g_i = t_f + t_tau x a_i / scale``. On the cone of axis
     ``-n_i`` and friction ``mu_i`` (0: a frictionless contact, the ray ``-n_i``) the least
@@ -349,14 +349,16 @@ def one_sided(points: NDArray[np.float64], normals: NDArray[np.float64],
     wrenches puts weight at most ``delta / (c_k h_k)`` on each of contact ``k``'s
     (``c_k`` the least normal force of a unit wrench there), so Theorem 1's margin
     ``m min lam`` is at most ``columns delta / (c_k h_k)``. True when that bound is below
-    a quarter of ``tol`` (``delta`` taking round-off; ``tol >= 1e-10``).
+    a quarter of ``tol`` for some pair of contacts and sense of turning (``delta`` taking
+    round-off; ``tol >= 1e-10``).
 
     Where an inscribed pyramid is ``marginal`` (its LP finds no twist repelled by more
     than ``tol``), this settles the exact cones' ``marginal`` at once: no finer inscribed
     pyramid closes, and no circumscribed one is refuted (a twist repelling the larger
-    cone would repel the smaller one). Grasps with two fingers pinching within their
-    cones meet it whenever the third finger's cone lies on one side of the turn about
-    them. Plain scalar arithmetic, compiled from this source by the kernels.
+    cone would repel the smaller one). Two fingers pinching within their cones, the
+    third's cone on one side of the turn about them, are such a grasp. It looks at the
+    geometry alone, not at an LP's twist, so the reference and the kernels settle the
+    same grasps. Plain scalar arithmetic, compiled from this source by the kernels.
 
     Examples
     --------
@@ -365,69 +367,52 @@ def one_sided(points: NDArray[np.float64], normals: NDArray[np.float64],
 
     >>> P = np.array([[-1.0, 0, 0], [1.0, 0, 0], [0.0, 0, 1]])
     >>> N = np.array([[-1.0, 0, 0], [1.0, 0, 0], [0.0, 1, 0]])
-    >>> ref = P.mean(axis=0)                    # (0, 0, 1/3), scale 1
-    >>> t = np.array([0, -1 / 3, 0, 1, 0, 0])   # omega along x, through the origin
-    >>> one_sided(P, N, np.full(3, 0.5), ref, 1.0, t, 768, 1e-6)
-    True
-    >>> one_sided(P, N, np.full(3, 0.5), ref, 1.0, np.zeros(6), 768, 1e-6)  # found alone
+    >>> one_sided(P, N, np.full(3, 0.5), P.mean(axis=0), 1.0, 768, 1e-6)
     True
     >>> N[2] = [0.0, 0.3, 0.91 ** 0.5]   # the third cone across the turn: no proof
-    >>> one_sided(P, N, np.full(3, 0.5), ref, 1.0, t, 768, 1e-6)
+    >>> one_sided(P, N, np.full(3, 0.5), P.mean(axis=0), 1.0, 768, 1e-6)
     False
     """
     if not tol >= 1e-10:
         return False
     k = points.shape[0]
-    t = np.empty(6)
-    for trial in range(-1, k * k):
-        if trial < 0:  # the twist given
-            for j in range(6):
-                t[j] = twist[j]
-        else:  # the turn about contacts i and j (i < j), one sense or the other
-            i, j = trial // k, trial % k
-            if i >= j:
-                continue
+    for i in range(k):
+        for j in range(i + 1, k):
             w0 = points[j, 0] - points[i, 0]
             w1 = points[j, 1] - points[i, 1]
             w2 = points[j, 2] - points[i, 2]
             length = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
             if not length > 1e-9 * scale:
                 continue
+            w0, w1, w2 = w0 / length, w1 / length, w2 / length
             b0 = (points[i, 0] - ref[0]) / scale
             b1 = (points[i, 1] - ref[1]) / scale
             b2 = (points[i, 2] - ref[2]) / scale
-            w0, w1, w2 = w0 / length, w1 / length, w2 / length
-            t[0], t[1], t[2] = w2 * b1 - w1 * b2, w0 * b2 - w2 * b0, w1 * b0 - w0 * b1
-            t[3], t[4], t[5] = w0, w1, w2
-        for sense in (1.0, -1.0):
-            if trial < 0 and sense < 0:
-                break  # the twist given is taken as it is
-            size = 0.0
-            for j in range(6):
-                size = max(size, abs(t[j]))
-            if not size > 0.0:
-                break
-            worst = 0.0
-            best = 0.0
-            for c in range(k):
-                a0 = (points[c, 0] - ref[0]) / scale
-                a1 = (points[c, 1] - ref[1]) / scale
-                a2 = (points[c, 2] - ref[2]) / scale
-                g0 = sense * (t[0] + t[4] * a2 - t[5] * a1)
-                g1 = sense * (t[1] + t[5] * a0 - t[3] * a2)
-                g2 = sense * (t[2] + t[3] * a1 - t[4] * a0)
-                n0, n1, n2 = normals[c, 0], normals[c, 1], normals[c, 2]
-                gn = g0 * n0 + g1 * n1 + g2 * n2
-                p0, p1, p2 = g0 - gn * n0, g1 - gn * n1, g2 - gn * n2
-                h = -gn - mu[c] * math.sqrt(p0 * p0 + p1 * p1 + p2 * p2)
-                if h < 0.0:
-                    worst = max(worst, -h)
-                else:  # a unit wrench there has normal force >= 1 / sqrt((1+|a|^2)(1+mu^2))
-                    arm = a0 * a0 + a1 * a1 + a2 * a2
-                    best = max(best, h / math.sqrt((1.0 + arm) * (1.0 + mu[c] * mu[c])))
-            delta = worst + 1e-13 * size  # round-off in g, h and the pyramids' edges
-            if best > 0.0 and columns * delta <= 0.25 * tol * best:
-                return True
+            # the turn omega = w about the line through contact i: t_f = -w x b, t_tau = w
+            t0, t1, t2 = w2 * b1 - w1 * b2, w0 * b2 - w2 * b0, w1 * b0 - w0 * b1
+            for sense in (1.0, -1.0):
+                worst = 0.0
+                best = 0.0
+                for c in range(k):
+                    a0 = (points[c, 0] - ref[0]) / scale
+                    a1 = (points[c, 1] - ref[1]) / scale
+                    a2 = (points[c, 2] - ref[2]) / scale
+                    g0 = sense * (t0 + w1 * a2 - w2 * a1)
+                    g1 = sense * (t1 + w2 * a0 - w0 * a2)
+                    g2 = sense * (t2 + w0 * a1 - w1 * a0)
+                    n0, n1, n2 = normals[c, 0], normals[c, 1], normals[c, 2]
+                    gn = g0 * n0 + g1 * n1 + g2 * n2
+                    p0, p1, p2 = g0 - gn * n0, g1 - gn * n1, g2 - gn * n2
+                    h = -gn - mu[c] * math.sqrt(p0 * p0 + p1 * p1 + p2 * p2)
+                    if h < 0.0:
+                        worst = max(worst, -h)
+                    else:  # a unit wrench there has normal force >= this
+                        arm = a0 * a0 + a1 * a1 + a2 * a2
+                        best = max(best, h / math.sqrt((1.0 + arm) * (1.0 + mu[c] * mu[c])))
+                size = max(1.0, abs(t0), abs(t1), abs(t2))
+                delta = worst + 1e-13 * size  # round-off in g, h and the pyramids' edges
+                if best > 0.0 and columns * delta <= 0.25 * tol * best:
+                    return True
     return False
 
 

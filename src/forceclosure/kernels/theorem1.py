@@ -21,8 +21,8 @@ of those torques, as the reference does. Spatial friction with
 ``exact`` cones brackets the circular cone between inscribed and
 circumscribed pyramids of 8 … 256 edges, as
 :func:`forceclosure.analysis.closure.decide` does, and settles at once an
-inscribed pyramid's ``marginal`` that a twist proves for every pyramid
-(``geometry.cones.one_sided``).
+inscribed pyramid's ``marginal`` that a turn about two contacts proves for
+every pyramid (``geometry.cones.one_sided``).
 
 A grasp the kernel cannot settle with a clear margin is flagged ``DEFER``
 and decided by the reference path: a singular value ratio below ``GUARD``
@@ -682,17 +682,17 @@ def _physical(y, ref, scale, d, out):  # pragma: no cover - compiled
 
 
 @nb.njit(cache=True, nogil=True)
-def _marginal_at_once(P, N, mu, model, ref, scale, y, tol):  # pragma: no cover - compiled
-    """Whether the inscribed pyramid's ``marginal`` twist ``y``, or a turn about two
-    contacts, settles the exact cones' verdict (``geometry.cones.one_sided``, as
-    ``closure._one_sided``): hard and frictionless contacts."""
+def _marginal_at_once(P, N, mu, model, ref, scale, tol):  # pragma: no cover - compiled
+    """Whether a turn about two contacts settles the exact cones' ``marginal``
+    (``geometry.cones.one_sided``, as ``closure._one_sided``): hard and frictionless
+    contacts."""
     k = P.shape[0]
     friction = np.empty(k)
     for i in range(k):
         if model[i] == SOFT:
             return False
         friction[i] = 0.0 if model[i] == FRICTIONLESS else mu[i]
-    return _one_sided(P, N, friction, ref, scale, y, k * EXACT_EDGES[-1], tol)
+    return _one_sided(P, N, friction, ref, scale, k * EXACT_EDGES[-1], tol)
 
 
 @nb.njit(cache=True, nogil=True)
@@ -721,7 +721,7 @@ def grasp(P, N, mu, tors, model, edges, fit, exact, tol, work, ref, y):
         c, r, mg = decide_pyramid(P, N, mu, tors, model, e, 1.0, ref, scale, tol, work, y)
         if c in (CLOSURE, DEFER):
             return c, r, mg, scale
-        if c == MARGINAL and _marginal_at_once(P, N, mu, model, ref, scale, y, tol):
+        if c == MARGINAL and _marginal_at_once(P, N, mu, model, ref, scale, tol):
             return c, r, mg, scale
         inner_r, inner_mg = r, mg
         kept[:] = y
