@@ -69,7 +69,7 @@ def test_the_docstring_grasp_is_marginal_by_the_whole_ladder_too(ladder):
     N = np.array([[-1.0, 0, 0], [1.0, 0, 0], [0.0, 1, 0]])
     a = analyze_explained(_grasp(P, N))
     assert a.verdict is Verdict.MARGINAL
-    assert "one side of a pinch's turn" in a.cone
+    assert "one side of a turn about two contacts" in a.cone
     full = ladder(_grasp(P, N))
     assert full.verdict is Verdict.MARGINAL and full.rank == a.rank == 6
     assert _margin_256(P, N) <= 1e-9
@@ -83,7 +83,7 @@ def test_settled_grasps_are_marginal_by_the_ladder_and_by_an_lp_of_their_own(lad
         a = analyze_explained(_grasp(P[g], N[g]))
         full = ladder(_grasp(P[g], N[g]))
         assert (a.verdict, a.rank) == (full.verdict, full.rank), g
-        if "one side of a pinch's turn" in a.cone:
+        if "one side of a turn about two contacts" in a.cone:
             settled += 1
             assert a.verdict is Verdict.MARGINAL
             assert _margin_256(P[g], N[g]) <= 0.25 * closure.TOLERANCE, g
@@ -134,7 +134,7 @@ def test_what_proves_nothing():
 
 def test_never_on_a_closed_grasp():
     """No turn can have every cone on one side of it when the grasp closes: on random
-    grasps the ladder closes, no pinch's turn proves a thing."""
+    grasps the ladder closes, no turn about two contacts proves a thing."""
     rng = np.random.default_rng(14)
     p = rng.normal(size=(250, 3, 3))
     p /= np.linalg.norm(p, axis=2, keepdims=True)

@@ -662,12 +662,13 @@ def _decide(contacts: list[Contact], cone: str | Cone, tol: float,
                     Cone(k, "inscribed"))
         if (inner.verdict is Verdict.MARGINAL and half_space is None
                 and _one_sided(contacts, inner_ws, tol)):
-            why = ("two fingers pinch and every exact cone lies on one side of the turn "
-                   "about them: no finer pyramid closes the grasp, none refutes it")
+            why = ("every exact cone lies on one side of the turn about the line through "
+                   "two contacts: no finer pyramid closes the grasp, none refutes it")
             return (VectorClosure(Verdict.MARGINAL, inner.rank, inner.sigma_ratio,
                                   inner.margin, None, inner.twist, inner.repelling, why),
                     inner_ws,
-                    f"exact cones (marginal at {k} edges, on one side of a pinch's turn)",
+                    f"exact cones (marginal at {k} edges, on one side of a turn about two "
+                    "contacts)",
                     Cone(k, "inscribed"))
         outer_ws = generating_wrenches(contacts, Cone(k, "circumscribed"),
                                        half_space=half_space)

@@ -338,7 +338,9 @@ def one_sided(points: NDArray[np.float64], normals: NDArray[np.float64],
     inscribed in the spatial friction cones closes the grasp with a margin above ``tol``:
     every exact cone lies on one side of it.
 
-    Forces at those two contacts do no work on such a turn, whatever their direction.
+    Forces at those two contacts do no work on such a turn, whatever their direction
+    (when two fingers pinch within their cones, the turn about them is what no
+    inscribed pyramid can resist one way).
     The turn ``t = (t_f, t_tau)`` is taken in the scaled wrench frame (wrenches
     ``(f, a x f / scale)``, ``a`` the point less ``ref``); a force ``f`` at contact ``i``
     does work ``f . g_i`` on it, ``g_i = t_f + t_tau x a_i / scale``. On the cone of axis
@@ -350,15 +352,18 @@ def one_sided(points: NDArray[np.float64], normals: NDArray[np.float64],
     (``c_k`` the least normal force of a unit wrench there), so Theorem 1's margin
     ``m min lam`` is at most ``columns delta / (c_k h_k)``. True when that bound is below
     a quarter of ``tol`` for some pair of contacts and sense of turning (``delta`` taking
-    round-off; ``tol >= 1e-10``).
+    round-off; ``tol >= 1e-10``): room for the LPs' own error, which a ``closure`` of the
+    reference's must also get past its certificate (weights corrected onto the exact
+    null space keep more than half the LP's least weight).
 
     Where an inscribed pyramid is ``marginal`` (its LP finds no twist repelled by more
     than ``tol``), this settles the exact cones' ``marginal`` at once: no finer inscribed
     pyramid closes, and no circumscribed one is refuted (a twist repelling the larger
     cone would repel the smaller one). Two fingers pinching within their cones, the
-    third's cone on one side of the turn about them, are such a grasp. It looks at the
-    geometry alone, not at an LP's twist, so the reference and the kernels settle the
-    same grasps. Plain scalar arithmetic, compiled from this source by the kernels.
+    third's cone on one side of the turn about them, are such a grasp. The margin and
+    twist reported are then the level's that fired, not the 256-edge pyramid's. It looks
+    at the geometry alone, not at an LP's twist, so the reference and the kernels settle
+    the same grasps. Plain scalar arithmetic, compiled from this source by the kernels.
 
     Examples
     --------
@@ -377,12 +382,12 @@ def one_sided(points: NDArray[np.float64], normals: NDArray[np.float64],
         return False
     k = points.shape[0]
     for i in range(k):
-        for j in range(i + 1, k):
-            w0 = points[j, 0] - points[i, 0]
-            w1 = points[j, 1] - points[i, 1]
-            w2 = points[j, 2] - points[i, 2]
+        for j in range(i + 1, k):  # in units of scale: no overflow for huge coordinates
+            w0 = (points[j, 0] - points[i, 0]) / scale
+            w1 = (points[j, 1] - points[i, 1]) / scale
+            w2 = (points[j, 2] - points[i, 2]) / scale
             length = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
-            if not length > 1e-9 * scale:
+            if not length > 1e-9:
                 continue
             w0, w1, w2 = w0 / length, w1 / length, w2 / length
             b0 = (points[i, 0] - ref[0]) / scale
@@ -390,6 +395,7 @@ def one_sided(points: NDArray[np.float64], normals: NDArray[np.float64],
             b2 = (points[i, 2] - ref[2]) / scale
             # the turn omega = w about the line through contact i: t_f = -w x b, t_tau = w
             t0, t1, t2 = w2 * b1 - w1 * b2, w0 * b2 - w2 * b0, w1 * b0 - w0 * b1
+            size = max(1.0, abs(t0), abs(t1), abs(t2))
             for sense in (1.0, -1.0):
                 worst = 0.0
                 best = 0.0
@@ -409,7 +415,6 @@ def one_sided(points: NDArray[np.float64], normals: NDArray[np.float64],
                     else:  # a unit wrench there has normal force >= this
                         arm = a0 * a0 + a1 * a1 + a2 * a2
                         best = max(best, h / math.sqrt((1.0 + arm) * (1.0 + mu[c] * mu[c])))
-                size = max(1.0, abs(t0), abs(t1), abs(t2))
                 delta = worst + 1e-13 * size  # round-off in g, h and the pyramids' edges
                 if best > 0.0 and columns * delta <= 0.25 * tol * best:
                     return True

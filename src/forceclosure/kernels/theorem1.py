@@ -288,8 +288,10 @@ def _closure(W, m, d, tol, work, twist, rank_only=False, closed_only=False):
     ``twist`` (length ``d``) receives a repelling or least-resisted twist for
     ``none`` and ``marginal``. With ``rank_only`` it stops after the rank and
     counting checks, returning code -1 when they pass. With ``closed_only`` a grasp
-    the margin LP clearly shows not closed is ``marginal`` at once, with no twist:
-    for callers that ask only whether it closes (no separation LP).
+    the margin LP (solved, its value clear of ``tol``) shows not closed is ``marginal``
+    at once, with no twist: for callers that ask only whether it closes, who then
+    skip the separation LP (which still runs where the margin LP is not solved or the
+    singular value ratio is within the band of ``tol``).
     """
     U = work.U
     norms = work.norms
@@ -786,11 +788,14 @@ def _bisection_step(P, N, mu, tors, model, edges, fit, exact, tol, work, ref, y,
     earlier step's is skipped.
 
     Cones grow with friction (each pyramid's axis ``-n`` is the mean of its edges), so
-    an inscribed pyramid not closed at a larger friction is not closed here, and a
-    circumscribed one not refuted at a smaller friction is not refuted here.
-    ``known[0, l]`` and ``known[1, l]`` keep, for the ladder's level ``l``, the largest
-    friction so far at which the inscribed pyramid was not closed and the smallest at
-    which the circumscribed one was not refuted (-1 and inf before the first step).
+    an inscribed pyramid with no strictly positive combination at zero (margin <= 0) at
+    a larger friction has none here, and a circumscribed one not refuted at a smaller
+    friction is not refuted here (the twists repelling a cone repel the smaller ones).
+    A margin in ``(0, tol]`` proves nothing for smaller frictions: the singular value
+    ratio the verdict also needs falls as friction grows. ``known[0, l]`` and
+    ``known[1, l]`` keep, for the ladder's level ``l``, the largest friction so far with
+    the inscribed pyramid's margin <= 0 and the smallest at which the circumscribed one
+    was not refuted (-1 and inf before the first step).
     Near ``mu*`` that leaves one pyramid a step where the ladder built twelve, and of
     an inscribed pyramid only whether it closes is asked.
     """
@@ -801,11 +806,12 @@ def _bisection_step(P, N, mu, tors, model, edges, fit, exact, tol, work, ref, y,
     for level in range(EXACT_EDGES.shape[0]):
         e = EXACT_EDGES[level]
         if f > known[0, level]:  # whether it closes, no more (no separation LP)
-            c = decide_pyramid(P, N, mu, tors, model, e, 1.0, ref, scale, tol, work, y, None,
-                               True)[0]
+            c, _, mg = decide_pyramid(P, N, mu, tors, model, e, 1.0, ref, scale, tol, work, y,
+                                      None, True)
             if c in (CLOSURE, DEFER):
                 return c
-            known[0, level] = f
+            if mg <= 0.0:  # no positive combination: none at a smaller friction either
+                known[0, level] = f
         if f < known[1, level]:
             c = decide_pyramid(P, N, mu, tors, model, e, _divisor(e, True), ref, scale, tol,
                                work, y)[0]
