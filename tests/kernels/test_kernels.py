@@ -368,6 +368,34 @@ def test_least_friction_with_exact_cones_is_the_reference_bisection():
     assert np.isfinite(ours).sum() >= 4
 
 
+def test_a_bisection_step_is_the_ladders_verdict_whatever_came_before():
+    """A step skips what earlier steps proved, and only that: with a large tolerance an
+    inscribed pyramid marginal at a larger friction (its singular value ratio below tol)
+    closes at a smaller one (a reviewer's grasp, 2026-12-03)."""
+    from forceclosure.contacts import model_codes
+    from forceclosure.kernels import theorem1 as T
+
+    P = np.array([[-0.019381991189871387, 0.3643000354433765, -0.9310799227743396],
+                  [0.7652496784989465, -0.13418559311370626, 0.6295928495130657],
+                  [-0.3869799604336708, 0.8054963952116629, 0.4488006991123911]])
+    N = np.array([[0.309108745006784, 0.6269680318821612, -0.7150964066181149],
+                  [0.8255383650125865, 0.29086460196338976, 0.48361574748660163],
+                  [-0.6847684481886304, 0.4540641069991291, 0.5700157533791662]])
+    tol = 0.5
+    work = T.work_arrays(T.columns_per_grasp(3, 3, 256), 256)
+    ref, y, tors, model = np.empty(3), np.empty(6), np.full(3, np.nan), model_codes(["hard"] * 3)
+    known = np.empty((2, 6))
+    known[0, :], known[1, :] = -1.0, np.inf
+    seen = []
+    for f in (2.5, 1.8, 3.0, 1.2, 2.0):
+        mu = np.full(3, f)
+        step = T._bisection_step(P, N, mu, tors, model, 8, 0, True, tol, work, ref, y, known)
+        full = T.grasp(P, N, mu, tors, model, 8, 0, True, tol, work, ref, y)[0]
+        assert (step == T.CLOSURE) == (full == T.CLOSURE), f
+        seen.append(int(full))
+    assert T.CLOSURE in seen and T.MARGINAL in seen  # the case that tripped the first version
+
+
 def test_least_friction_batch_is_the_loop_over_friction_values_done_right():
     """GraspNet's way (six friction values, a pass each) brackets the one-pass answer."""
     rng = np.random.default_rng(6)
